@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Sets up, builds (release preset) and runs the whole test suite. This is the command README.md
+# gives and .ci/run calls.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/setup.sh
+cmake --preset release
+cmake --build --preset release
+ctest --preset release "$@"

@@ -1,0 +1,38 @@
+#include "core/errors.h"
+
+#include <utility>
+
+namespace stickslip {
+
+std::string format_location(const SourceLocation& where) {
+  std::string s;
+  if (!where.file.empty()) {
+    s += where.file;
+    if (where.line > 0) s += ":" + std::to_string(where.line);
+    s += ": ";
+  }
+  if (!where.key.empty()) s += where.key + ": ";
+  return s;
+}
+
+InvalidInput::InvalidInput(const std::string& message)
+    : std::runtime_error(message), message_(message) {}
+
+InvalidInput::InvalidInput(SourceLocation where, const std::string& message)
+    : std::runtime_error(format_location(where) + message),
+      where_(std::move(where)),
+      message_(message) {}
+
+void require(bool ok, const std::string& field, const std::string& value,
+             const std::string& rule) {
+  if (!ok) {
+    throw InvalidInput(field + " = " + value + ". Violated constraint: " + rule);
+  }
+}
+
+void verify_failed(const char* condition, const char* file, int line, const std::string& message) {
+  throw std::logic_error(std::string(file) + ":" + std::to_string(line) +
+                         ": internal error: " + condition + " failed: " + message);
+}
+
+}  // namespace stickslip

@@ -1,0 +1,44 @@
+// Lowest eigenpairs of the generalised symmetric problem K φ = ω² M φ (K symmetric positive
+// semi-definite, M symmetric positive definite), by shift-invert Lanczos (Spectra) over a sparse
+// CHOLMOD factorisation of K − σM. Modes are mass-normalised: φᵀ M φ = 1.
+// K and M are stored with both triangles (full symmetric storage), as fe/ assembles them.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/types.h"
+
+namespace stickslip {
+
+struct ModalOptions {
+  int num_modes = 10;         // n lowest eigenpairs wanted; 1 <= n < size
+  double shift = -1.0;        // σ in (rad/s)²; must not be an eigenvalue. Negative default keeps
+                              // K − σM positive definite for free (floating) bodies too.
+  int subspace_size = 0;      // Lanczos basis size; 0 = automatic (max(2n+1, n+20), <= size)
+  double tolerance = 1e-10;   // Spectra's relative convergence tolerance on the Ritz values
+  int max_iterations = 1000;  // restarts
+};
+void validate(const ModalOptions& options);  // throws InvalidInput naming field, value, rule
+
+enum class ModalTermination { kConverged, kFactorizationFailed, kNotConverged };
+
+struct ModalSummary {
+  ModalTermination termination = ModalTermination::kNotConverged;
+  int iterations = 0;
+  int converged_modes = 0;
+  std::string message;
+  bool ok() const { return termination == ModalTermination::kConverged; }
+};
+
+struct ModalResult {
+  Eigen::VectorXd eigenvalues;  // ω², ascending, (rad/s)²
+  Eigen::MatrixXd modes;        // size x n, mass-normalised, column j for eigenvalues(j)
+  ModalSummary summary;
+  Eigen::VectorXd frequencies_hz() const;  // sqrt(max(ω², 0)) / 2π
+};
+
+ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const ModalOptions& options);
+
+}  // namespace stickslip

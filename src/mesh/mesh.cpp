@@ -1,0 +1,128 @@
+#include "mesh/mesh.h"
+
+#include <algorithm>
+#include <cctype>
+#include <unordered_set>
+
+#include "core/errors.h"
+
+namespace stickslip {
+
+int nodes_per_element(ElementType type) {
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I:
+      return 8;
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R:
+      return 20;
+    case ElementType::kC3D4:
+      return 4;
+    case ElementType::kC3D10:
+      return 10;
+  }
+  return 0;
+}
+
+const char* element_type_name(ElementType type) {
+  switch (type) {
+    case ElementType::kC3D8: return "C3D8";
+    case ElementType::kC3D8I: return "C3D8I";
+    case ElementType::kC3D20: return "C3D20";
+    case ElementType::kC3D20R: return "C3D20R";
+    case ElementType::kC3D4: return "C3D4";
+    case ElementType::kC3D10: return "C3D10";
+  }
+  return "?";
+}
+
+bool parse_element_type(const std::string& name, ElementType* type) {
+  std::string u(name);
+  std::transform(u.begin(), u.end(), u.begin(), [](unsigned char c) { return std::toupper(c); });
+  static const std::pair<const char*, ElementType> kTable[] = {
+      {"C3D8", ElementType::kC3D8},   {"C3D8I", ElementType::kC3D8I},
+      {"C3D20", ElementType::kC3D20}, {"C3D20R", ElementType::kC3D20R},
+      {"C3D4", ElementType::kC3D4},   {"C3D10", ElementType::kC3D10}};
+  for (const auto& [n, t] : kTable) {
+    if (u == n) {
+      *type = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+int Mesh::add_node(int id, const Eigen::Vector3d& x) {
+  const int index = num_nodes();
+  coordinates.conservativeResize(3, index + 1);
+  coordinates.col(index) = x;
+  node_ids.push_back(id);
+  return index;
+}
+
+int Mesh::add_element(int id, ElementType type, std::span<const int> nodes) {
+  STICKSLIP_VERIFY(static_cast<int>(nodes.size()) == nodes_per_element(type),
+                   "wrong node count for element type");
+  const int index = num_elements();
+  element_types.push_back(type);
+  element_ids.push_back(id);
+  connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
+  element_offsets.push_back(static_cast<int>(connectivity.size()));
+  return index;
+}
+
+std::unordered_map<int, int> node_index_by_id(const Mesh& mesh) {
+  std::unordered_map<int, int> map;
+  map.reserve(mesh.node_ids.size());
+  for (int i = 0; i < mesh.num_nodes(); ++i) map.emplace(mesh.node_ids[i], i);
+  return map;
+}
+
+void check_mesh(const Mesh& mesh) {
+  const int nn = mesh.num_nodes();
+  const int ne = mesh.num_elements();
+  if (mesh.coordinates.cols() != nn) {
+    throw InvalidInput("mesh: " + std::to_string(mesh.coordinates.cols()) +
+                       " coordinate columns for " + std::to_string(nn) + " nodes");
+  }
+  if (static_cast<int>(mesh.element_ids.size()) != ne ||
+      static_cast<int>(mesh.element_offsets.size()) != ne + 1 || mesh.element_offsets[0] != 0 ||
+      mesh.element_offsets[ne] != static_cast<int>(mesh.connectivity.size())) {
+    throw InvalidInput("mesh: inconsistent element arrays");
+  }
+  std::unordered_set<int> seen;
+  for (int id : mesh.node_ids) {
+    if (!seen.insert(id).second) throw InvalidInput("mesh: node id " + std::to_string(id) + " appears twice");
+  }
+  seen.clear();
+  for (int e = 0; e < ne; ++e) {
+    if (!seen.insert(mesh.element_ids[e]).second) {
+      throw InvalidInput("mesh: element id " + std::to_string(mesh.element_ids[e]) +
+                         " appears twice");
+    }
+    const auto nodes = mesh.element_nodes(e);
+    if (static_cast<int>(nodes.size()) != nodes_per_element(mesh.element_types[e])) {
+      throw InvalidInput("mesh: element " + std::to_string(mesh.element_ids[e]) + " of type " +
+                         element_type_name(mesh.element_types[e]) + " has " +
+                         std::to_string(nodes.size()) + " nodes");
+    }
+    for (int n : nodes) {
+      if (n < 0 || n >= nn) {
+        throw InvalidInput("mesh: element " + std::to_string(mesh.element_ids[e]) +
+                           " refers to a node index out of range");
+      }
+    }
+  }
+  for (const auto& [name, set] : mesh.node_sets) {
+    for (int n : set) {
+      if (n < 0 || n >= nn) throw InvalidInput("mesh: node set " + name + " has an index out of range");
+    }
+  }
+  for (const auto& [name, set] : mesh.element_sets) {
+    for (int e : set) {
+      if (e < 0 || e >= ne) throw InvalidInput("mesh: element set " + name + " has an index out of range");
+    }
+  }
+}
+
+}  // namespace stickslip

@@ -1,0 +1,72 @@
+// A finite-element mesh as plain data: nodes, elements, node and element sets. Knows nothing of
+// files (readers live in io/). Coordinates in m.
+//
+// Indices vs ids: every node and element has an internal 0-based *index* (its position in the
+// arrays below) and an external *id* (the number in the file it came from; unique, positive).
+// Connectivity and sets store indices. DOFs of node index i are 3i, 3i+1, 3i+2 (x, y, z).
+//
+// Element node order is CalculiX/Abaqus's (the .inp convention) for every type; readers of other
+// formats (Gmsh) reorder to it.
+#pragma once
+
+#include <map>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace stickslip {
+
+// Named after the CalculiX element that has the same topology and formulation.
+enum class ElementType {
+  kC3D8,    // 8-node hexahedron, full 2x2x2 integration
+  kC3D8I,   // 8-node hexahedron with incompatible modes (Wilson–Taylor), 2x2x2
+  kC3D20,   // 20-node hexahedron, 3x3x3 integration
+  kC3D20R,  // 20-node hexahedron, reduced 2x2x2 integration
+  kC3D4,    // 4-node tetrahedron
+  kC3D10,   // 10-node tetrahedron
+};
+
+int nodes_per_element(ElementType type);
+const char* element_type_name(ElementType type);  // "C3D8", ...
+// Parses a CalculiX/Abaqus type name (case-insensitive); false if not supported.
+bool parse_element_type(const std::string& name, ElementType* type);
+
+struct Mesh {
+  // --- nodes ---
+  Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
+  std::vector<int> node_ids;     // external id of each node index
+
+  // --- elements (compressed rows) ---
+  std::vector<ElementType> element_types;
+  std::vector<int> element_ids;       // external id of each element index
+  std::vector<int> element_offsets{0};  // size num_elements + 1
+  std::vector<int> connectivity;      // node indices, CalculiX local order
+
+  // --- sets (sorted, unique indices) ---
+  std::map<std::string, std::vector<int>> node_sets;
+  std::map<std::string, std::vector<int>> element_sets;
+
+  int num_nodes() const { return static_cast<int>(node_ids.size()); }
+  int num_elements() const { return static_cast<int>(element_types.size()); }
+  int num_dofs() const { return 3 * num_nodes(); }
+  std::span<const int> element_nodes(int e) const {
+    return {connectivity.data() + element_offsets[e],
+            static_cast<size_t>(element_offsets[e + 1] - element_offsets[e])};
+  }
+
+  // Appends a node / element; returns its index. Node indices in `nodes` must exist.
+  int add_node(int id, const Eigen::Vector3d& x);
+  int add_element(int id, ElementType type, std::span<const int> nodes);
+};
+
+// Map external node id -> node index, for lookups by id (e.g. from a case file).
+std::unordered_map<int, int> node_index_by_id(const Mesh& mesh);
+
+// Checks the internal consistency of a mesh (sizes, index ranges, unique ids, sets in range);
+// throws InvalidInput naming the first problem. Readers call it before returning a mesh.
+void check_mesh(const Mesh& mesh);
+
+}  // namespace stickslip
