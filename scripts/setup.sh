@@ -8,6 +8,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx gnuplot-nox
+  libopenblas0-pthread time
   python3-numpy python3-scipy python3-matplotlib
 )
 missing=()
