@@ -2,6 +2,15 @@
 // semi-definite, M symmetric positive definite), by shift-invert Lanczos (Spectra) over a sparse
 // CHOLMOD factorisation of K − σM. Modes are mass-normalised: φᵀ M φ = 1.
 // K and M are stored with both triangles (full symmetric storage), as fe/ assembles them.
+//
+// The shift σ must lie below the lowest eigenvalue: K − σM is factorised by a sparse Cholesky
+// (CHOLMOD), so an indefinite K − σM (σ above an eigenvalue, or K not positive semi-definite) is
+// reported as kFactorizationFailed, never silently. With σ < 0 free (floating) bodies work: their
+// rigid-body modes come out with ω² ≈ 0. The n lowest eigenpairs are returned, ω² ascending;
+// each mode has φᵀ M φ = 1 and its sign fixed so that its largest-magnitude component is positive
+// (on ties, within a relative 1e-4, the first such component: mirror-symmetric structures). Bad
+// options or mismatched sizes throw InvalidInput; factorisation failure and non-convergence are
+// returned in ModalSummary (with the converged pairs, if any).
 #pragma once
 
 #include <string>
@@ -28,6 +37,9 @@ struct ModalSummary {
   ModalTermination termination = ModalTermination::kNotConverged;
   int iterations = 0;
   int converged_modes = 0;
+  int operations = 0;                // applications of (K − σM)⁻¹ M
+  double factorization_seconds = 0;  // wall time of the CHOLMOD factorisation of K − σM
+  double iteration_seconds = 0;      // wall time of the Lanczos iteration
   std::string message;
   bool ok() const { return termination == ModalTermination::kConverged; }
 };

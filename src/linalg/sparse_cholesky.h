@@ -1,0 +1,55 @@
+// Sparse Cholesky factorisation Pᵀ A P = L Lᵀ of a symmetric positive definite matrix A, for
+// "factor once, solve many right-hand sides": X = A⁻¹ B.
+//
+// A is square, symmetric, stored with both triangles (as fe/ assembles K and M); only its lower
+// triangle is read. CHOLMOD (SuiteSparse) computes a supernodal LLᵀ with a fill-reducing ordering
+// (AMD, or METIS nested dissection when AMD fills in much; CHOLMOD's default strategy). Dense
+// kernels go through the system BLAS (OpenBLAS on Debian with libopenblas0-pthread).
+//
+// A failed factorisation (A not positive definite, out of memory) is a numerical outcome, not an
+// exception: ok() is false and message() says what happened (for a non-positive-definite A, the
+// column of the permuted matrix where the factorisation broke down). A size mismatch in solve()
+// or solving with a failed factor throws InvalidInput.
+//
+// Not thread-safe: solve() reuses internal CHOLMOD workspace. Movable, not copyable.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/types.h"
+
+namespace stickslip {
+
+class SparseCholesky {
+ public:
+  SparseCholesky();
+  explicit SparseCholesky(const SparseMatrix& A);  // calls factorize(A)
+  ~SparseCholesky();
+  SparseCholesky(SparseCholesky&&) noexcept;
+  SparseCholesky& operator=(SparseCholesky&&) noexcept;
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  // Analyses and factorises A (any previous factor is dropped). Returns ok().
+  bool factorize(const SparseMatrix& A);
+
+  bool ok() const;
+  const std::string& message() const;  // "" when ok
+  int size() const;                    // n of the factorised n x n matrix; 0 before factorize
+  double factor_nonzeros() const;      // nnz(L), for diagnostics and benchmarks
+  std::string ordering() const;        // ordering CHOLMOD selected: "AMD", "METIS", ...
+
+  // X = A⁻¹ B for B of size n x k (k >= 1 right-hand sides).
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+  // y = A⁻¹ x for raw arrays of length n (x and y may not alias). Used in inner loops.
+  void solve(const double* x, double* y) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stickslip
