@@ -1,0 +1,612 @@
+#include "fe/element.h"
+
+#include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "core/errors.h"
+
+namespace stickslip {
+
+namespace {
+
+using Eigen::Matrix;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// ---------------------------------------------------------------- quadrature rules
+
+struct Rule {
+  std::vector<Vector3d> xi;
+  std::vector<double> w;
+};
+
+Rule gauss_hex_rule(int n) {
+  const double a = 1.0 / std::sqrt(3.0);
+  const double b = std::sqrt(0.6);
+  const double p2[] = {-a, a}, w2[] = {1.0, 1.0};
+  const double p3[] = {-b, 0.0, b}, w3[] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  const double* p = n == 2 ? p2 : p3;
+  const double* w = n == 2 ? w2 : w3;
+  Rule r;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        r.xi.emplace_back(p[i], p[j], p[k]);
+        r.w.push_back(w[i] * w[j] * w[k]);
+      }
+    }
+  }
+  return r;
+}
+
+Rule tet_rule_1() { return Rule{{Vector3d(0.25, 0.25, 0.25)}, {1.0 / 6.0}}; }
+
+// Degree-2 rule: points (a,b,b) and permutations, a = (5 + 3 sqrt5)/20, b = (5 - sqrt5)/20.
+Rule tet_rule_4() {
+  const double a = (5.0 + 3.0 * std::sqrt(5.0)) / 20.0;
+  const double b = (5.0 - std::sqrt(5.0)) / 20.0;
+  Rule r;
+  r.xi = {Vector3d(b, b, b), Vector3d(a, b, b), Vector3d(b, a, b), Vector3d(b, b, a)};
+  r.w.assign(4, 1.0 / 24.0);
+  return r;
+}
+
+// Collapsed (Duffy) 4x4x4 Gauss-Legendre rule: xi = u, eta = (1-u) v, zeta = (1-u)(1-v) w,
+// Jacobian (1-u)^2 (1-v). Exact for polynomials of total degree <= 5 on the tetrahedron.
+Rule tet_rule_64() {
+  const double s[] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                      0.8611363115940526};
+  const double ws[] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                       0.3478548451374538};
+  Rule r;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      for (int k = 0; k < 4; ++k) {
+        const double u = 0.5 * (1.0 + s[i]), v = 0.5 * (1.0 + s[j]), w = 0.5 * (1.0 + s[k]);
+        r.xi.emplace_back(u, (1.0 - u) * v, (1.0 - u) * (1.0 - v) * w);
+        r.w.push_back(0.125 * ws[i] * ws[j] * ws[k] * (1.0 - u) * (1.0 - u) * (1.0 - v));
+      }
+    }
+  }
+  return r;
+}
+
+// ---------------------------------------------------------------- shape functions
+
+constexpr double kHexNodes[20][3] = {
+    {-1, -1, -1}, {1, -1, -1}, {1, 1, -1},  {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1},
+    {-1, 1, 1},   {0, -1, -1}, {1, 0, -1},  {0, 1, -1},  {-1, 0, -1}, {0, -1, 1}, {1, 0, 1},
+    {0, 1, 1},    {-1, 0, 1},  {-1, -1, 0}, {1, -1, 0},  {1, 1, 0},   {-1, 1, 0}};
+
+constexpr double kTetNodes[10][3] = {{0, 0, 0},     {1, 0, 0},     {0, 1, 0},   {0, 0, 1},
+                                     {0.5, 0, 0},   {0.5, 0.5, 0}, {0, 0.5, 0}, {0, 0, 0.5},
+                                     {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+constexpr int kTetEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+void shape_hex8(const Vector3d& p, Matrix<double, 8, 1>& N, Matrix<double, 3, 8>& dN) {
+  for (int a = 0; a < 8; ++a) {
+    const double* c = kHexNodes[a];
+    const double f0 = 1.0 + c[0] * p(0), f1 = 1.0 + c[1] * p(1), f2 = 1.0 + c[2] * p(2);
+    N(a) = 0.125 * f0 * f1 * f2;
+    dN(0, a) = 0.125 * c[0] * f1 * f2;
+    dN(1, a) = 0.125 * c[1] * f0 * f2;
+    dN(2, a) = 0.125 * c[2] * f0 * f1;
+  }
+}
+
+void shape_hex20(const Vector3d& p, Matrix<double, 20, 1>& N, Matrix<double, 3, 20>& dN) {
+  for (int a = 0; a < 8; ++a) {
+    const double* c = kHexNodes[a];
+    const double q0 = c[0] * p(0), q1 = c[1] * p(1), q2 = c[2] * p(2);
+    const double f0 = 1.0 + q0, f1 = 1.0 + q1, f2 = 1.0 + q2;
+    N(a) = 0.125 * f0 * f1 * f2 * (q0 + q1 + q2 - 2.0);
+    dN(0, a) = 0.125 * c[0] * f1 * f2 * (2.0 * q0 + q1 + q2 - 1.0);
+    dN(1, a) = 0.125 * c[1] * f0 * f2 * (q0 + 2.0 * q1 + q2 - 1.0);
+    dN(2, a) = 0.125 * c[2] * f0 * f1 * (q0 + q1 + 2.0 * q2 - 1.0);
+  }
+  for (int a = 8; a < 20; ++a) {
+    const double* c = kHexNodes[a];
+    // The coordinate along the edge (natural coordinate 0 at the node) is `m`.
+    const int m = c[0] == 0.0 ? 0 : (c[1] == 0.0 ? 1 : 2);
+    const int r = (m + 1) % 3, s = (m + 2) % 3;
+    const double bub = 1.0 - p(m) * p(m);
+    const double fr = 1.0 + c[r] * p(r), fs = 1.0 + c[s] * p(s);
+    N(a) = 0.25 * bub * fr * fs;
+    dN(m, a) = -0.5 * p(m) * fr * fs;
+    dN(r, a) = 0.25 * bub * c[r] * fs;
+    dN(s, a) = 0.25 * bub * fr * c[s];
+  }
+}
+
+// Barycentric coordinates L and their natural derivatives.
+void tet_barycentric(const Vector3d& p, double L[4], Matrix<double, 3, 4>& dL) {
+  L[0] = 1.0 - p(0) - p(1) - p(2);
+  L[1] = p(0);
+  L[2] = p(1);
+  L[3] = p(2);
+  dL << -1, 1, 0, 0, -1, 0, 1, 0, -1, 0, 0, 1;
+}
+
+void shape_tet4(const Vector3d& p, Matrix<double, 4, 1>& N, Matrix<double, 3, 4>& dN) {
+  double L[4];
+  tet_barycentric(p, L, dN);
+  for (int a = 0; a < 4; ++a) N(a) = L[a];
+}
+
+void shape_tet10(const Vector3d& p, Matrix<double, 10, 1>& N, Matrix<double, 3, 10>& dN) {
+  double L[4];
+  Matrix<double, 3, 4> dL;
+  tet_barycentric(p, L, dL);
+  for (int a = 0; a < 4; ++a) {
+    N(a) = L[a] * (2.0 * L[a] - 1.0);
+    dN.col(a) = (4.0 * L[a] - 1.0) * dL.col(a);
+  }
+  for (int e = 0; e < 6; ++e) {
+    const int i = kTetEdges[e][0], j = kTetEdges[e][1];
+    N(4 + e) = 4.0 * L[i] * L[j];
+    dN.col(4 + e) = 4.0 * (L[i] * dL.col(j) + L[j] * dL.col(i));
+  }
+}
+
+// ---------------------------------------------------------------- reference data (cached)
+
+template <int NEN>
+struct RefData {
+  std::vector<Vector3d> xi;
+  std::vector<double> w;
+  std::vector<Matrix<double, NEN, 1>> N;
+  std::vector<Matrix<double, 3, NEN>> dN;
+};
+
+template <int NEN, class Shape>
+RefData<NEN> make_ref(const Rule& rule, Shape shape) {
+  RefData<NEN> r;
+  r.xi = rule.xi;
+  r.w = rule.w;
+  r.N.resize(rule.xi.size());
+  r.dN.resize(rule.xi.size());
+  for (size_t g = 0; g < rule.xi.size(); ++g) shape(rule.xi[g], r.N[g], r.dN[g]);
+  return r;
+}
+
+const RefData<8>& hex8_2() {
+  static const RefData<8> r = make_ref<8>(gauss_hex_rule(2), shape_hex8);
+  return r;
+}
+const RefData<20>& hex20_2() {
+  static const RefData<20> r = make_ref<20>(gauss_hex_rule(2), shape_hex20);
+  return r;
+}
+const RefData<20>& hex20_3() {
+  static const RefData<20> r = make_ref<20>(gauss_hex_rule(3), shape_hex20);
+  return r;
+}
+const RefData<4>& tet4_1() {
+  static const RefData<4> r = make_ref<4>(tet_rule_1(), shape_tet4);
+  return r;
+}
+const RefData<4>& tet4_4() {
+  static const RefData<4> r = make_ref<4>(tet_rule_4(), shape_tet4);
+  return r;
+}
+const RefData<10>& tet10_4() {
+  static const RefData<10> r = make_ref<10>(tet_rule_4(), shape_tet10);
+  return r;
+}
+const RefData<10>& tet10_64() {
+  static const RefData<10> r = make_ref<10>(tet_rule_64(), shape_tet10);
+  return r;
+}
+
+// ---------------------------------------------------------------- kernels
+
+[[noreturn]] void throw_bad_jacobian(double det) {
+  throw InvalidInput("element Jacobian determinant " + std::to_string(det) +
+                     " at an integration point. Violated constraint: det J > 0 (element "
+                     "inverted, degenerate or with its nodes in the wrong order)");
+}
+
+// Physical gradients G = J^-1 dN (3 x NEN) with J(i, j) = dx_j / dxi_i; returns det J.
+template <int NEN>
+double gradients(const Matrix<double, 3, NEN>& X, const Matrix<double, 3, NEN>& dN,
+                 Matrix<double, 3, NEN>& G) {
+  const Matrix3d J = dN * X.transpose();
+  const double det = J.determinant();
+  if (!(det > 0.0)) throw_bad_jacobian(det);
+  G.noalias() = J.inverse() * dN;
+  return det;
+}
+
+template <int NEN>
+double jacobian_det(const Matrix<double, 3, NEN>& X, const Matrix<double, 3, NEN>& dN) {
+  const Matrix3d J = dN * X.transpose();
+  const double det = J.determinant();
+  if (!(det > 0.0)) throw_bad_jacobian(det);
+  return det;
+}
+
+// Adds, for blocks b >= a, the isotropic stiffness density of gradient columns a and b:
+//   K(3a+i, 3b+j) += cl G(i,a) G(j,b) + cm G(j,a) G(i,b) + cm delta_ij G_a . G_b
+// (cl = weight * lambda, cm = weight * mu).
+template <int M>
+void add_isotropic_upper(const Matrix<double, 3, M>& G, double cl, double cm,
+                         Matrix<double, 3 * M, 3 * M>& K) {
+  for (int b = 0; b < M; ++b) {
+    const double gb0 = G(0, b), gb1 = G(1, b), gb2 = G(2, b);
+    for (int a = 0; a <= b; ++a) {
+      const double ga0 = G(0, a), ga1 = G(1, a), ga2 = G(2, a);
+      const double d = cm * (ga0 * gb0 + ga1 * gb1 + ga2 * gb2);
+      const double la[3] = {cl * ga0, cl * ga1, cl * ga2};
+      const double ma[3] = {cm * ga0, cm * ga1, cm * ga2};
+      const double gb[3] = {gb0, gb1, gb2};
+      for (int j = 0; j < 3; ++j) {
+        double* col = &K(3 * a, 3 * b + j);
+        for (int i = 0; i < 3; ++i) col[i] += la[i] * gb[j] + ma[j] * gb[i];
+        col[j] += d;
+      }
+    }
+  }
+}
+
+// Copies the upper 3x3 blocks (b > a) to the lower ones.
+template <int M>
+void mirror_upper_blocks(Matrix<double, 3 * M, 3 * M>& K) {
+  for (int c = 0; c < 3 * M; ++c) {
+    for (int r = 3 * (c / 3 + 1); r < 3 * M; ++r) K(r, c) = K(c, r);
+  }
+}
+
+template <int NEN>
+void stiffness_standard(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref, double lambda,
+                        double mu, Matrix<double, 3 * NEN, 3 * NEN>& K) {
+  K.setZero();
+  Matrix<double, 3, NEN> G;
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    const double c = ref.w[g] * gradients<NEN>(X, ref.dN[g], G);
+    add_isotropic_upper<NEN>(G, c * lambda, c * mu, K);
+  }
+  mirror_upper_blocks<NEN>(K);
+}
+
+// Physical gradients of the incompatible modes (Taylor modification) at integration point g,
+// given det J there: (det J0 / det J) J0^-1 dP, dP = diag(-2 xi, -2 eta, -2 zeta).
+struct Hex8Centre {
+  Matrix3d J0inv;
+  double det0;
+};
+
+Hex8Centre hex8_centre(const Matrix<double, 3, 8>& X) {
+  Matrix<double, 8, 1> N;
+  Matrix<double, 3, 8> dN;
+  shape_hex8(Vector3d::Zero(), N, dN);
+  const Matrix3d J0 = dN * X.transpose();
+  const double det0 = J0.determinant();
+  if (!(det0 > 0.0)) throw_bad_jacobian(det0);
+  return {J0.inverse(), det0};
+}
+
+Matrix3d incompatible_gradients(const Hex8Centre& c, const Vector3d& xi, double det) {
+  return (c.det0 / det) * c.J0inv * (-2.0 * xi).asDiagonal();
+}
+
+// C3D8I: K (24x24) after condensation; if T != nullptr, T = -K_aa^-1 K_au (9 x 24) gives the
+// internal DOFs alpha = T u.
+void stiffness_hex8i(const Matrix<double, 3, 8>& X, double lambda, double mu,
+                     Matrix<double, 24, 24>& K, Matrix<double, 9, 24>* T) {
+  const RefData<8>& ref = hex8_2();
+  const Hex8Centre centre = hex8_centre(X);
+  Matrix<double, 33, 33> Ke;
+  Ke.setZero();
+  Matrix<double, 3, 8> Gu;
+  Matrix<double, 3, 11> G;
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    const double det = gradients<8>(X, ref.dN[g], Gu);
+    G.leftCols<8>() = Gu;
+    G.rightCols<3>() = incompatible_gradients(centre, ref.xi[g], det);
+    const double c = ref.w[g] * det;
+    add_isotropic_upper<11>(G, c * lambda, c * mu, Ke);
+  }
+  mirror_upper_blocks<11>(Ke);
+  const Eigen::LLT<Matrix<double, 9, 9>> llt(Ke.bottomRightCorner<9, 9>());
+  const Matrix<double, 9, 24> S = llt.solve(Ke.bottomLeftCorner<9, 24>());
+  K = Ke.topLeftCorner<24, 24>();
+  K.noalias() -= Ke.topRightCorner<24, 9>() * S;
+  K = 0.5 * (K + K.transpose()).eval();
+  if (T != nullptr) *T = -S;
+}
+
+template <int NEN>
+void mass_standard(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref, double rho,
+                   Matrix<double, 3 * NEN, 3 * NEN>& M) {
+  Matrix<double, NEN, NEN> m;
+  m.setZero();
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    const double c = rho * ref.w[g] * jacobian_det<NEN>(X, ref.dN[g]);
+    m.noalias() += c * ref.N[g] * ref.N[g].transpose();
+  }
+  M.setZero();
+  for (int b = 0; b < NEN; ++b) {
+    for (int a = 0; a < NEN; ++a) {
+      for (int d = 0; d < 3; ++d) M(3 * a + d, 3 * b + d) = m(a, b);
+    }
+  }
+}
+
+template <int NEN>
+double volume_standard(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref) {
+  double v = 0.0;
+  for (size_t g = 0; g < ref.w.size(); ++g) v += ref.w[g] * jacobian_det<NEN>(X, ref.dN[g]);
+  return v;
+}
+
+// Voigt strain operator of gradient columns G (3 x M) into B (6 x 3M).
+template <int M>
+void strain_operator(const Matrix<double, 3, M>& G, Eigen::Ref<Eigen::MatrixXd> B) {
+  B.setZero();
+  for (int a = 0; a < M; ++a) {
+    const double gx = G(0, a), gy = G(1, a), gz = G(2, a);
+    B(0, 3 * a) = gx;
+    B(1, 3 * a + 1) = gy;
+    B(2, 3 * a + 2) = gz;
+    B(3, 3 * a) = gy;
+    B(3, 3 * a + 1) = gx;
+    B(4, 3 * a) = gz;
+    B(4, 3 * a + 2) = gx;
+    B(5, 3 * a + 1) = gz;
+    B(5, 3 * a + 2) = gy;
+  }
+}
+
+template <int NEN>
+void strain_operators_standard(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref,
+                               std::vector<Eigen::MatrixXd>& B) {
+  B.resize(ref.w.size());
+  Matrix<double, 3, NEN> G;
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    gradients<NEN>(X, ref.dN[g], G);
+    B[g].resize(6, 3 * NEN);
+    strain_operator<NEN>(G, B[g]);
+  }
+}
+
+void strain_operators_hex8i(const Matrix<double, 3, 8>& X, double lambda, double mu,
+                            std::vector<Eigen::MatrixXd>& B) {
+  Matrix<double, 24, 24> K;
+  Matrix<double, 9, 24> T;
+  stiffness_hex8i(X, lambda, mu, K, &T);
+  const RefData<8>& ref = hex8_2();
+  const Hex8Centre centre = hex8_centre(X);
+  B.resize(ref.w.size());
+  Matrix<double, 3, 8> Gu;
+  Matrix<double, 3, 3> Ga;
+  Eigen::MatrixXd Ba(6, 9);
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    const double det = gradients<8>(X, ref.dN[g], Gu);
+    Ga = incompatible_gradients(centre, ref.xi[g], det);
+    B[g].resize(6, 24);
+    strain_operator<8>(Gu, B[g]);
+    strain_operator<3>(Ga, Ba);
+    B[g].noalias() += Ba * T;
+  }
+}
+
+template <int NEN>
+Matrix<double, 3, NEN> fixed_coordinates(ElementType type, const Eigen::Matrix3Xd& X) {
+  if (X.cols() != NEN) {
+    throw InvalidInput(std::string("element coordinates: ") + std::to_string(X.cols()) +
+                       " columns for a " + element_type_name(type) + " element (needs " +
+                       std::to_string(NEN) + ")");
+  }
+  return X;
+}
+
+template <int NEN>
+void copy_out(const Matrix<double, 3 * NEN, 3 * NEN>& A, Eigen::MatrixXd& out) {
+  out.resize(3 * NEN, 3 * NEN);
+  out = A;
+}
+
+}  // namespace
+
+void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
+                       const IsotropicMaterial& material, Eigen::MatrixXd& K) {
+  const double l = lame_lambda(material), m = shear_modulus(material);
+  switch (type) {
+    case ElementType::kC3D8: {
+      Matrix<double, 24, 24> k;
+      stiffness_standard<8>(fixed_coordinates<8>(type, X), hex8_2(), l, m, k);
+      copy_out<8>(k, K);
+      return;
+    }
+    case ElementType::kC3D8I: {
+      Matrix<double, 24, 24> k;
+      stiffness_hex8i(fixed_coordinates<8>(type, X), l, m, k, nullptr);
+      copy_out<8>(k, K);
+      return;
+    }
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R: {
+      Matrix<double, 60, 60> k;
+      stiffness_standard<20>(fixed_coordinates<20>(type, X),
+                             type == ElementType::kC3D20 ? hex20_3() : hex20_2(), l, m, k);
+      copy_out<20>(k, K);
+      return;
+    }
+    case ElementType::kC3D4: {
+      Matrix<double, 12, 12> k;
+      stiffness_standard<4>(fixed_coordinates<4>(type, X), tet4_1(), l, m, k);
+      copy_out<4>(k, K);
+      return;
+    }
+    case ElementType::kC3D10: {
+      Matrix<double, 30, 30> k;
+      stiffness_standard<10>(fixed_coordinates<10>(type, X), tet10_4(), l, m, k);
+      copy_out<10>(k, K);
+      return;
+    }
+  }
+}
+
+void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, Eigen::MatrixXd& M,
+                  MassIntegration rule) {
+  const bool exact = rule == MassIntegration::kExact;
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I: {
+      Matrix<double, 24, 24> m;
+      mass_standard<8>(fixed_coordinates<8>(type, X), hex8_2(), density, m);
+      copy_out<8>(m, M);
+      return;
+    }
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R: {
+      Matrix<double, 60, 60> m;
+      const bool full = exact || type == ElementType::kC3D20;
+      mass_standard<20>(fixed_coordinates<20>(type, X), full ? hex20_3() : hex20_2(), density, m);
+      copy_out<20>(m, M);
+      return;
+    }
+    case ElementType::kC3D4: {
+      Matrix<double, 12, 12> m;
+      mass_standard<4>(fixed_coordinates<4>(type, X), exact ? tet4_4() : tet4_1(), density, m);
+      copy_out<4>(m, M);
+      return;
+    }
+    case ElementType::kC3D10: {
+      Matrix<double, 30, 30> m;
+      mass_standard<10>(fixed_coordinates<10>(type, X), exact ? tet10_64() : tet10_4(), density, m);
+      copy_out<10>(m, M);
+      return;
+    }
+  }
+}
+
+double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I:
+      return volume_standard<8>(fixed_coordinates<8>(type, X), hex8_2());
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R:
+      return volume_standard<20>(fixed_coordinates<20>(type, X), hex20_3());
+    case ElementType::kC3D4:
+      return volume_standard<4>(fixed_coordinates<4>(type, X), tet4_4());
+    case ElementType::kC3D10:
+      return volume_standard<10>(fixed_coordinates<10>(type, X), tet10_64());
+  }
+  return 0.0;
+}
+
+Eigen::Matrix3Xd natural_node_coordinates(ElementType type) {
+  const int n = nodes_per_element(type);
+  const bool hex = n == 8 || n == 20;
+  Eigen::Matrix3Xd P(3, n);
+  for (int a = 0; a < n; ++a) {
+    for (int i = 0; i < 3; ++i) P(i, a) = hex ? kHexNodes[a][i] : kTetNodes[a][i];
+  }
+  return P;
+}
+
+namespace {
+template <int NEN>
+void rule_out(const RefData<NEN>& ref, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
+  const int n = static_cast<int>(ref.w.size());
+  if (P != nullptr) {
+    P->resize(3, n);
+    for (int g = 0; g < n; ++g) P->col(g) = ref.xi[g];
+  }
+  if (w != nullptr) w->resize(n);
+  for (int g = 0; g < n && w != nullptr; ++g) (*w)(g) = ref.w[g];
+}
+
+void stiffness_rule(ElementType type, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I:
+      return rule_out<8>(hex8_2(), P, w);
+    case ElementType::kC3D20:
+      return rule_out<20>(hex20_3(), P, w);
+    case ElementType::kC3D20R:
+      return rule_out<20>(hex20_2(), P, w);
+    case ElementType::kC3D4:
+      return rule_out<4>(tet4_1(), P, w);
+    case ElementType::kC3D10:
+      return rule_out<10>(tet10_4(), P, w);
+  }
+}
+}  // namespace
+
+Eigen::Matrix3Xd integration_points(ElementType type) {
+  Eigen::Matrix3Xd P;
+  stiffness_rule(type, &P, nullptr);
+  return P;
+}
+
+Eigen::VectorXd integration_weights(ElementType type) {
+  Eigen::VectorXd w;
+  stiffness_rule(type, nullptr, &w);
+  return w;
+}
+
+void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorXd& N,
+                     Eigen::Matrix3Xd& dN) {
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I: {
+      Matrix<double, 8, 1> n;
+      Matrix<double, 3, 8> d;
+      shape_hex8(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R: {
+      Matrix<double, 20, 1> n;
+      Matrix<double, 3, 20> d;
+      shape_hex20(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
+    case ElementType::kC3D4: {
+      Matrix<double, 4, 1> n;
+      Matrix<double, 3, 4> d;
+      shape_tet4(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
+    case ElementType::kC3D10: {
+      Matrix<double, 10, 1> n;
+      Matrix<double, 3, 10> d;
+      shape_tet10(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
+  }
+}
+
+void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
+                              const IsotropicMaterial& material, std::vector<Eigen::MatrixXd>& B) {
+  switch (type) {
+    case ElementType::kC3D8:
+      return strain_operators_standard<8>(fixed_coordinates<8>(type, X), hex8_2(), B);
+    case ElementType::kC3D8I:
+      return strain_operators_hex8i(fixed_coordinates<8>(type, X), lame_lambda(material),
+                                    shear_modulus(material), B);
+    case ElementType::kC3D20:
+      return strain_operators_standard<20>(fixed_coordinates<20>(type, X), hex20_3(), B);
+    case ElementType::kC3D20R:
+      return strain_operators_standard<20>(fixed_coordinates<20>(type, X), hex20_2(), B);
+    case ElementType::kC3D4:
+      return strain_operators_standard<4>(fixed_coordinates<4>(type, X), tet4_1(), B);
+    case ElementType::kC3D10:
+      return strain_operators_standard<10>(fixed_coordinates<10>(type, X), tet10_4(), B);
+  }
+}
+
+}  // namespace stickslip

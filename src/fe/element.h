@@ -1,0 +1,76 @@
+// Element kernels for linear elastic 3D solids: stiffness, consistent mass, strain operators.
+//
+// Element DOF order: 3*a + d for local node a (CalculiX/Abaqus node order, see mesh/mesh.h) and
+// direction d (x, y, z). X is the 3 x nen matrix of node coordinates (m); nen =
+// nodes_per_element(type). Kernels see coordinates and a material, never a mesh.
+//
+//   K_e = integral of B^T D B dV  (N/m),   M_e = integral of rho N^T N dV  (kg)
+//
+// Integration (natural coordinates: hexahedra [-1,1]^3; tetrahedra xi, eta, zeta >= 0,
+// xi + eta + zeta <= 1 with N1 = 1 - xi - eta - zeta, N2 = xi, N3 = eta, N4 = zeta):
+//   type     stiffness rule            exact mass rule (MassIntegration::kExact)
+//   C3D8     2x2x2 Gauss               2x2x2 Gauss
+//   C3D8I    2x2x2 Gauss + 9 incompatible modes, condensed       2x2x2 Gauss
+//   C3D20    3x3x3 Gauss               3x3x3 Gauss
+//   C3D20R   2x2x2 Gauss               3x3x3 Gauss
+//   C3D4     1 point                   4-point (degree 2)
+//   C3D10    4-point (degree 2)        64-point collapsed Gauss (degree 5)
+// MassIntegration::kStiffnessRule integrates the mass with the stiffness rule, as CalculiX does
+// (identical for C3D8, C3D8I, C3D20; rank-deficient for C3D20R and C3D4).
+// Hexahedron Gauss points are ordered xi fastest, then eta, then zeta.
+//
+// C3D8I (Wilson-Taylor incompatible modes): displacement u = sum N_a u_a + sum_k P_k alpha_k with
+// P = (1 - xi^2, 1 - eta^2, 1 - zeta^2) times three internal 3-vectors alpha. Following Taylor,
+// Beresford and Wilson (1976), the physical derivatives of P use the Jacobian J0 at the element
+// centre and are scaled by det J0 / det J, so that integral(grad P dV) = 0 and the element passes
+// the patch test. The 9 internal DOFs are condensed statically:
+//   K_e = K_uu - K_ua K_aa^-1 K_au,   alpha = -K_aa^-1 K_au u_e.
+// The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass).
+//
+// A non-positive Jacobian determinant at an integration point throws InvalidInput.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fe/material.h"
+#include "mesh/mesh.h"
+
+namespace stickslip {
+
+enum class MassIntegration {
+  kExact,          // the exact rule of the table above (default)
+  kStiffnessRule,  // CalculiX's choice: the stiffness rule
+};
+
+// K_e, 3nen x 3nen, symmetric. K is resized if needed (no allocation when already sized).
+void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
+                       const IsotropicMaterial& material, Eigen::MatrixXd& K);
+
+// Consistent M_e, 3nen x 3nen, symmetric; M_e(3a+d, 3b+e) = 0 for d != e.
+void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, Eigen::MatrixXd& M,
+                  MassIntegration rule = MassIntegration::kExact);
+
+// Volume (m^3) integrated with the exact mass rule of the table above.
+double element_volume(ElementType type, const Eigen::Matrix3Xd& X);
+
+// --- Reference element ---
+
+// Natural coordinates of the nodes, 3 x nen.
+Eigen::Matrix3Xd natural_node_coordinates(ElementType type);
+// Natural coordinates (3 x ngp) and weights of the stiffness rule of the table above.
+Eigen::Matrix3Xd integration_points(ElementType type);
+Eigen::VectorXd integration_weights(ElementType type);
+// Shape functions N (nen) and their natural derivatives dN (3 x nen, row i = d/dxi_i) at xi.
+void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorXd& N,
+                     Eigen::Matrix3Xd& dN);
+
+// Strain operators at the stiffness-rule integration points: B[g] (6 x 3nen) maps the element's
+// nodal displacements to the Voigt strain (material.h's order, engineering shears) at point g.
+// For C3D8I the condensed incompatible modes are included (B = B_u - B_a K_aa^-1 K_au), so the
+// material is needed; for the other types it is unused.
+void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
+                              const IsotropicMaterial& material, std::vector<Eigen::MatrixXd>& B);
+
+}  // namespace stickslip
