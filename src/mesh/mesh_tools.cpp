@@ -1,0 +1,204 @@
+#include "mesh/mesh_tools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+std::vector<int> sorted_unique(std::vector<int> v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+// Restricts a set of parent indices through an old->new map (-1 = dropped); result sorted.
+std::vector<int> restrict_set(const std::vector<int>& set, const std::vector<int>& new_index) {
+  std::vector<int> out;
+  for (int i : set) {
+    if (i >= 0 && i < static_cast<int>(new_index.size()) && new_index[i] >= 0) {
+      out.push_back(new_index[i]);
+    }
+  }
+  return sorted_unique(std::move(out));
+}
+
+std::string describe_node(const Mesh& mesh, int index) {
+  std::ostringstream s;
+  s.precision(9);
+  const Eigen::Vector3d x = mesh.coordinates.col(index);
+  s << "node " << mesh.node_ids[index] << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<int> nodes_of_elements(const Mesh& mesh, std::span<const int> elements) {
+  std::vector<int> nodes;
+  for (int e : elements) {
+    STICKSLIP_VERIFY(e >= 0 && e < mesh.num_elements(), "element index out of range");
+    const auto en = mesh.element_nodes(e);
+    nodes.insert(nodes.end(), en.begin(), en.end());
+  }
+  return sorted_unique(std::move(nodes));
+}
+
+SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
+  const std::vector<int> kept_elements = sorted_unique({elements.begin(), elements.end()});
+  const std::vector<int> kept_nodes = nodes_of_elements(mesh, kept_elements);
+
+  SubMesh sub;
+  std::vector<int> new_node(mesh.num_nodes(), -1);
+  sub.mesh.coordinates.resize(3, static_cast<Eigen::Index>(kept_nodes.size()));
+  for (size_t i = 0; i < kept_nodes.size(); ++i) {
+    const int p = kept_nodes[i];
+    new_node[p] = static_cast<int>(i);
+    sub.mesh.coordinates.col(static_cast<Eigen::Index>(i)) = mesh.coordinates.col(p);
+    sub.mesh.node_ids.push_back(mesh.node_ids[p]);
+  }
+  sub.node_parent = kept_nodes;
+
+  std::vector<int> new_element(mesh.num_elements(), -1);
+  std::vector<int> local;
+  for (int e : kept_elements) {
+    local.clear();
+    for (int n : mesh.element_nodes(e)) local.push_back(new_node[n]);
+    new_element[e] = sub.mesh.add_element(mesh.element_ids[e], mesh.element_types[e], local);
+  }
+  sub.element_parent = kept_elements;
+
+  for (const auto& [name, set] : mesh.node_sets) {
+    std::vector<int> r = restrict_set(set, new_node);
+    if (!r.empty()) sub.mesh.node_sets.emplace(name, std::move(r));
+  }
+  for (const auto& [name, set] : mesh.element_sets) {
+    std::vector<int> r = restrict_set(set, new_element);
+    if (!r.empty()) sub.mesh.element_sets.emplace(name, std::move(r));
+  }
+  return sub;
+}
+
+SubMesh extract_element_set(const Mesh& mesh, const std::string& element_set) {
+  const auto it = mesh.element_sets.find(element_set);
+  if (it == mesh.element_sets.end()) {
+    throw InvalidInput("mesh: no element set named '" + element_set + "'");
+  }
+  return extract_submesh(mesh, it->second);
+}
+
+std::vector<int> select_nodes(const Mesh& mesh, const NodePredicate& predicate) {
+  std::vector<int> out;
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    if (predicate(mesh.coordinates.col(i))) out.push_back(i);
+  }
+  return out;
+}
+
+std::vector<int> select_nodes(const Mesh& mesh, std::span<const int> candidates,
+                              const NodePredicate& predicate) {
+  std::vector<int> out;
+  for (int i : candidates) {
+    STICKSLIP_VERIFY(i >= 0 && i < mesh.num_nodes(), "node index out of range");
+    if (predicate(mesh.coordinates.col(i))) out.push_back(i);
+  }
+  return sorted_unique(std::move(out));
+}
+
+std::vector<int> nodes_on_plane(const Mesh& mesh, const Eigen::Vector3d& point,
+                                const Eigen::Vector3d& normal, double tolerance) {
+  const double length = normal.norm();
+  STICKSLIP_VERIFY(length > 0.0, "plane normal must not be zero");
+  const Eigen::Vector3d n = normal / length;
+  return select_nodes(
+      mesh, [&](const Eigen::Vector3d& x) { return std::abs(n.dot(x - point)) <= tolerance; });
+}
+
+std::vector<int> nodes_in_box(const Mesh& mesh, const Eigen::Vector3d& lower,
+                              const Eigen::Vector3d& upper, double tolerance) {
+  return select_nodes(mesh, [&](const Eigen::Vector3d& x) {
+    return (x.array() >= lower.array() - tolerance).all() &&
+           (x.array() <= upper.array() + tolerance).all();
+  });
+}
+
+std::vector<std::pair<int, int>> match_coincident_nodes(const Mesh& mesh_a,
+                                                        std::span<const int> nodes_a,
+                                                        const Mesh& mesh_b,
+                                                        std::span<const int> nodes_b,
+                                                        double tolerance) {
+  STICKSLIP_VERIFY(tolerance >= 0.0, "tolerance must be >= 0");
+  // B sorted by x: the candidates of a node of A lie in an x window of width 2 tol.
+  std::vector<std::pair<double, int>> b_by_x;
+  b_by_x.reserve(nodes_b.size());
+  for (int b : nodes_b) {
+    STICKSLIP_VERIFY(b >= 0 && b < mesh_b.num_nodes(), "node index out of range");
+    b_by_x.emplace_back(mesh_b.coordinates(0, b), b);
+  }
+  std::sort(b_by_x.begin(), b_by_x.end());
+
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(nodes_a.size());
+  std::vector<int> partner_of_b(mesh_b.num_nodes(), -1);
+  for (int a : nodes_a) {
+    STICKSLIP_VERIFY(a >= 0 && a < mesh_a.num_nodes(), "node index out of range");
+    const Eigen::Vector3d xa = mesh_a.coordinates.col(a);
+    auto it =
+        std::lower_bound(b_by_x.begin(), b_by_x.end(), std::make_pair(xa.x() - tolerance, -1));
+    int found = -1;
+    int count = 0;
+    for (; it != b_by_x.end() && it->first <= xa.x() + tolerance; ++it) {
+      if ((mesh_b.coordinates.col(it->second) - xa).norm() <= tolerance) {
+        found = it->second;
+        ++count;
+      }
+    }
+    if (count == 0) {
+      throw InvalidInput("mesh: " + describe_node(mesh_a, a) +
+                         " has no coincident node in the other set (tolerance " +
+                         std::to_string(tolerance) + " m)");
+    }
+    if (count > 1) {
+      throw InvalidInput("mesh: " + describe_node(mesh_a, a) + " has " + std::to_string(count) +
+                         " nodes of the other set within the tolerance; must be exactly one");
+    }
+    if (partner_of_b[found] >= 0) {
+      throw InvalidInput("mesh: " + describe_node(mesh_b, found) + " is the partner of both node " +
+                         std::to_string(mesh_a.node_ids[partner_of_b[found]]) + " and node " +
+                         std::to_string(mesh_a.node_ids[a]));
+    }
+    partner_of_b[found] = a;
+    pairs.emplace_back(a, found);
+  }
+  return pairs;
+}
+
+AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset, int element_id_offset) {
+  AppendedRange range{mesh.num_nodes(), mesh.num_elements()};
+  const int nn = mesh.num_nodes();
+  mesh.coordinates.conservativeResize(3, nn + part.num_nodes());
+  mesh.coordinates.rightCols(part.num_nodes()) = part.coordinates;
+  for (int id : part.node_ids) mesh.node_ids.push_back(id + node_id_offset);
+  std::vector<int> local;
+  for (int e = 0; e < part.num_elements(); ++e) {
+    local.clear();
+    for (int n : part.element_nodes(e)) local.push_back(n + range.first_node);
+    mesh.add_element(part.element_ids[e] + element_id_offset, part.element_types[e], local);
+  }
+  auto merge = [](std::map<std::string, std::vector<int>>& into,
+                  const std::map<std::string, std::vector<int>>& from, int shift) {
+    for (const auto& [name, set] : from) {
+      std::vector<int>& target = into[name];
+      for (int i : set) target.push_back(i + shift);
+      target = sorted_unique(std::move(target));
+    }
+  };
+  merge(mesh.node_sets, part.node_sets, range.first_node);
+  merge(mesh.element_sets, part.element_sets, range.first_element);
+  check_mesh(mesh);  // throws on colliding ids
+  return range;
+}
+
+}  // namespace stickslip
