@@ -250,11 +250,11 @@ void add_isotropic_upper(const Matrix<double, 3, M>& G, double cl, double cm,
   }
 }
 
-// Copies the upper 3x3 blocks (b > a) to the lower ones.
+// Copies the strict upper triangle to the lower one (exact symmetry).
 template <int M>
 void mirror_upper_blocks(Matrix<double, 3 * M, 3 * M>& K) {
   for (int c = 0; c < 3 * M; ++c) {
-    for (int r = 3 * (c / 3 + 1); r < 3 * M; ++r) K(r, c) = K(c, r);
+    for (int r = c + 1; r < 3 * M; ++r) K(r, c) = K(c, r);
   }
 }
 
