@@ -1,0 +1,72 @@
+// Frequency response of a HarmonicBalanceSystem: a stepped sweep (NOVA-style list of Ω, previous
+// point as the guess, step halving on failure) or pseudo arc-length continuation in (u, Ω)
+// through turning points, both from continuation/. The first guess is the linear stuck (or free)
+// solution at the first frequency (HarmonicBalanceSystem::linear_guess).
+//
+// Per point (DESIGN.md): every master DOF's harmonics, contact forces per pair and harmonic in
+// local axes (force on B, rows of the pair's frame) and global axes (+Rᵀ f, on node B; node A
+// receives the negative), relative displacement harmonics, the cycle statistics (stick / slip /
+// separation fractions, dissipated energy per cycle), Newton iterations, residual, convergence;
+// on request the sampled cycle (time history, hysteresis loop) of chosen pairs. Complex harmonics
+// follow X_k = a_k − i b_k; columns are output_harmonics() (0 first). Ω in rad/s.
+// Points that failed are kept, with converged = false.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "continuation/arclength.h"
+#include "continuation/sweep.h"
+#include "hbm/harmonic_balance.h"
+
+namespace stickslip {
+
+struct PairResponse {
+  Eigen::MatrixXcd displacement_local;  // m x nh, u = R (x_A − x_B)
+  Eigen::MatrixXcd force_local;         // m x nh, force on B in the pair frame
+  Eigen::MatrixXcd force_global;        // k x nh, force on B in global axes (+Rᵀ f)
+  CycleStatistics cycle;
+  AftSamples history;  // filled for the requested pairs only (u, f: m x N over one period)
+};
+
+struct FrequencyPoint {
+  double omega = 0.0;  // rad/s
+  bool converged = false;
+  int iterations = 0;
+  double residual_norm = 0.0;
+  std::string message;
+  Eigen::VectorXd unknowns;  // the solution vector (layout of harmonic_balance.h)
+  Eigen::MatrixXcd master;   // ndof x nh master-DOF harmonics
+  std::vector<PairResponse> pairs;
+};
+
+enum class ContinuationMethod { kSteppedSweep, kArcLength };
+enum class InitialGuess { kLinearStuck, kLinearFree };
+
+struct FrequencyResponseOptions {
+  ContinuationMethod method = ContinuationMethod::kSteppedSweep;
+  std::vector<double> omegas;  // stepped sweep: the frequencies, rad/s (not empty)
+  SteppedSweepOptions sweep;   // stepped sweep
+  ArcLengthOptions arclength;  // arc-length: lambda = Ω
+  InitialGuess initial_guess = InitialGuess::kLinearStuck;
+  std::vector<int> history_pairs;  // pairs whose sampled cycle is kept per point
+};
+
+struct FrequencyResponse {
+  std::vector<FrequencyPoint> points;
+  std::vector<int> harmonics;  // output harmonics (columns of every complex matrix)
+  bool completed = false;
+  std::string message;
+};
+
+// Throws InvalidInput on bad options (empty omegas, history pair out of range, ...).
+FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
+                                     const FrequencyResponseOptions& options);
+
+// Outputs at one solution (x, Ω).
+FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                              double omega, const std::vector<int>& history_pairs = {});
+
+}  // namespace stickslip

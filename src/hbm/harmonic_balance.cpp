@@ -1,0 +1,417 @@
+#include "hbm/harmonic_balance.h"
+
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "core/errors.h"
+
+namespace stickslip {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+std::string idx(const std::string& name, size_t i) { return name + "[" + std::to_string(i) + "]"; }
+
+bool all_finite(const Eigen::MatrixXd& m) { return m.allFinite(); }
+
+// The static problem u = u_lin,0 − G_0 f(u) on the contact rows (harmonic 0 only, AFT with a
+// constant two-sample signal: the static element law from the virgin state).
+class StaticContactSystem final : public ParametrizedSystem {
+ public:
+  StaticContactSystem(const std::vector<ContactPair>& pairs, const std::vector<int>& pair_rows,
+                      Eigen::MatrixXd G0, Eigen::VectorXd ulin0, double scale)
+      : pairs_(pairs),
+        pair_rows_(pair_rows),
+        G0_(std::move(G0)),
+        ulin0_(std::move(ulin0)),
+        scale_(scale),
+        aft_(FourierBasis(HarmonicSet({0}), 2)) {}
+  int size() const override { return static_cast<int>(ulin0_.size()); }
+  double residual_scale() const override { return scale_; }
+  void forces(const Eigen::VectorXd& u, Eigen::VectorXd& f, Eigen::MatrixXd* J) const {
+    f.resize(u.size());
+    if (J) J->setZero(u.size(), u.size());
+    Eigen::VectorXd fp;
+    Eigen::MatrixXd jp;
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      aft_.evaluate(*pairs_[p].element, u.segment(r, m), Eigen::VectorXd(), fp, J ? &jp : nullptr);
+      f.segment(r, m) = fp;
+      if (J) J->block(r, r, m, m) = jp;
+    }
+  }
+  void evaluate(const Eigen::VectorXd& u, double, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
+                Eigen::VectorXd* dR_dlambda) const override {
+    Eigen::VectorXd f;
+    Eigen::MatrixXd J;
+    forces(u, f, dR_dx ? &J : nullptr);
+    R = u - ulin0_ + G0_ * f;
+    if (dR_dx) *dR_dx = Eigen::MatrixXd::Identity(size(), size()) + G0_ * J;
+    if (dR_dlambda) dR_dlambda->setZero(size());
+  }
+
+ private:
+  const std::vector<ContactPair>& pairs_;
+  const std::vector<int>& pair_rows_;
+  Eigen::MatrixXd G0_;
+  Eigen::VectorXd ulin0_;
+  double scale_;
+  Aft aft_;
+};
+
+HarmonicSet unknown_set(const HarmonicBalanceOptions& o) {
+  std::vector<int> h;
+  if (o.static_coupling == StaticCoupling::kCoupled) h.push_back(0);
+  if (o.harmonic_list.empty()) {
+    for (int k = 1; k <= o.harmonics; ++k) h.push_back(k);
+  } else {
+    h.insert(h.end(), o.harmonic_list.begin(), o.harmonic_list.end());
+  }
+  return HarmonicSet(h);
+}
+
+}  // namespace
+
+void validate(const LinearModel& model) {
+  const auto nm = model.omega2.size();
+  require(nm >= 1, "LinearModel.omega2", "size 0", "at least one mode");
+  require(model.Phi.cols() == nm && model.Phi.rows() >= 1, "LinearModel.Phi",
+          std::to_string(model.Phi.rows()) + " x " + std::to_string(model.Phi.cols()),
+          "ndof x nm with nm = omega2.size() = " + std::to_string(nm));
+  require(model.modal_damping.size() == nm, "LinearModel.modal_damping",
+          "size " + std::to_string(model.modal_damping.size()), "size nm = " + std::to_string(nm));
+  for (Eigen::Index r = 0; r < nm; ++r) {
+    require(std::isfinite(model.omega2[r]) && model.omega2[r] >= 0, idx("LinearModel.omega2", r),
+            std::to_string(model.omega2[r]), ">= 0 and finite");
+    require(std::isfinite(model.modal_damping[r]) && model.modal_damping[r] >= 0,
+            idx("LinearModel.modal_damping", r), std::to_string(model.modal_damping[r]),
+            ">= 0 and finite");
+  }
+  require(all_finite(model.Phi), "LinearModel.Phi", "non-finite entry", "finite");
+}
+
+Eigen::VectorXd rayleigh_modal_damping(const Eigen::VectorXd& omega2, double alpha, double beta) {
+  require(std::isfinite(alpha) && alpha >= 0, "alpha", std::to_string(alpha), ">= 0");
+  require(std::isfinite(beta) && beta >= 0, "beta", std::to_string(beta), ">= 0");
+  return (alpha + beta * omega2.array()).matrix();
+}
+
+Eigen::VectorXd modal_damping_from_ratio(const Eigen::VectorXd& omega2, double zeta) {
+  require(std::isfinite(zeta) && zeta >= 0, "zeta", std::to_string(zeta), ">= 0");
+  return (2.0 * zeta * omega2.array().max(0.0).sqrt()).matrix();
+}
+
+LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                       double alpha, double beta) {
+  require(K.rows() == K.cols() && M.rows() == M.cols() && K.rows() == M.rows() && K.rows() > 0,
+          "K, M", std::to_string(K.rows()) + " x " + std::to_string(K.cols()), "square, same size");
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);
+  require(eig.info() == Eigen::Success, "M", "not positive definite", "M SPD");
+  LinearModel model;
+  model.omega2 = eig.eigenvalues().cwiseMax(0.0);
+  model.Phi = eig.eigenvectors();  // Φᵀ M Φ = I
+  model.modal_damping = rayleigh_modal_damping(model.omega2, alpha, beta);
+  return model;
+}
+
+void validate(const HarmonicBalanceOptions& o) {
+  require(o.harmonics >= 1, "HarmonicBalanceOptions.harmonics", std::to_string(o.harmonics),
+          ">= 1");
+  for (size_t i = 0; i < o.harmonic_list.size(); ++i) {
+    require(o.harmonic_list[i] >= 1 && (i == 0 || o.harmonic_list[i] > o.harmonic_list[i - 1]),
+            idx("HarmonicBalanceOptions.harmonic_list", i), std::to_string(o.harmonic_list[i]),
+            "strictly increasing harmonics >= 1 (harmonic 0 is set by static_coupling)");
+  }
+  const HarmonicSet set = unknown_set(o);
+  require(o.time_samples >= set.min_time_samples(), "HarmonicBalanceOptions.time_samples",
+          std::to_string(o.time_samples),
+          ">= 2(2 H_max + 1) = " + std::to_string(set.min_time_samples()));
+  require(std::isfinite(o.residual_scale) && o.residual_scale >= 0,
+          "HarmonicBalanceOptions.residual_scale", std::to_string(o.residual_scale), ">= 0");
+  validate(o.static_newton, "HarmonicBalanceOptions.static_newton.");
+}
+
+HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs,
+                                             Excitation excitation, HarmonicBalanceOptions options)
+    : model_(std::move(model)),
+      pairs_(std::move(pairs)),
+      excitation_(std::move(excitation)),
+      options_((validate(options), std::move(options))),
+      aft_(FourierBasis(unknown_set(options_), options_.time_samples)) {
+  validate(model_);
+  const int ndof = static_cast<int>(model_.Phi.rows());
+  const int nm = static_cast<int>(model_.Phi.cols());
+  nc_ = aft_.basis().coefficient_count();
+
+  require(!pairs_.empty(), "pairs", "[]", "at least one contact pair");
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const ContactPair& c = pairs_[p];
+    require(c.element != nullptr, idx("pairs", p) + ".element", "null", "an element");
+    const int m = c.element->dimension();
+    require(c.frame.rows() == m && c.frame.cols() >= 1 && all_finite(c.frame),
+            idx("pairs", p) + ".frame",
+            std::to_string(c.frame.rows()) + " x " + std::to_string(c.frame.cols()),
+            "finite, m x k with m = element dimension " + std::to_string(m));
+    require(!c.dofs_a.empty() || !c.dofs_b.empty(), idx("pairs", p) + ".dofs", "both empty",
+            "at most one side is ground");
+    for (const auto* dofs : {&c.dofs_a, &c.dofs_b}) {
+      require(dofs->empty() || static_cast<int>(dofs->size()) == c.frame.cols(),
+              idx("pairs", p) + (dofs == &c.dofs_a ? ".dofs_a" : ".dofs_b"),
+              "size " + std::to_string(dofs->size()),
+              "empty (ground) or frame.cols() = " + std::to_string(c.frame.cols()));
+      for (int d : *dofs) {
+        require(d >= 0 && d < ndof, idx("pairs", p) + ".dofs", std::to_string(d),
+                "in [0, " + std::to_string(ndof) + ")");
+      }
+    }
+    pair_rows_.push_back(rows_);
+    rows_ += m;
+  }
+
+  Psi_.setZero(rows_, nm);
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const ContactPair& c = pairs_[p];
+    for (int i = 0; i < static_cast<int>(c.dofs_a.size()); ++i)
+      Psi_.middleRows(pair_rows_[p], c.frame.rows()) +=
+          c.frame.col(i) * model_.Phi.row(c.dofs_a[i]);
+    for (int i = 0; i < static_cast<int>(c.dofs_b.size()); ++i)
+      Psi_.middleRows(pair_rows_[p], c.frame.rows()) -=
+          c.frame.col(i) * model_.Phi.row(c.dofs_b[i]);
+  }
+
+  output_harmonics_ = {0};
+  for (int k : unknown_harmonics().harmonics()) {
+    if (k != 0) output_harmonics_.push_back(k);
+  }
+  for (const auto& [k, load] : excitation_.harmonics) {
+    bool known = false;
+    for (int h : output_harmonics_) known = known || (h == k);
+    require(known, "excitation.harmonics[" + std::to_string(k) + "]", "not solved",
+            "an excitation harmonic must be one of the solved harmonics (0 or the dynamic set)");
+    require(load.size() == ndof && load.allFinite(),
+            "excitation.harmonics[" + std::to_string(k) + "]",
+            "size " + std::to_string(load.size()), "finite, size ndof = " + std::to_string(ndof));
+    modal_load_[k] = model_.Phi.transpose().cast<Complex>() * load;
+  }
+
+  const double max_w2 = model_.omega2.maxCoeff();
+  static_modes_ = (model_.omega2.array() > 1e-12 * max_w2).cast<double>().matrix();
+  require(static_modes_.sum() > 0, "LinearModel.omega2", "all zero", "at least one elastic mode");
+
+  // Quasi-static linear response scale.
+  double scale = 0.0;
+  for (const auto& [k, q] : modal_load_) {
+    const Eigen::VectorXcd h = modal_receptance(0, 0.0).cast<Complex>();
+    scale += (Psi_.cast<Complex>() * h.cwiseProduct(q)).norm();
+  }
+  solve_static();
+  scale += u0_.norm();
+  residual_scale_ =
+      options_.residual_scale > 0 ? options_.residual_scale : (scale > 0 ? scale : 1.0);
+}
+
+Eigen::VectorXcd HarmonicBalanceSystem::modal_receptance(int k, double omega) const {
+  const Eigen::Index nm = model_.omega2.size();
+  Eigen::VectorXcd h(nm);
+  for (Eigen::Index r = 0; r < nm; ++r) {
+    if (k == 0) {
+      h[r] = static_modes_[r] > 0 ? 1.0 / model_.omega2[r] : 0.0;
+    } else {
+      const double kw = k * omega;
+      h[r] = 1.0 / Complex(model_.omega2[r] - kw * kw, kw * model_.modal_damping[r]);
+    }
+  }
+  return h;
+}
+
+Eigen::MatrixXcd HarmonicBalanceSystem::receptance(int k, double omega) const {
+  const Eigen::VectorXcd h = modal_receptance(k, omega);
+  return Psi_.cast<Complex>() * h.asDiagonal() * Psi_.transpose().cast<Complex>();
+}
+
+Eigen::VectorXcd HarmonicBalanceSystem::linear_contact_response(int k, double omega) const {
+  const auto it = modal_load_.find(k);
+  if (it == modal_load_.end()) return Eigen::VectorXcd::Zero(rows_);
+  return Psi_.cast<Complex>() * modal_receptance(k, omega).cwiseProduct(it->second);
+}
+
+void HarmonicBalanceSystem::solve_static() {
+  const Eigen::MatrixXd G0 = receptance(0, 0.0).real();
+  const Eigen::VectorXd ulin0 = linear_contact_response(0, 0.0).real();
+  // Scale for the static Newton: the linear static response, else the stiffest element's
+  // scale is unknown here: use ||G0||·1 N as a displacement per newton of contact force.
+  const double scale = ulin0.norm() > 0 ? ulin0.norm() : G0.norm();
+  StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0);
+  u0_ = Eigen::VectorXd::Zero(rows_);
+  static_summary_ = solve_newton(sys, 0.0, u0_, options_.static_newton);
+  sys.forces(u0_, f0_, nullptr);
+}
+
+void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::VectorXd& forces,
+                                           std::vector<CycleStatistics>* stats,
+                                           std::vector<AftSamples>* samples) const {
+  STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
+  forces.resize(size());
+  if (stats) stats->resize(pairs_.size());
+  if (samples) samples->resize(pairs_.size());
+  const bool frozen = !unknown_harmonics().has_static();
+  Eigen::VectorXd fp;
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+    const CycleStatistics s =
+        aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
+                      frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, nullptr,
+                      samples ? &(*samples)[p] : nullptr);
+    forces.segment(r * nc_, m * nc_) = fp;
+    if (stats) (*stats)[p] = s;
+  }
+}
+
+void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& R,
+                                     Eigen::MatrixXd* dR_dx, Eigen::VectorXd* dR_domega) const {
+  STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
+  const int n = size();
+  const bool frozen = !unknown_harmonics().has_static();
+  Eigen::VectorXd F(n), fp;
+  std::vector<Eigen::MatrixXd> blocks(dR_dx ? pairs_.size() : 0);
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
+                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp,
+                  dR_dx ? &blocks[p] : nullptr);
+    F.segment(r * nc_, m * nc_) = fp;
+  }
+
+  // 𝔾 (n x n) in the real split, u_lin in the unknown layout, and their Ω-derivatives.
+  Eigen::MatrixXd Gbig = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd dGbig;
+  Eigen::VectorXd ulin = Eigen::VectorXd::Zero(n), dulin;
+  if (dR_domega) {
+    dGbig.setZero(n, n);
+    dulin.setZero(n);
+  }
+  const HarmonicSet& set = unknown_harmonics();
+  const Eigen::MatrixXcd Psi = Psi_.cast<Complex>();
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    const Eigen::VectorXcd h = modal_receptance(k, omega);
+    const Eigen::MatrixXcd G = Psi * h.asDiagonal() * Psi.transpose();
+    const auto load = modal_load_.find(k);
+    const Eigen::VectorXcd ul = load == modal_load_.end()
+                                    ? Eigen::VectorXcd::Zero(rows_)
+                                    : Eigen::VectorXcd(Psi * h.cwiseProduct(load->second));
+    Eigen::MatrixXcd dG;
+    Eigen::VectorXcd dul;
+    if (dR_domega && k > 0) {
+      Eigen::VectorXcd dh(h.size());
+      for (Eigen::Index r = 0; r < h.size(); ++r) {
+        dh[r] = -h[r] * h[r] * Complex(-2.0 * k * k * omega, k * model_.modal_damping[r]);
+      }
+      dG = Psi * dh.asDiagonal() * Psi.transpose();
+      dul = load == modal_load_.end() ? Eigen::VectorXcd::Zero(rows_)
+                                      : Eigen::VectorXcd(Psi * dh.cwiseProduct(load->second));
+    }
+    for (int s = 0; s < rows_; ++s) {
+      if (k == 0) {
+        ulin[s * nc_ + o] = ul[s].real();
+        for (int r = 0; r < rows_; ++r) Gbig(s * nc_ + o, r * nc_ + o) = G(s, r).real();
+        continue;
+      }
+      ulin[s * nc_ + o] = ul[s].real();
+      ulin[s * nc_ + o + 1] = -ul[s].imag();
+      for (int r = 0; r < rows_; ++r) {
+        const double gr = G(s, r).real(), gi = G(s, r).imag();
+        Gbig(s * nc_ + o, r * nc_ + o) = gr;
+        Gbig(s * nc_ + o, r * nc_ + o + 1) = gi;
+        Gbig(s * nc_ + o + 1, r * nc_ + o) = -gi;
+        Gbig(s * nc_ + o + 1, r * nc_ + o + 1) = gr;
+      }
+      if (dR_domega) {
+        dulin[s * nc_ + o] = dul[s].real();
+        dulin[s * nc_ + o + 1] = -dul[s].imag();
+        for (int r = 0; r < rows_; ++r) {
+          const double gr = dG(s, r).real(), gi = dG(s, r).imag();
+          dGbig(s * nc_ + o, r * nc_ + o) = gr;
+          dGbig(s * nc_ + o, r * nc_ + o + 1) = gi;
+          dGbig(s * nc_ + o + 1, r * nc_ + o) = -gi;
+          dGbig(s * nc_ + o + 1, r * nc_ + o + 1) = gr;
+        }
+      }
+    }
+  }
+
+  R = x - ulin + Gbig * F;
+  if (dR_dx) {
+    dR_dx->setIdentity(n, n);
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
+      dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w) * blocks[p];
+    }
+  }
+  if (dR_domega) *dR_domega = dGbig * F - dulin;
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) const {
+  const int n = size();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  const HarmonicSet& set = unknown_harmonics();
+  if (set.has_static()) {
+    for (int r = 0; r < rows_; ++r) x[r * nc_ + set.offset(0)] = u0_[r];
+  }
+  if (stuck) {
+    Eigen::VectorXd R;
+    Eigen::MatrixXd J;
+    evaluate(x, omega, R, &J, nullptr);
+    return x - J.partialPivLu().solve(R);
+  }
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    if (k == 0) continue;
+    const Eigen::VectorXcd ul = linear_contact_response(k, omega);
+    for (int r = 0; r < rows_; ++r) {
+      x[r * nc_ + o] = ul[r].real();
+      x[r * nc_ + o + 1] = -ul[r].imag();
+    }
+  }
+  return x;
+}
+
+Eigen::MatrixXcd HarmonicBalanceSystem::to_complex(const Eigen::VectorXd& coefficients,
+                                                   const Eigen::VectorXd& static_part) const {
+  const HarmonicSet& set = unknown_harmonics();
+  const int nh = static_cast<int>(output_harmonics_.size());
+  Eigen::MatrixXcd out = Eigen::MatrixXcd::Zero(rows_, nh);
+  for (int c = 0; c < nh; ++c) {
+    const int pos = set.position_of(output_harmonics_[c]);
+    for (int r = 0; r < rows_; ++r) {
+      if (pos >= 0) {
+        out(r, c) = set.complex_amplitude(coefficients.segment(r * nc_, nc_), pos);
+      } else if (static_part.size() == rows_) {
+        out(r, c) = static_part[r];
+      }
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& contact_force,
+                                                        double omega) const {
+  const int nh = static_cast<int>(output_harmonics_.size());
+  STICKSLIP_VERIFY(contact_force.rows() == rows_ && contact_force.cols() == nh,
+                   "master_response: contact_force must be nu x output harmonics");
+  Eigen::MatrixXcd x(model_.Phi.rows(), nh);
+  for (int c = 0; c < nh; ++c) {
+    const int k = output_harmonics_[c];
+    Eigen::VectorXcd q = -Psi_.transpose().cast<Complex>() * contact_force.col(c);
+    const auto load = modal_load_.find(k);
+    if (load != modal_load_.end()) q += load->second;
+    x.col(c) = model_.Phi.cast<Complex>() * modal_receptance(k, omega).cwiseProduct(q);
+  }
+  return x;
+}
+
+}  // namespace stickslip

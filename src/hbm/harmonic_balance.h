@@ -1,0 +1,161 @@
+// Condensed multi-harmonic balance on the contact DOFs (DESIGN.md, "The formulation the solver
+// must have").
+//
+// Linear model (LinearModel): ndof master DOFs x, nm modes, mass-normalised (Φᵀ M Φ = I), modal
+// equations q̈_r + c_r q̇_r + ω_r² q_r = φ_rᵀ F. Per harmonic k the dynamic flexibility is
+//   D_k⁻¹ = Φ diag(h_k) Φᵀ,  h_{k,r}(Ω) = 1 / (ω_r² − (kΩ)² + i kΩ c_r).
+// Modal damping from Rayleigh C = αM + βK: c_r = α + β ω_r²; from a damping ratio ζ: c_r = 2ζω_r.
+//
+// Contact pairs: pair p joins node A (DOFs dofs_a) and node B (dofs_b; either may be empty =
+// ground) through a NonlinearElement of dimension m_p with frame R_p (m_p x k, k = DOFs per node):
+//   u_p = R_p (x_A − x_B);  the element force f_p acts on B as +R_pᵀ f_p, on A as −R_pᵀ f_p.
+// Stacking all pairs, u = B x (nu = Σ m_p rows) and the contact force on the structure is −Bᵀ f.
+//
+// Excitation: F(t) = Re Σ_k F_k e^{ikΩt} (complex nodal forces per harmonic; for k = 0 the real
+// part is the static load). Linear response x_lin,k = D_k⁻¹ F_k, u_lin,k = B x_lin,k.
+//
+// Unknowns x (size nu·nc, nc = coefficients of the unknown HarmonicSet S): the real Fourier
+// coefficients of u, signal-major (fourier.h): entry r·nc + c is coefficient c of contact row r
+// (pair p's rows are r_p .. r_p + m_p − 1, so each pair's unknowns are contiguous).
+//   coupled:   S = {0} ∪ dynamic harmonics; harmonic 0 solved with the others.
+//   uncoupled: S = dynamic harmonics; first the static problem u0 = u_lin,0 − G_0 f(u0) is solved
+//              (static element laws, from the virgin state), then u0 is frozen as the mean of
+//              u(t) in the AFT and f_0 is frozen for the recovery; the harmonic-0 balance is not
+//              part of R.
+//
+// Residual (units m), per harmonic k of S with complex U_k = a_k − i b_k, F_k = fa_k − i fb_k
+// (AFT force coefficients) and G_k = G_r + i G_i = B D_k⁻¹ Bᵀ:
+//   U_k − u_lin,k + G_k F_k = 0, split into real rows
+//     R_a = a_k − Re u_lin,k + G_r fa_k + G_i fb_k
+//     R_b = b_k + Im u_lin,k − G_i fa_k + G_r fb_k
+//   and for k = 0: R_0 = a_0 − u_lin,0 + G_0 f_0.
+// dR/dx = I + 𝔾 ∂F/∂x (∂F/∂x block-diagonal per pair, exact through the AFT) and
+// dR/dΩ = (∂𝔾/∂Ω) F − ∂u_lin/∂Ω, analytic (the element laws are rate-independent).
+// Harmonic 0 needs ω_r² > 0: rigid-body modes (ω_r² <= 1e-12 max ω²) are left out of G_0 and
+// u_lin,0 (the static load and contact preloads must then be self-equilibrated).
+//
+// Recovery of every master DOF: x_k = Φ diag(h_k) (Φᵀ F_k − Ψᵀ F_k^c), Ψ = BΦ.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "contact/nonlinear_element.h"
+#include "continuation/newton.h"
+#include "continuation/parametrized_system.h"
+#include "hbm/aft.h"
+#include "hbm/fourier.h"
+
+namespace stickslip {
+
+struct LinearModel {
+  Eigen::VectorXd omega2;         // ω_r², (rad/s)², ≥ 0, size nm
+  Eigen::MatrixXd Phi;            // ndof x nm, mass-normalised
+  Eigen::VectorXd modal_damping;  // c_r, 1/s, ≥ 0, size nm
+};
+void validate(const LinearModel& model);
+
+Eigen::VectorXd rayleigh_modal_damping(const Eigen::VectorXd& omega2, double alpha, double beta);
+Eigen::VectorXd modal_damping_from_ratio(const Eigen::VectorXd& omega2, double zeta);
+// All modes of dense symmetric (K, M), M positive definite; damping c_r = α + β ω_r².
+LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                       double alpha, double beta);
+
+struct ContactPair {
+  std::vector<int> dofs_a;  // k master-DOF indices of node A; empty = ground
+  std::vector<int> dofs_b;  // k master-DOF indices of node B; empty = ground
+  Eigen::MatrixXd frame;    // R, m x k (m = element dimension); 3D contact rows t1, t2, n
+  ElementPtr element;
+};
+
+struct Excitation {
+  std::map<int, Eigen::VectorXcd> harmonics;  // k ≥ 0 -> F_k (size ndof), N
+};
+
+enum class StaticCoupling { kUncoupled, kCoupled };
+
+struct HarmonicBalanceOptions {
+  int harmonics = 1;               // H: dynamic harmonics 1..H
+  std::vector<int> harmonic_list;  // if not empty, the dynamic harmonics (≥ 1, increasing),
+                                   // e.g. {1, 3, 5}; overrides `harmonics`
+  int time_samples = 64;           // N per period for AFT; N ≥ 2(2 H_max + 1)
+  StaticCoupling static_coupling = StaticCoupling::kUncoupled;
+  double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
+  NewtonOptions static_newton;  // for the uncoupled static problem
+};
+void validate(const HarmonicBalanceOptions& options);
+
+class HarmonicBalanceSystem final : public ParametrizedSystem {
+ public:
+  // Validates everything (InvalidInput). Uncoupled: solves the static problem here
+  // (static_summary() says whether it converged).
+  HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs, Excitation excitation,
+                        HarmonicBalanceOptions options);
+
+  int size() const override { return rows_ * nc_; }
+  void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
+                Eigen::VectorXd* dR_domega) const override;
+  // options.residual_scale if set, else the 2-norm of the quasi-static linear contact response
+  // Σ_k ||B Φ diag(1/ω²) Φᵀ F_k|| plus ||u0|| (1 if both vanish).
+  double residual_scale() const override { return residual_scale_; }
+
+  const HarmonicSet& unknown_harmonics() const { return aft_.basis().harmonics(); }
+  // 0 followed by the dynamic harmonics: the harmonics every output carries.
+  const std::vector<int>& output_harmonics() const { return output_harmonics_; }
+  int contact_rows() const { return rows_; }                 // nu
+  int pair_row(int pair) const { return pair_rows_[pair]; }  // r_p
+  int master_dofs() const { return static_cast<int>(model_.Phi.rows()); }
+  const std::vector<ContactPair>& pairs() const { return pairs_; }
+  const Aft& aft() const { return aft_; }
+  const HarmonicBalanceOptions& options() const { return options_; }
+
+  const NewtonSummary& static_summary() const { return static_summary_; }
+  const Eigen::VectorXd& static_displacement() const { return u0_; }  // uncoupled u0 (nu)
+  const Eigen::VectorXd& static_force() const { return f0_; }         // uncoupled f0 (nu)
+
+  // Complex linear contact response u_lin,k(Ω) (nu) and the receptance G_k(Ω) (nu x nu).
+  Eigen::VectorXcd linear_contact_response(int k, double omega) const;
+  Eigen::MatrixXcd receptance(int k, double omega) const;
+
+  // Guess for Newton: the linear response with every element replaced by its tangent at the
+  // zero-vibration state (the static state when uncoupled): stuck friction, closed preloaded
+  // contacts (`stuck` = true), or by no element at all (`stuck` = false: u = u_lin).
+  Eigen::VectorXd linear_guess(double omega, bool stuck) const;
+
+  // Element forces for unknowns x: F (nu·nc coefficients) and per pair its cycle statistics
+  // and, if requested, the sampled cycle.
+  void contact_forces(const Eigen::VectorXd& x, Eigen::VectorXd& forces,
+                      std::vector<CycleStatistics>* stats,
+                      std::vector<AftSamples>* samples = nullptr) const;
+  // Complex harmonics of a coefficient vector in the unknown layout: rows x output harmonics
+  // (harmonic 0 from `static_part` when S has no 0; pass the uncoupled u0 or f0).
+  Eigen::MatrixXcd to_complex(const Eigen::VectorXd& coefficients,
+                              const Eigen::VectorXd& static_part) const;
+  // Master-DOF harmonics, ndof x output harmonics, from the complex contact forces (nu x nh).
+  Eigen::MatrixXcd master_response(const Eigen::MatrixXcd& contact_force, double omega) const;
+
+ private:
+  Eigen::VectorXcd modal_receptance(int k, double omega) const;  // h_k (nm)
+  void solve_static();
+
+  LinearModel model_;
+  std::vector<ContactPair> pairs_;
+  Excitation excitation_;
+  HarmonicBalanceOptions options_;
+  Aft aft_;
+  int nc_ = 0;
+  int rows_ = 0;
+  std::vector<int> pair_rows_;
+  std::vector<int> output_harmonics_;
+  Eigen::MatrixXd Psi_;                         // B Φ, nu x nm
+  std::map<int, Eigen::VectorXcd> modal_load_;  // k -> Φᵀ F_k
+  Eigen::VectorXd static_modes_;                // 1 for modes kept in G_0, else 0
+  Eigen::VectorXd u0_, f0_;
+  NewtonSummary static_summary_;
+  double residual_scale_ = 1.0;
+};
+
+}  // namespace stickslip
