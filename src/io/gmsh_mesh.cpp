@@ -1,0 +1,266 @@
+#include "io/gmsh_mesh.h"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <climits>
+#include <fstream>
+#include <mutex>
+#include <unordered_map>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+// MSH element types (Gmsh reference manual, "MSH file format").
+constexpr int kGmshTet4 = 4;
+constexpr int kGmshHex8 = 5;
+constexpr int kGmshTet10 = 11;
+constexpr int kGmshHex20 = 17;
+
+constexpr int kIdentity8[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+// Gmsh 20-node hexahedron: corners 0-7 as CalculiX, then edges (0,1) (0,3) (0,4) (1,2) (1,5)
+// (2,3) (2,6) (3,7) (4,5) (4,7) (5,6) (6,7). CalculiX C3D20: corners, then bottom edges (0,1)
+// (1,2) (2,3) (3,0), top edges (4,5) (5,6) (6,7) (7,4), vertical edges (0,4) (1,5) (2,6) (3,7).
+constexpr int kHex20[20] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15};
+// Gmsh 10-node tetrahedron: corners, then edges (0,1) (1,2) (2,0) (3,0) (3,2) (3,1).
+// CalculiX C3D10: corners, then (0,1) (1,2) (2,0) (0,3) (1,3) (2,3).
+constexpr int kTet10[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+
+std::mutex g_session_mutex;
+int g_session_count = 0;
+
+// Runs a Gmsh call and turns Gmsh's exceptions into InvalidInput naming `source`.
+template <typename F>
+void gmsh_call(const std::string& source, const std::string& what, F&& f) {
+  try {
+    f();
+  } catch (...) {
+    std::string error;
+    try {
+      gmsh::logger::getLastError(error);
+    } catch (...) {
+    }
+    throw InvalidInput({source, 0, ""},
+                       "Gmsh failed to " + what + (error.empty() ? "" : ": " + error));
+  }
+}
+
+std::string gmsh_element_name(int type) {
+  std::string name;
+  int dim = 0, order = 0, num_nodes = 0, num_primary = 0;
+  std::vector<double> local;
+  try {
+    gmsh::model::mesh::getElementProperties(type, name, dim, order, num_nodes, local, num_primary);
+  } catch (...) {
+    name = "unknown";
+  }
+  return name + " (MSH type " + std::to_string(type) + ")";
+}
+
+int checked_id(std::size_t tag, const std::string& source, const char* what) {
+  if (tag == 0 || tag > static_cast<std::size_t>(INT_MAX)) {
+    throw InvalidInput({source, 0, ""}, std::string(what) + " tag " + std::to_string(tag) +
+                                            " is outside the supported range 1.." +
+                                            std::to_string(INT_MAX));
+  }
+  return static_cast<int>(tag);
+}
+
+}  // namespace
+
+void validate(const GmshReadOptions& options) {
+  require(options.hexahedron8 == ElementType::kC3D8 || options.hexahedron8 == ElementType::kC3D8I,
+          "GmshReadOptions::hexahedron8", element_type_name(options.hexahedron8),
+          "must be C3D8 or C3D8I");
+  require(
+      options.hexahedron20 == ElementType::kC3D20 || options.hexahedron20 == ElementType::kC3D20R,
+      "GmshReadOptions::hexahedron20", element_type_name(options.hexahedron20),
+      "must be C3D20 or C3D20R");
+}
+
+GmshSession::GmshSession() {
+  std::lock_guard<std::mutex> lock(g_session_mutex);
+  if (g_session_count++ == 0) {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 2);  // errors and warnings only, into the logger
+    gmsh::logger::start();
+  }
+}
+
+GmshSession::~GmshSession() {
+  std::lock_guard<std::mutex> lock(g_session_mutex);
+  if (--g_session_count == 0) {
+    try {
+      gmsh::logger::stop();
+      gmsh::finalize();
+    } catch (...) {
+    }
+  }
+}
+
+const int* gmsh_to_calculix_order(int gmsh_type) {
+  switch (gmsh_type) {
+    case kGmshTet4:
+    case kGmshHex8:
+      return kIdentity8;
+    case kGmshTet10:
+      return kTet10;
+    case kGmshHex20:
+      return kHex20;
+    default:
+      return nullptr;
+  }
+}
+
+Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& options) {
+  validate(options);
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> element_tags;
+  std::vector<std::vector<std::size_t>> element_nodes;
+  gmsh_call(source, "get the elements",
+            [&] { gmsh::model::mesh::getElements(types, element_tags, element_nodes, 3, -1); });
+
+  struct RawElement {
+    std::size_t tag;
+    ElementType type;
+    const std::size_t* gmsh_nodes;
+    const int* order;
+  };
+  std::vector<RawElement> raw;
+  for (size_t t = 0; t < types.size(); ++t) {
+    ElementType type;
+    switch (types[t]) {
+      case kGmshTet4:
+        type = ElementType::kC3D4;
+        break;
+      case kGmshTet10:
+        type = ElementType::kC3D10;
+        break;
+      case kGmshHex8:
+        type = options.hexahedron8;
+        break;
+      case kGmshHex20:
+        type = options.hexahedron20;
+        break;
+      default:
+        throw InvalidInput({source, 0, ""},
+                           "unsupported element type " + gmsh_element_name(types[t]) +
+                               " (supported: 4- and 10-node tetrahedra, 8- and 20-node "
+                               "hexahedra)");
+    }
+    const size_t n = static_cast<size_t>(nodes_per_element(type));
+    STICKSLIP_VERIFY(element_nodes[t].size() == n * element_tags[t].size(),
+                     "Gmsh returned an inconsistent connectivity array");
+    for (size_t e = 0; e < element_tags[t].size(); ++e) {
+      raw.push_back({element_tags[t][e], type, element_nodes[t].data() + n * e,
+                     gmsh_to_calculix_order(types[t])});
+    }
+  }
+  if (raw.empty()) throw InvalidInput({source, 0, ""}, "the model has no 3D elements");
+  std::sort(raw.begin(), raw.end(),
+            [](const RawElement& a, const RawElement& b) { return a.tag < b.tag; });
+
+  // Nodes used by 3D elements, sorted by tag.
+  std::vector<std::size_t> used;
+  for (const RawElement& e : raw) {
+    used.insert(used.end(), e.gmsh_nodes, e.gmsh_nodes + nodes_per_element(e.type));
+  }
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coords, parametric;
+  gmsh_call(source, "get the nodes", [&] {
+    gmsh::model::mesh::getNodes(node_tags, coords, parametric, -1, -1, false, false);
+  });
+  std::unordered_map<std::size_t, size_t> position;  // tag -> position in node_tags
+  position.reserve(node_tags.size());
+  for (size_t i = 0; i < node_tags.size(); ++i) position.emplace(node_tags[i], i);
+
+  Mesh mesh;
+  mesh.coordinates.resize(3, static_cast<Eigen::Index>(used.size()));
+  std::unordered_map<std::size_t, int> node_index;
+  node_index.reserve(used.size());
+  for (std::size_t tag : used) {
+    const auto it = position.find(tag);
+    if (it == position.end()) {
+      throw InvalidInput({source, 0, ""}, "an element refers to node " + std::to_string(tag) +
+                                              ", which has no coordinates");
+    }
+    const int index = mesh.num_nodes();
+    mesh.coordinates.col(index) = Eigen::Vector3d(
+        coords[3 * it->second], coords[3 * it->second + 1], coords[3 * it->second + 2]);
+    mesh.node_ids.push_back(checked_id(tag, source, "node"));
+    node_index.emplace(tag, index);
+  }
+  std::unordered_map<std::size_t, int> element_index;
+  element_index.reserve(raw.size());
+  std::vector<int> local;
+  for (const RawElement& e : raw) {
+    local.clear();
+    for (int i = 0; i < nodes_per_element(e.type); ++i) {
+      local.push_back(node_index.at(e.gmsh_nodes[e.order[i]]));
+    }
+    element_index.emplace(e.tag,
+                          mesh.add_element(checked_id(e.tag, source, "element"), e.type, local));
+  }
+
+  // Physical groups -> sets.
+  gmsh::vectorpair groups;
+  gmsh_call(source, "get the physical groups", [&] { gmsh::model::getPhysicalGroups(groups); });
+  for (const auto& [dim, tag] : groups) {
+    std::string name;
+    gmsh_call(source, "get a physical name", [&] { gmsh::model::getPhysicalName(dim, tag, name); });
+    if (name.empty()) name = "PHYSICAL_" + std::to_string(dim) + "_" + std::to_string(tag);
+    std::vector<std::size_t> group_nodes;
+    std::vector<double> group_coords;
+    gmsh_call(source, "get the nodes of physical group " + name, [&] {
+      gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, group_nodes, group_coords);
+    });
+    std::vector<int>& node_set = mesh.node_sets[name];
+    for (std::size_t n : group_nodes) {
+      const auto it = node_index.find(n);
+      if (it != node_index.end()) node_set.push_back(it->second);
+    }
+    std::sort(node_set.begin(), node_set.end());
+    node_set.erase(std::unique(node_set.begin(), node_set.end()), node_set.end());
+    if (dim != 3) continue;
+    std::vector<int> entities;
+    gmsh_call(source, "get the entities of physical group " + name,
+              [&] { gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities); });
+    std::vector<int>& element_set = mesh.element_sets[name];
+    for (int entity : entities) {
+      std::vector<int> et;
+      std::vector<std::vector<std::size_t>> etags, enodes;
+      gmsh_call(source, "get the elements of physical group " + name,
+                [&] { gmsh::model::mesh::getElements(et, etags, enodes, 3, entity); });
+      for (const auto& tags : etags) {
+        for (std::size_t t : tags) element_set.push_back(element_index.at(t));
+      }
+    }
+    std::sort(element_set.begin(), element_set.end());
+    element_set.erase(std::unique(element_set.begin(), element_set.end()), element_set.end());
+  }
+  check_mesh(mesh);
+  return mesh;
+}
+
+Mesh read_gmsh(const std::string& path, const GmshReadOptions& options) {
+  validate(options);
+  if (!std::ifstream(path).good()) {
+    throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
+  }
+  GmshSession session;
+  gmsh_call(path, "read the file", [&] {
+    gmsh::clear();
+    gmsh::open(path);
+  });
+  Mesh mesh = mesh_from_gmsh_model(path, options);
+  gmsh::clear();
+  return mesh;
+}
+
+}  // namespace stickslip

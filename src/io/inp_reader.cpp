@@ -1,0 +1,439 @@
+#include "io/inp_reader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+std::string trim(std::string_view s) {
+  size_t b = 0;
+  size_t e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return std::string(s.substr(b, e - b));
+}
+
+std::string upper(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
+  return s;
+}
+
+// Upper case, internal runs of white space collapsed to one blank ("*Solid  section").
+std::string normalize_name(const std::string& s) {
+  std::string out;
+  bool blank = false;
+  for (char c : trim(s)) {
+    if (std::isspace(static_cast<unsigned char>(c))) {
+      blank = true;
+      continue;
+    }
+    if (blank && !out.empty()) out += ' ';
+    blank = false;
+    out += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  return out;
+}
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = s.find(',', start);
+    out.push_back(trim(std::string_view(s).substr(start, comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+struct Keyword {
+  std::string name;                                         // e.g. "*ELEMENT"
+  std::vector<std::pair<std::string, std::string>> params;  // (KEY, value); value may be empty
+  int line = 0;
+};
+
+struct RawNode {
+  int id;
+  Eigen::Vector3d x;
+  int line;
+};
+
+struct RawElement {
+  int id;
+  ElementType type;
+  std::vector<int> node_ids;
+  int line;
+};
+
+// One item of a set definition: an id, a generated range or the name of another set.
+struct SetItem {
+  enum class Kind { kId, kRange, kName } kind;
+  int first = 0, last = 0, step = 1;
+  std::string name;
+  int line = 0;
+};
+
+struct SetDefinition {
+  bool is_node_set;
+  std::string name;
+  std::vector<SetItem> items;
+};
+
+class InpParser {
+ public:
+  explicit InpParser(std::string file) : file_(std::move(file)) {}
+
+  Mesh parse(std::istream& in) {
+    std::string text;
+    int number = 0;
+    while (std::getline(in, text)) {
+      ++number;
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      const std::string t = trim(text);
+      if (t.empty() || t.rfind("**", 0) == 0) continue;
+      if (t[0] == '*') {
+        finish_element_block();
+        start_keyword(parse_keyword(t, number));
+      } else {
+        data_line(t, number);
+      }
+    }
+    if (in.bad()) throw InvalidInput({file_, 0, ""}, "read error");
+    finish_element_block();
+    return resolve();
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& what) const {
+    throw InvalidInput({file_, line, ""}, what);
+  }
+
+  Keyword parse_keyword(const std::string& t, int line) const {
+    Keyword k;
+    k.line = line;
+    const std::vector<std::string> parts = split_commas(t);
+    k.name = normalize_name(parts[0]);
+    for (size_t i = 1; i < parts.size(); ++i) {
+      if (parts[i].empty()) {
+        if (i + 1 == parts.size()) break;  // tolerate a trailing comma
+        fail(line, k.name + ": empty parameter");
+      }
+      const size_t eq = parts[i].find('=');
+      std::string key = normalize_name(parts[i].substr(0, eq));
+      std::string value = eq == std::string::npos ? "" : trim(parts[i].substr(eq + 1));
+      if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
+        value = value.substr(1, value.size() - 2);
+      }
+      if (eq != std::string::npos && value.empty()) {
+        fail(line, k.name + ": parameter " + key + " has no value");
+      }
+      k.params.emplace_back(std::move(key), std::move(value));
+    }
+    return k;
+  }
+
+  // Checks that every parameter is one of `allowed`; returns the value of each requested key.
+  void check_params(const Keyword& k, std::initializer_list<const char*> allowed) const {
+    for (const auto& [key, value] : k.params) {
+      bool ok = false;
+      for (const char* a : allowed) ok = ok || key == a;
+      if (!ok) fail(k.line, k.name + ": unsupported parameter " + key);
+    }
+  }
+  static std::optional<std::string> param(const Keyword& k, const std::string& key) {
+    for (const auto& [kk, v] : k.params) {
+      if (kk == key) return v;
+    }
+    return std::nullopt;
+  }
+
+  void start_keyword(const Keyword& k) {
+    keyword_ = k;
+    mode_ = Mode::kSkip;
+    current_set_ = -1;
+    if (k.name == "*NODE") {
+      check_params(k, {"NSET"});
+      mode_ = Mode::kNode;
+      if (auto n = param(k, "NSET")) current_set_ = new_set(true, *n, k.line);
+    } else if (k.name == "*ELEMENT") {
+      check_params(k, {"TYPE", "ELSET"});
+      const auto type = param(k, "TYPE");
+      if (!type) fail(k.line, "*ELEMENT without TYPE=");
+      if (!parse_element_type(*type, &element_type_)) {
+        fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) +
+                         " (supported: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10)");
+      }
+      mode_ = Mode::kElement;
+      if (auto n = param(k, "ELSET")) current_set_ = new_set(false, *n, k.line);
+    } else if (k.name == "*NSET" || k.name == "*ELSET") {
+      const bool node = k.name == "*NSET";
+      const char* key = node ? "NSET" : "ELSET";
+      check_params(k, {key, "GENERATE", "UNSORTED", "INTERNAL"});
+      const auto n = param(k, key);
+      if (!n) fail(k.line, k.name + " without " + key + "=");
+      current_set_ = new_set(node, *n, k.line);
+      generate_ = param(k, "GENERATE").has_value();
+      mode_ = Mode::kSet;
+    } else if (k.name == "*INCLUDE") {
+      fail(k.line, "*INCLUDE is not supported: merge the included file into this one");
+    }
+  }
+
+  int new_set(bool node, const std::string& name, int line) {
+    if (name.empty()) fail(line, "empty set name");
+    sets_.push_back({node, upper(name), {}});
+    return static_cast<int>(sets_.size()) - 1;
+  }
+
+  int parse_int(const std::string& token, int line, const char* what) const {
+    int value = 0;
+    const char* end = token.data() + token.size();
+    const auto [ptr, ec] = std::from_chars(token.data(), end, value);
+    if (token.empty() || ec != std::errc() || ptr != end) {
+      fail(line, keyword_.name + ": '" + token + "' is not a valid " + what);
+    }
+    return value;
+  }
+
+  int parse_id(const std::string& token, int line, const char* what) const {
+    const int id = parse_int(token, line, what);
+    if (id <= 0) fail(line, keyword_.name + ": " + what + " " + token + " must be positive");
+    return id;
+  }
+
+  double parse_double(const std::string& token, int line) const {
+    std::string t = token;
+    std::replace(t.begin(), t.end(), 'd', 'e');  // Fortran exponents 1.0D+03
+    std::replace(t.begin(), t.end(), 'D', 'e');
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || end != t.c_str() + t.size() || !std::isfinite(v)) {
+      fail(line, keyword_.name + ": '" + token + "' is not a valid coordinate");
+    }
+    return v;
+  }
+
+  // Tokens of a data line; a trailing comma (continuation mark) is dropped, an empty field in the
+  // middle is an error.
+  std::vector<std::string> data_tokens(const std::string& t, int line) const {
+    std::vector<std::string> tokens = split_commas(t);
+    if (tokens.size() > 1 && tokens.back().empty()) tokens.pop_back();
+    for (const auto& tok : tokens) {
+      if (tok.empty()) fail(line, keyword_.name + ": empty field in data line");
+    }
+    return tokens;
+  }
+
+  void data_line(const std::string& t, int line) {
+    switch (mode_) {
+      case Mode::kNone:
+        fail(line, "data line before any keyword");
+      case Mode::kSkip:
+        return;
+      case Mode::kNode: {
+        const auto tokens = data_tokens(t, line);
+        if (tokens.size() < 2 || tokens.size() > 4) {
+          fail(line, "*NODE: expected 'id, x[, y[, z]]', got " + std::to_string(tokens.size()) +
+                         " values");
+        }
+        RawNode node{parse_id(tokens[0], line, "node id"), Eigen::Vector3d::Zero(), line};
+        for (size_t i = 1; i < tokens.size(); ++i) {
+          node.x[static_cast<Eigen::Index>(i - 1)] = parse_double(tokens[i], line);
+        }
+        nodes_.push_back(node);
+        if (current_set_ >= 0) {
+          sets_[current_set_].items.push_back({SetItem::Kind::kId, node.id, 0, 1, "", line});
+        }
+        return;
+      }
+      case Mode::kElement: {
+        const auto tokens = data_tokens(t, line);
+        size_t i = 0;
+        if (!pending_) {
+          pending_ = RawElement{parse_id(tokens[0], line, "element id"), element_type_, {}, line};
+          i = 1;
+        }
+        const size_t needed = static_cast<size_t>(nodes_per_element(element_type_));
+        for (; i < tokens.size(); ++i) {
+          if (pending_->node_ids.size() == needed) {
+            fail(line, "element " + std::to_string(pending_->id) + " of type " +
+                           element_type_name(element_type_) + " has more than " +
+                           std::to_string(needed) + " nodes");
+          }
+          pending_->node_ids.push_back(parse_id(tokens[i], line, "node id"));
+        }
+        if (pending_->node_ids.size() == needed) {
+          elements_.push_back(std::move(*pending_));
+          if (current_set_ >= 0) {
+            sets_[current_set_].items.push_back(
+                {SetItem::Kind::kId, elements_.back().id, 0, 1, "", line});
+          }
+          pending_.reset();
+        }
+        return;
+      }
+      case Mode::kSet: {
+        const auto tokens = data_tokens(t, line);
+        SetDefinition& set = sets_[current_set_];
+        if (generate_) {
+          if (tokens.size() < 2 || tokens.size() > 3) {
+            fail(line, keyword_.name + ", GENERATE: expected 'first, last[, increment]'");
+          }
+          const char* what = set.is_node_set ? "node id" : "element id";
+          SetItem item{SetItem::Kind::kRange,
+                       parse_id(tokens[0], line, what),
+                       parse_id(tokens[1], line, what),
+                       1,
+                       "",
+                       line};
+          if (tokens.size() == 3) item.step = parse_id(tokens[2], line, "increment");
+          if (item.last < item.first) {
+            fail(line, keyword_.name + ", GENERATE: last " + tokens[1] + " < first " + tokens[0]);
+          }
+          set.items.push_back(item);
+        } else {
+          for (const auto& tok : tokens) {
+            const bool numeric =
+                std::isdigit(static_cast<unsigned char>(tok[0])) || tok[0] == '-' || tok[0] == '+';
+            if (numeric) {
+              set.items.push_back({SetItem::Kind::kId,
+                                   parse_id(tok, line, set.is_node_set ? "node id" : "element id"),
+                                   0, 1, "", line});
+            } else {
+              set.items.push_back({SetItem::Kind::kName, 0, 0, 1, upper(tok), line});
+            }
+          }
+        }
+        return;
+      }
+    }
+  }
+
+  void finish_element_block() {
+    if (pending_) {
+      fail(pending_->line, "element " + std::to_string(pending_->id) + " of type " +
+                               element_type_name(pending_->type) + " has " +
+                               std::to_string(pending_->node_ids.size()) + " nodes, needs " +
+                               std::to_string(nodes_per_element(pending_->type)));
+    }
+  }
+
+  Mesh resolve() {
+    Mesh mesh;
+    std::unordered_map<int, int> node_index;
+    std::unordered_map<int, int> node_line;
+    mesh.coordinates.resize(3, static_cast<Eigen::Index>(nodes_.size()));
+    for (const RawNode& n : nodes_) {
+      const auto [it, inserted] = node_index.emplace(n.id, mesh.num_nodes());
+      if (!inserted) {
+        fail(n.line, "duplicate node id " + std::to_string(n.id) + " (first defined on line " +
+                         std::to_string(node_line[n.id]) + ")");
+      }
+      node_line[n.id] = n.line;
+      mesh.coordinates.col(mesh.num_nodes()) = n.x;
+      mesh.node_ids.push_back(n.id);
+    }
+    std::unordered_map<int, int> element_index;
+    std::unordered_map<int, int> element_line;
+    std::vector<int> local;
+    for (const RawElement& e : elements_) {
+      if (element_index.count(e.id)) {
+        fail(e.line, "duplicate element id " + std::to_string(e.id) + " (first defined on line " +
+                         std::to_string(element_line[e.id]) + ")");
+      }
+      local.clear();
+      for (int id : e.node_ids) {
+        const auto it = node_index.find(id);
+        if (it == node_index.end()) {
+          fail(e.line,
+               "element " + std::to_string(e.id) + " refers to unknown node " + std::to_string(id));
+        }
+        if (std::find(local.begin(), local.end(), it->second) != local.end()) {
+          fail(e.line,
+               "element " + std::to_string(e.id) + " uses node " + std::to_string(id) + " twice");
+        }
+        local.push_back(it->second);
+      }
+      element_line[e.id] = e.line;
+      element_index[e.id] = mesh.add_element(e.id, e.type, local);
+    }
+    for (const SetDefinition& def : sets_) {
+      auto& sets = def.is_node_set ? mesh.node_sets : mesh.element_sets;
+      const auto& index = def.is_node_set ? node_index : element_index;
+      const char* kind = def.is_node_set ? "node" : "element";
+      std::vector<int> members = sets[def.name];
+      auto add_id = [&](int id, int line) {
+        const auto it = index.find(id);
+        if (it == index.end()) {
+          fail(line, std::string(kind) + " set " + def.name + ": unknown " + kind + " " +
+                         std::to_string(id));
+        }
+        members.push_back(it->second);
+      };
+      for (const SetItem& item : def.items) {
+        switch (item.kind) {
+          case SetItem::Kind::kId:
+            add_id(item.first, item.line);
+            break;
+          case SetItem::Kind::kRange:
+            for (long long id = item.first; id <= item.last; id += item.step) {
+              add_id(static_cast<int>(id), item.line);
+            }
+            break;
+          case SetItem::Kind::kName: {
+            const auto it = sets.find(item.name);
+            if (it == sets.end()) {
+              fail(item.line, std::string(kind) + " set " + def.name + ": unknown " + kind +
+                                  " set " + item.name + " (sets must be defined before use)");
+            }
+            members.insert(members.end(), it->second.begin(), it->second.end());
+            break;
+          }
+        }
+      }
+      std::sort(members.begin(), members.end());
+      members.erase(std::unique(members.begin(), members.end()), members.end());
+      sets[def.name] = std::move(members);
+    }
+    check_mesh(mesh);
+    return mesh;
+  }
+
+  enum class Mode { kNone, kSkip, kNode, kElement, kSet };
+
+  std::string file_;
+  Keyword keyword_;
+  Mode mode_ = Mode::kNone;
+  ElementType element_type_ = ElementType::kC3D8;
+  bool generate_ = false;
+  int current_set_ = -1;
+  std::optional<RawElement> pending_;
+  std::vector<RawNode> nodes_;
+  std::vector<RawElement> elements_;
+  std::vector<SetDefinition> sets_;
+};
+
+}  // namespace
+
+Mesh read_inp(std::istream& in, const std::string& source_name) {
+  return InpParser(source_name).parse(in);
+}
+
+Mesh read_inp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
+  return read_inp(in, path);
+}
+
+}  // namespace stickslip

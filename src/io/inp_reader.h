@@ -1,0 +1,33 @@
+// Reader of the mesh part of an Abaqus/CalculiX .inp deck.
+//
+// Understood keywords (case-insensitive, parameters separated by commas, spaces around names
+// and values ignored, '**' comment lines and blank lines skipped anywhere):
+//   *NODE [, NSET=name]                  lines "id, x[, y[, z]]" (missing coordinates = 0), m
+//   *ELEMENT, TYPE=t [, ELSET=name]      lines "id, n1, n2, ..."; an element continues on the
+//                                        following data line(s) until it has all its nodes
+//                                        (20-node elements take two lines)
+//   *NSET, NSET=name [, GENERATE]        node ids and/or names of node sets defined earlier;
+//   *ELSET, ELSET=name [, GENERATE]      with GENERATE, lines "first, last[, increment]"
+// Supported TYPE: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10 (node order as in the .inp, which is
+// Mesh's). Any other element type is rejected. Every other keyword (*MATERIAL, *STEP, ...) is
+// skipped with its data lines, except *INCLUDE, which is rejected (its content would be lost).
+// Set names are case-insensitive in Abaqus/CalculiX and are stored upper-cased; repeating a set
+// keyword with the same name adds to the set. Elements may refer to nodes defined later; a set
+// may refer only to sets defined above it.
+//
+// Errors: InvalidInput with SourceLocation{file, line} and what is wrong (bad number, unknown
+// node in an element, duplicate id, missing set, wrong node count, unsupported type/parameter).
+#pragma once
+
+#include <istream>
+#include <string>
+
+#include "mesh/mesh.h"
+
+namespace stickslip {
+
+Mesh read_inp(const std::string& path);
+// Same, from a stream; `source_name` is used as the file name in error messages.
+Mesh read_inp(std::istream& in, const std::string& source_name);
+
+}  // namespace stickslip

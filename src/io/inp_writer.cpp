@@ -1,0 +1,91 @@
+#include "io/inp_writer.h"
+
+#include <array>
+#include <iomanip>
+#include <locale>
+
+#include "core/errors.h"
+#include "io/atomic_file.h"
+
+namespace stickslip {
+namespace {
+
+constexpr int kMaxEntriesPerLine = 16;  // Abaqus/CalculiX data line limit
+
+void check_set_name(const std::string& name) {
+  if (name.empty() || name.find_first_of(",*\"\n\r") != std::string::npos) {
+    throw InvalidInput("inp writer: set name '" + name + "' cannot be written to an .inp file");
+  }
+}
+
+void write_id_list(std::ostream& out, const std::vector<int>& indices,
+                   const std::vector<int>& ids) {
+  for (size_t i = 0; i < indices.size(); ++i) {
+    out << ids[indices[i]];
+    if (i + 1 == indices.size()) {
+      out << '\n';
+    } else if ((i + 1) % kMaxEntriesPerLine == 0) {
+      out << ",\n";
+    } else {
+      out << ", ";
+    }
+  }
+}
+
+}  // namespace
+
+void write_inp(std::ostream& out, const Mesh& mesh) {
+  check_mesh(mesh);
+  for (const auto& [name, set] : mesh.node_sets) check_set_name(name);
+  for (const auto& [name, set] : mesh.element_sets) check_set_name(name);
+
+  out.imbue(std::locale::classic());
+  const auto old_precision = out.precision(17);
+  out << "** Mesh written by stickslip: " << mesh.num_nodes() << " nodes, " << mesh.num_elements()
+      << " elements\n";
+  out << "*NODE\n";
+  for (int i = 0; i < mesh.num_nodes(); ++i) {
+    out << mesh.node_ids[i] << ", " << mesh.coordinates(0, i) << ", " << mesh.coordinates(1, i)
+        << ", " << mesh.coordinates(2, i) << '\n';
+  }
+  constexpr std::array kTypes = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
+                                 ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10};
+  for (ElementType type : kTypes) {
+    bool header = false;
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      if (mesh.element_types[e] != type) continue;
+      if (!header) {
+        out << "*ELEMENT, TYPE=" << element_type_name(type) << '\n';
+        header = true;
+      }
+      out << mesh.element_ids[e];
+      int on_line = 1;
+      for (int n : mesh.element_nodes(e)) {
+        if (on_line == kMaxEntriesPerLine) {
+          out << ",\n";
+          on_line = 0;
+        } else {
+          out << ", ";
+        }
+        out << mesh.node_ids[n];
+        ++on_line;
+      }
+      out << '\n';
+    }
+  }
+  for (const auto& [name, set] : mesh.node_sets) {
+    out << "*NSET, NSET=" << name << '\n';
+    write_id_list(out, set, mesh.node_ids);
+  }
+  for (const auto& [name, set] : mesh.element_sets) {
+    out << "*ELSET, ELSET=" << name << '\n';
+    write_id_list(out, set, mesh.element_ids);
+  }
+  out.precision(old_precision);
+}
+
+void write_inp(const std::string& path, const Mesh& mesh) {
+  write_file_atomically(path, [&](std::ostream& out) { write_inp(out, mesh); });
+}
+
+}  // namespace stickslip

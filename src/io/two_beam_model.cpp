@@ -1,0 +1,278 @@
+#include "io/two_beam_model.h"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "core/errors.h"
+#include "io/gmsh_mesh.h"
+#include "mesh/mesh_tools.h"
+
+namespace stickslip {
+namespace {
+
+// Geometric tolerance relative to the model size: coordinates come from Gmsh's transfinite
+// interpolation, exact to a few ulps; 1e-9 of the size is far below any element size.
+constexpr double kRelativeGeometryTolerance = 1e-9;
+
+struct Box {
+  Eigen::Vector3d lower, upper;
+  std::array<int, 3> divisions;
+};
+
+// Builds axis-aligned boxes in the current Gmsh model (geo kernel) as transfinite, recombined
+// hexahedral volumes. Points, lines and surfaces at the same place are shared, so boxes that
+// share a face (or an edge) share its nodes; nothing else is merged.
+class BoxBuilder {
+ public:
+  explicit BoxBuilder(double tolerance) : tolerance_(tolerance) {}
+
+  int add(const Box& box) {
+    int p[2][2][2];
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 2; ++j) {
+        for (int k = 0; k < 2; ++k) {
+          p[i][j][k] = point({i ? box.upper.x() : box.lower.x(), j ? box.upper.y() : box.lower.y(),
+                              k ? box.upper.z() : box.lower.z()});
+        }
+      }
+    }
+    // The 12 edges with their divisions.
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) line(p[0][j][k], p[1][j][k], box.divisions[0]);
+    for (int i = 0; i < 2; ++i)
+      for (int k = 0; k < 2; ++k) line(p[i][0][k], p[i][1][k], box.divisions[1]);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) line(p[i][j][0], p[i][j][1], box.divisions[2]);
+    std::vector<int> faces;
+    for (int s = 0; s < 2; ++s) {
+      faces.push_back(surface({p[s][0][0], p[s][1][0], p[s][1][1], p[s][0][1]}));
+      faces.push_back(surface({p[0][s][0], p[1][s][0], p[1][s][1], p[0][s][1]}));
+      faces.push_back(surface({p[0][0][s], p[1][0][s], p[1][1][s], p[0][1][s]}));
+    }
+    const int loop = gmsh::model::geo::addSurfaceLoop(faces);
+    const int volume = gmsh::model::geo::addVolume({loop});
+    gmsh::model::geo::mesh::setTransfiniteVolume(volume);
+    return volume;
+  }
+
+ private:
+  int point(const Eigen::Vector3d& x) {
+    const std::array<long long, 3> key = {std::llround(x.x() / tolerance_),
+                                          std::llround(x.y() / tolerance_),
+                                          std::llround(x.z() / tolerance_)};
+    const auto it = points_.find(key);
+    if (it != points_.end()) return it->second;
+    const int tag = gmsh::model::geo::addPoint(x.x(), x.y(), x.z());
+    points_.emplace(key, tag);
+    return tag;
+  }
+
+  // Signed tag of the line a -> b (negative if stored as b -> a).
+  int line(int a, int b, int divisions = -1) {
+    const auto it = lines_.find({std::min(a, b), std::max(a, b)});
+    if (it != lines_.end()) {
+      STICKSLIP_VERIFY(divisions < 0 || divisions == it->second.second,
+                       "shared edge with different divisions");
+      return a < b ? it->second.first : -it->second.first;
+    }
+    STICKSLIP_VERIFY(divisions > 0, "line without divisions");
+    const int tag = gmsh::model::geo::addLine(std::min(a, b), std::max(a, b));
+    gmsh::model::geo::mesh::setTransfiniteCurve(tag, divisions + 1);
+    lines_.emplace(std::make_pair(std::min(a, b), std::max(a, b)), std::make_pair(tag, divisions));
+    return a < b ? tag : -tag;
+  }
+
+  int surface(std::array<int, 4> corners) {
+    std::array<int, 4> key = corners;
+    std::sort(key.begin(), key.end());
+    const auto it = surfaces_.find(key);
+    if (it != surfaces_.end()) return it->second;
+    const int loop = gmsh::model::geo::addCurveLoop(
+        {line(corners[0], corners[1]), line(corners[1], corners[2]), line(corners[2], corners[3]),
+         line(corners[3], corners[0])});
+    const int tag = gmsh::model::geo::addPlaneSurface({loop});
+    gmsh::model::geo::mesh::setTransfiniteSurface(tag);
+    gmsh::model::geo::mesh::setRecombine(2, tag);
+    surfaces_.emplace(key, tag);
+    return tag;
+  }
+
+  double tolerance_;
+  std::map<std::array<long long, 3>, int> points_;
+  std::map<std::pair<int, int>, std::pair<int, int>> lines_;  // (a, b) -> (tag, divisions)
+  std::map<std::array<int, 4>, int> surfaces_;
+};
+
+bool is_quadratic(ElementType t) { return t == ElementType::kC3D20 || t == ElementType::kC3D20R; }
+
+// Meshes one beam (its boxes, in global coordinates) in a fresh Gmsh model and converts it.
+Mesh mesh_beam(const std::vector<Box>& boxes, const TwoBeamOptions& o, double tolerance,
+               const std::string& name) {
+  const std::string source = "two-beam model (" + name + ")";
+  Mesh mesh;
+  try {
+    gmsh::model::add(name);
+    BoxBuilder builder(tolerance);
+    std::vector<int> volumes;
+    for (const Box& b : boxes) volumes.push_back(builder.add(b));
+    gmsh::model::geo::synchronize();
+    const int group = gmsh::model::addPhysicalGroup(3, volumes);
+    gmsh::model::setPhysicalName(3, group, name);
+    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
+    gmsh::model::mesh::generate(3);
+    if (is_quadratic(o.element_type)) gmsh::model::mesh::setOrder(2);
+  } catch (const InvalidInput&) {
+    throw;
+  } catch (...) {
+    std::string error;
+    gmsh::logger::getLastError(error);
+    throw InvalidInput({source, 0, ""}, "Gmsh failed to mesh the beam: " + error);
+  }
+  GmshReadOptions read;
+  if (is_quadratic(o.element_type)) {
+    read.hexahedron20 = o.element_type;
+  } else {
+    read.hexahedron8 = o.element_type;
+  }
+  mesh = mesh_from_gmsh_model(source, read);
+  gmsh::model::remove();
+  // Renumber 1..n in index order.
+  for (int i = 0; i < mesh.num_nodes(); ++i) mesh.node_ids[i] = i + 1;
+  for (int e = 0; e < mesh.num_elements(); ++e) mesh.element_ids[e] = e + 1;
+  mesh.node_sets.clear();
+  mesh.element_sets.clear();
+  return mesh;
+}
+
+std::string str(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+int node_at(const Mesh& mesh, const Eigen::Vector3d& x, double tolerance, const char* what) {
+  const std::vector<int> found = nodes_in_box(mesh, x, x, tolerance);
+  STICKSLIP_VERIFY(found.size() == 1, std::string("two-beam model: no unique node for ") + what);
+  return found[0];
+}
+
+}  // namespace
+
+void validate(const TwoBeamOptions& o) {
+  auto positive = [](double v, const char* field) {
+    require(std::isfinite(v) && v > 0.0, std::string("TwoBeamOptions::") + field, str(v),
+            "must be a positive length in m");
+  };
+  positive(o.beam_length, "beam_length");
+  positive(o.width, "width");
+  positive(o.thickness, "thickness");
+  positive(o.end_length, "end_length");
+  require(o.element_type == ElementType::kC3D8 || o.element_type == ElementType::kC3D8I ||
+              o.element_type == ElementType::kC3D20 || o.element_type == ElementType::kC3D20R,
+          "TwoBeamOptions::element_type", element_type_name(o.element_type),
+          "must be a hexahedron (C3D8, C3D8I, C3D20, C3D20R)");
+  if (o.thesis_coarse) return;
+  constexpr int kMaxDivisions = 10000;
+  auto count = [&](int v, const char* field) {
+    require(v >= 1 && v <= kMaxDivisions, std::string("TwoBeamOptions::") + field,
+            std::to_string(v), "must be in 1.." + std::to_string(kMaxDivisions));
+  };
+  count(o.box.x, "box.x");
+  count(o.box.y, "box.y");
+  count(o.box.z, "box.z");
+  count(o.end_block.x, "end_block.x");
+  count(o.end_block.y, "end_block.y");
+  count(o.end_block.z, "end_block.z");
+  require(o.end_block.y == o.box.y, "TwoBeamOptions::end_block.y", std::to_string(o.end_block.y),
+          "must equal box.y = " + std::to_string(o.box.y) + " (conforming interface)");
+  require(o.end_block.z < o.box.z, "TwoBeamOptions::end_block.z", std::to_string(o.end_block.z),
+          "must be less than box.z = " + std::to_string(o.box.z) +
+              " (end_block.z layers of the large box lie below mid-thickness, the rest above)");
+}
+
+TwoBeamModel make_two_beam_model(const TwoBeamOptions& o) {
+  validate(o);
+  const double L = o.beam_length, W = o.width, T = o.thickness, e = o.end_length;
+  const bool butt = o.arrangement == TwoBeamOptions::Arrangement::kButt;
+  const double tolerance = kRelativeGeometryTolerance * std::max({L, W, T, e});
+
+  // Beam 1's boxes; beam 2's are their images under the arrangement's map.
+  std::vector<Box> beam1;
+  if (o.thesis_coarse) {
+    beam1.push_back({{0, 0, 0}, {L, W, T}, {7, 5, 1}});
+    beam1.push_back({{L, 0, 0}, {L + e, W, T / 2}, {4, 5, 4}});
+  } else {
+    const int below = o.end_block.z, above = o.box.z - o.end_block.z;
+    beam1.push_back({{0, 0, 0}, {L, W, T / 2}, {o.box.x, o.box.y, below}});
+    beam1.push_back({{0, 0, T / 2}, {L, W, T}, {o.box.x, o.box.y, above}});
+    beam1.push_back({{L, 0, 0}, {L + e, W, T / 2}, {o.end_block.x, o.box.y, below}});
+  }
+  auto image = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    if (butt) return {2 * (L + e) - x.x(), x.y(), x.z()};
+    return {2 * L + e - x.x(), x.y(), T - x.z()};
+  };
+  std::vector<Box> beam2;
+  for (const Box& b : beam1) {
+    const Eigen::Vector3d a = image(b.lower), c = image(b.upper);
+    beam2.push_back({a.cwiseMin(c), a.cwiseMax(c), b.divisions});
+  }
+
+  Mesh m1, m2;
+  {
+    GmshSession session;
+    m1 = mesh_beam(beam1, o, tolerance, "BEAM1");
+    m2 = mesh_beam(beam2, o, tolerance, "BEAM2");
+  }
+
+  // Sets of each beam, in its own indices.
+  const double x_far2 = butt ? 2 * L + 2 * e : 2 * L + e;
+  std::vector<int> contact1, contact2;
+  if (butt) {
+    contact1 = nodes_on_plane(m1, {L + e, 0, 0}, Eigen::Vector3d::UnitX(), tolerance);
+    contact2 = nodes_on_plane(m2, {L + e, 0, 0}, Eigen::Vector3d::UnitX(), tolerance);
+  } else {
+    contact1 = nodes_in_box(m1, {L, 0, T / 2}, {L + e, W, T / 2}, tolerance);
+    contact2 = nodes_in_box(m2, {L, 0, T / 2}, {L + e, W, T / 2}, tolerance);
+  }
+  STICKSLIP_VERIFY(contact1.size() == contact2.size() && !contact1.empty(),
+                   "two-beam model: contact faces do not match");
+  const auto pairs = match_coincident_nodes(m1, contact1, m2, contact2, tolerance);
+
+  const Eigen::Vector3d force1(L, 0, T);
+  const int f1 = node_at(m1, force1, tolerance, "FORCE1");
+  const int f2 = node_at(m2, image(force1), tolerance, "FORCE2");
+
+  auto all = [](int n) {
+    std::vector<int> v(n);
+    for (int i = 0; i < n; ++i) v[i] = i;
+    return v;
+  };
+  m1.node_sets["BEAM1"] = all(m1.num_nodes());
+  m1.element_sets["BEAM1"] = all(m1.num_elements());
+  m1.node_sets["CLAMP1"] = nodes_on_plane(m1, {0, 0, 0}, Eigen::Vector3d::UnitX(), tolerance);
+  m1.node_sets["CONTACT1"] = contact1;
+  m1.node_sets["FORCE1"] = {f1};
+  m2.node_sets["BEAM2"] = all(m2.num_nodes());
+  m2.element_sets["BEAM2"] = all(m2.num_elements());
+  m2.node_sets["CLAMP2"] = nodes_on_plane(m2, {x_far2, 0, 0}, Eigen::Vector3d::UnitX(), tolerance);
+  m2.node_sets["CONTACT2"] = contact2;
+  m2.node_sets["FORCE2"] = {f2};
+
+  TwoBeamModel model;
+  model.mesh = std::move(m1);
+  const AppendedRange r =
+      append_mesh(model.mesh, m2, model.mesh.num_nodes(), model.mesh.num_elements());
+  for (const auto& [a, b] : pairs) model.contact_pairs.emplace_back(a, b + r.first_node);
+  std::sort(model.contact_pairs.begin(), model.contact_pairs.end());
+  model.contact_normal = butt ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
+  model.force_node_1 = f1;
+  model.force_node_2 = f2 + r.first_node;
+  return model;
+}
+
+}  // namespace stickslip

@@ -1,0 +1,212 @@
+#include "io/vtu_writer.h"
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <ostream>
+#include <set>
+
+#include "core/errors.h"
+#include "io/atomic_file.h"
+
+namespace stickslip {
+namespace {
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+void base64_encode(std::ostream& out, const std::vector<unsigned char>& bytes) {
+  static const char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  size_t i = 0;
+  std::string chunk;
+  chunk.reserve(4 * (bytes.size() / 3 + 1));
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v = (bytes[i] << 16) | (bytes[i + 1] << 8) | bytes[i + 2];
+    chunk += kAlphabet[(v >> 18) & 63];
+    chunk += kAlphabet[(v >> 12) & 63];
+    chunk += kAlphabet[(v >> 6) & 63];
+    chunk += kAlphabet[v & 63];
+  }
+  if (i < bytes.size()) {
+    const bool two = i + 1 < bytes.size();
+    const unsigned v = (bytes[i] << 16) | (two ? bytes[i + 1] << 8 : 0);
+    chunk += kAlphabet[(v >> 18) & 63];
+    chunk += kAlphabet[(v >> 12) & 63];
+    chunk += two ? kAlphabet[(v >> 6) & 63] : '=';
+    chunk += '=';
+  }
+  out << chunk;
+}
+
+template <typename T>
+const char* vtk_type_name() {
+  if constexpr (std::is_same_v<T, double>) return "Float64";
+  if constexpr (std::is_same_v<T, std::int64_t>) return "Int64";
+  if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
+  if constexpr (std::is_same_v<T, std::uint8_t>) return "UInt8";
+}
+
+class ArrayWriter {
+ public:
+  ArrayWriter(std::ostream& out, VtuEncoding encoding) : out_(out), encoding_(encoding) {}
+
+  template <typename T>
+  void write(const std::string& name, int components, const std::vector<T>& values,
+             const std::string& indent) {
+    out_ << indent << "<DataArray type=\"" << vtk_type_name<T>() << "\"";
+    if (!name.empty()) out_ << " Name=\"" << xml_escape(name) << "\"";
+    if (components != 1) out_ << " NumberOfComponents=\"" << components << "\"";
+    out_ << " format=\"" << (encoding_ == VtuEncoding::kAscii ? "ascii" : "binary") << "\">\n"
+         << indent << "  ";
+    if (encoding_ == VtuEncoding::kAscii) {
+      for (size_t i = 0; i < values.size(); ++i) {
+        if constexpr (std::is_same_v<T, std::uint8_t>) {
+          out_ << static_cast<int>(values[i]);
+        } else {
+          out_ << values[i];
+        }
+        out_ << ((i + 1) % 12 == 0 && i + 1 < values.size() ? "\n  " + indent : " ");
+      }
+    } else {
+      const std::uint64_t size = values.size() * sizeof(T);
+      std::vector<unsigned char> bytes(sizeof(size) + size);
+      std::memcpy(bytes.data(), &size, sizeof(size));
+      if (size > 0) std::memcpy(bytes.data() + sizeof(size), values.data(), size);
+      base64_encode(out_, bytes);
+    }
+    out_ << "\n" << indent << "</DataArray>\n";
+  }
+
+ private:
+  std::ostream& out_;
+  VtuEncoding encoding_;
+};
+
+void check_fields(const std::vector<VtuField>& fields, int count, const char* kind,
+                  const char* reserved) {
+  std::set<std::string> names{reserved};
+  for (const VtuField& f : fields) {
+    if (f.name.empty())
+      throw InvalidInput(std::string("vtu writer: a ") + kind + " field has no name");
+    if (!names.insert(f.name).second) {
+      throw InvalidInput(std::string("vtu writer: ") + kind + " field name '" + f.name +
+                         "' is used twice (or is reserved)");
+    }
+    if (f.values.cols() != count || f.values.rows() < 1) {
+      throw InvalidInput(std::string("vtu writer: ") + kind + " field '" + f.name + "' is " +
+                         std::to_string(f.values.rows()) + " x " + std::to_string(f.values.cols()) +
+                         ", needs components x " + std::to_string(count));
+    }
+  }
+}
+
+std::vector<double> column_major(const Eigen::MatrixXd& m) {
+  return std::vector<double>(m.data(), m.data() + m.size());
+}
+
+}  // namespace
+
+int vtk_cell_type(ElementType type) {
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I:
+      return 12;
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R:
+      return 25;
+    case ElementType::kC3D4:
+      return 10;
+    case ElementType::kC3D10:
+      return 24;
+  }
+  return 0;
+}
+
+void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
+               VtuEncoding encoding) {
+  check_mesh(mesh);
+  check_fields(data.point_data, mesh.num_nodes(), "point", "node_id");
+  check_fields(data.cell_data, mesh.num_elements(), "cell", "element_id");
+  {
+    std::set<std::string> names;
+    for (const auto& [name, value] : data.field_data) {
+      if (name.empty() || !names.insert(name).second) {
+        throw InvalidInput("vtu writer: field data name '" + name + "' is empty or used twice");
+      }
+    }
+  }
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    ArrayWriter arrays(out, encoding);
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\""
+        << (std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian")
+        << "\" header_type=\"UInt64\">\n"
+        << "  <UnstructuredGrid>\n";
+    if (!data.field_data.empty()) {
+      out << "    <FieldData>\n";
+      for (const auto& [name, value] : data.field_data) {
+        out << "      <DataArray type=\"Float64\" Name=\"" << xml_escape(name)
+            << "\" NumberOfTuples=\"1\" format=\"ascii\">" << value << "</DataArray>\n";
+      }
+      out << "    </FieldData>\n";
+    }
+    out << "    <Piece NumberOfPoints=\"" << mesh.num_nodes() << "\" NumberOfCells=\""
+        << mesh.num_elements() << "\">\n";
+    const std::string in = "        ";
+    out << "      <PointData>\n";
+    arrays.write("node_id", 1,
+                 std::vector<std::int32_t>(mesh.node_ids.begin(), mesh.node_ids.end()), in);
+    for (const VtuField& f : data.point_data) {
+      arrays.write(f.name, static_cast<int>(f.values.rows()), column_major(f.values), in);
+    }
+    out << "      </PointData>\n      <CellData>\n";
+    arrays.write("element_id", 1,
+                 std::vector<std::int32_t>(mesh.element_ids.begin(), mesh.element_ids.end()), in);
+    for (const VtuField& f : data.cell_data) {
+      arrays.write(f.name, static_cast<int>(f.values.rows()), column_major(f.values), in);
+    }
+    out << "      </CellData>\n      <Points>\n";
+    arrays.write("Points", 3, column_major(mesh.coordinates), in);
+    out << "      </Points>\n      <Cells>\n";
+    arrays.write("connectivity", 1,
+                 std::vector<std::int64_t>(mesh.connectivity.begin(), mesh.connectivity.end()), in);
+    arrays.write(
+        "offsets", 1,
+        std::vector<std::int64_t>(mesh.element_offsets.begin() + 1, mesh.element_offsets.end()),
+        in);
+    std::vector<std::uint8_t> types;
+    types.reserve(mesh.element_types.size());
+    for (ElementType t : mesh.element_types)
+      types.push_back(static_cast<std::uint8_t>(vtk_cell_type(t)));
+    arrays.write("types", 1, types, in);
+    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  });
+}
+
+}  // namespace stickslip

@@ -1,0 +1,298 @@
+#include "io/gmsh_mesh.h"
+
+#include <gmsh.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <Eigen/Geometry>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+// Coordinates written by Gmsh to an ASCII .msh carry 16 significant digits.
+constexpr double kCoordinateTolerance = 1e-14;
+// Mid-edge positions and volumes are sums of a few products of O(1) coordinates.
+constexpr double kGeometryTolerance = 1e-12;
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("stickslip_gmsh_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+// CalculiX edges of the mid-edge nodes (CalculiX User's Manual, C3D20 and C3D10).
+const int kHex20Edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+const int kTet10Edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+Eigen::Vector3d node(const Mesh& m, int e, int local) {
+  return m.coordinates.col(m.element_nodes(e)[local]);
+}
+
+double tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                  const Eigen::Vector3d& d) {
+  return (b - a).dot((c - a).cross(d - a)) / 6.0;
+}
+
+// Signed volume from the corner nodes: exact for tetrahedra and for hexahedra with planar
+// faces that are parallelepipeds (the structured boxes used here); positive for CalculiX's
+// orientation (bottom face counter-clockwise seen from the top; tet nodes 1-2-3 counter-
+// clockwise seen from node 4).
+double corner_volume(const Mesh& m, int e) {
+  auto x = [&](int i) { return node(m, e, i); };
+  const ElementType t = m.element_types[e];
+  if (t == ElementType::kC3D4 || t == ElementType::kC3D10)
+    return tet_volume(x(0), x(1), x(2), x(3));
+  // Six tetrahedra around the diagonal 0-6.
+  return tet_volume(x(0), x(1), x(2), x(6)) + tet_volume(x(0), x(2), x(3), x(6)) +
+         tet_volume(x(0), x(3), x(7), x(6)) + tet_volume(x(0), x(7), x(4), x(6)) +
+         tet_volume(x(0), x(4), x(5), x(6)) + tet_volume(x(0), x(5), x(1), x(6));
+}
+
+void expect_midpoints_on_calculix_edges(const Mesh& m) {
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const bool hex =
+        m.element_types[e] == ElementType::kC3D20 || m.element_types[e] == ElementType::kC3D20R;
+    const bool tet = m.element_types[e] == ElementType::kC3D10;
+    ASSERT_TRUE(hex || tet);
+    const int first = hex ? 8 : 4;
+    const int count = hex ? 12 : 6;
+    for (int k = 0; k < count; ++k) {
+      const int* edge = hex ? kHex20Edges[k] : kTet10Edges[k];
+      const Eigen::Vector3d mid = 0.5 * (node(m, e, edge[0]) + node(m, e, edge[1]));
+      ASSERT_LT((node(m, e, first + k) - mid).norm(), kGeometryTolerance)
+          << "element " << m.element_ids[e] << " mid-edge node " << first + k;
+    }
+  }
+}
+
+// Box [0, a] x [0, b] x [0, c] in the geo kernel; returns the volume tag. Surface x = 0 and the
+// volume get physical groups "XMIN" and "SOLID".
+int make_box(double a, double b, double c) {
+  namespace geo = gmsh::model::geo;
+  const int p[8] = {geo::addPoint(0, 0, 0), geo::addPoint(a, 0, 0), geo::addPoint(a, b, 0),
+                    geo::addPoint(0, b, 0), geo::addPoint(0, 0, c), geo::addPoint(a, 0, c),
+                    geo::addPoint(a, b, c), geo::addPoint(0, b, c)};
+  std::map<std::pair<int, int>, int> lines;
+  auto line = [&](int i, int j) {
+    const auto key = std::make_pair(std::min(p[i], p[j]), std::max(p[i], p[j]));
+    if (!lines.count(key)) lines[key] = geo::addLine(key.first, key.second);
+    return p[i] < p[j] ? lines[key] : -lines[key];
+  };
+  auto face = [&](int i, int j, int k, int l) {
+    return geo::addPlaneSurface(
+        {geo::addCurveLoop({line(i, j), line(j, k), line(k, l), line(l, i)})});
+  };
+  const int xmin = face(0, 3, 7, 4);
+  const std::vector<int> faces = {
+      face(0, 1, 2, 3), face(4, 5, 6, 7), face(0, 1, 5, 4), face(3, 2, 6, 7), xmin,
+      face(1, 2, 6, 5)};
+  const int volume = geo::addVolume({geo::addSurfaceLoop(faces)});
+  geo::synchronize();
+  gmsh::model::setPhysicalName(2, gmsh::model::addPhysicalGroup(2, {xmin}), "XMIN");
+  gmsh::model::setPhysicalName(3, gmsh::model::addPhysicalGroup(3, {volume}), "SOLID");
+  return volume;
+}
+
+struct GmshNodes {
+  std::vector<std::size_t> tags;
+  std::vector<double> coords;
+};
+
+GmshNodes all_nodes() {
+  GmshNodes n;
+  std::vector<double> param;
+  gmsh::model::mesh::getNodes(n.tags, n.coords, param, -1, -1, false, false);
+  return n;
+}
+
+void expect_same_nodes(const Mesh& m, const GmshNodes& g) {
+  ASSERT_EQ(static_cast<size_t>(m.num_nodes()), g.tags.size());
+  const auto index = node_index_by_id(m);
+  for (size_t i = 0; i < g.tags.size(); ++i) {
+    const int n = index.at(static_cast<int>(g.tags[i]));
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(m.coordinates(d, n), g.coords[3 * i + d], kCoordinateTolerance);
+    }
+  }
+}
+
+TEST(GmshMesh, StructuredHex20BoxRoundTripsThroughMshWithCalculixNodeOrder) {
+  const double a = 2.0, b = 1.0, c = 0.5;
+  const int nx = 3, ny = 2, nz = 2;
+  const std::string path = temp_path("hex20.msh");
+  GmshNodes generated;
+  {
+    GmshSession session;
+    gmsh::model::add("hex20");
+    make_box(a, b, c);
+    for (const auto& [dim, tag] : [] {
+           gmsh::vectorpair v;
+           gmsh::model::getEntities(v, 1);
+           return v;
+         }()) {
+      std::vector<double> lo(3), hi(3);
+      gmsh::model::getBoundingBox(dim, tag, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+      const int n = hi[0] - lo[0] > 1e-9 ? nx : (hi[1] - lo[1] > 1e-9 ? ny : nz);
+      gmsh::model::mesh::setTransfiniteCurve(tag, n + 1);
+    }
+    gmsh::vectorpair surfaces, volumes;
+    gmsh::model::getEntities(surfaces, 2);
+    gmsh::model::getEntities(volumes, 3);
+    for (const auto& [dim, tag] : surfaces) {
+      gmsh::model::mesh::setTransfiniteSurface(tag);
+      gmsh::model::mesh::setRecombine(dim, tag);
+    }
+    gmsh::model::mesh::setTransfiniteVolume(volumes[0].second);
+    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
+    gmsh::model::mesh::generate(3);
+    gmsh::model::mesh::setOrder(2);
+    generated = all_nodes();
+    gmsh::write(path);
+    gmsh::model::remove();
+  }
+  const Mesh m =
+      read_gmsh(path, {.hexahedron8 = ElementType::kC3D8I, .hexahedron20 = ElementType::kC3D20R});
+  std::filesystem::remove(path);
+
+  ASSERT_EQ(m.num_elements(), nx * ny * nz);
+  for (ElementType t : m.element_types) EXPECT_EQ(t, ElementType::kC3D20R);
+  // Serendipity grid: vertices plus one node per grid edge.
+  const int vertices = (nx + 1) * (ny + 1) * (nz + 1);
+  const int edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz;
+  EXPECT_EQ(m.num_nodes(), vertices + edges);
+  expect_same_nodes(m, generated);
+  expect_midpoints_on_calculix_edges(m);
+  double volume = 0.0;
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const double v = corner_volume(m, e);
+    EXPECT_GT(v, 0.0) << "inverted element " << m.element_ids[e];
+    volume += v;
+  }
+  EXPECT_NEAR(volume, a * b * c, kGeometryTolerance);
+
+  // Physical groups: the x = 0 face (its grid: (ny+1)(nz+1) vertices + ny(nz+1) + (ny+1)nz edges).
+  const auto& xmin = m.node_sets.at("XMIN");
+  EXPECT_EQ(static_cast<int>(xmin.size()), (ny + 1) * (nz + 1) + ny * (nz + 1) + (ny + 1) * nz);
+  for (int n : xmin) EXPECT_EQ(m.coordinates(0, n), 0.0);
+  EXPECT_EQ(static_cast<int>(m.element_sets.at("SOLID").size()), m.num_elements());
+  EXPECT_EQ(static_cast<int>(m.node_sets.at("SOLID").size()), m.num_nodes());
+}
+
+TEST(GmshMesh, UnstructuredTet10BoxHasMidNodesOnCalculixEdgesAndTheRightVolume) {
+  const double a = 1.0, b = 0.7, c = 0.4;
+  const std::string path = temp_path("tet10.msh");
+  GmshNodes generated;
+  {
+    GmshSession session;
+    gmsh::model::add("tet10");
+    make_box(a, b, c);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", 0.25);
+    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 0);
+    gmsh::model::mesh::generate(3);
+    gmsh::model::mesh::setOrder(2);
+    generated = all_nodes();
+    gmsh::option::setNumber("Mesh.Binary", 1);  // binary .msh: exact coordinates
+    gmsh::write(path);
+    gmsh::option::setNumber("Mesh.Binary", 0);
+    gmsh::model::remove();
+  }
+  const Mesh m = read_gmsh(path);
+  std::filesystem::remove(path);
+  ASSERT_GT(m.num_elements(), 20);
+  for (ElementType t : m.element_types) ASSERT_EQ(t, ElementType::kC3D10);
+  expect_same_nodes(m, generated);
+  expect_midpoints_on_calculix_edges(m);
+  double volume = 0.0;
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const double v = corner_volume(m, e);
+    EXPECT_GT(v, 0.0) << "inverted element " << m.element_ids[e];
+    volume += v;
+  }
+  EXPECT_NEAR(volume, a * b * c, kGeometryTolerance);
+}
+
+TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
+  // Independent of any mesh: Gmsh's own reference coordinates of its 20-node hexahedron and
+  // 10-node tetrahedron, permuted, must put each mid-edge node at the midpoint of its CalculiX
+  // edge.
+  GmshSession session;
+  for (int type : {17, 11}) {
+    std::string name;
+    int dim, order, num_nodes, primary;
+    std::vector<double> local;
+    gmsh::model::mesh::getElementProperties(type, name, dim, order, num_nodes, local, primary);
+    const int* perm = gmsh_to_calculix_order(type);
+    ASSERT_NE(perm, nullptr);
+    auto ref = [&](int calculix_local) {
+      const int g = perm[calculix_local];
+      return Eigen::Vector3d(local[3 * g], local[3 * g + 1], local[3 * g + 2]);
+    };
+    const bool hex = type == 17;
+    for (int k = 0; k < (hex ? 12 : 6); ++k) {
+      const int* edge = hex ? kHex20Edges[k] : kTet10Edges[k];
+      EXPECT_LT((ref((hex ? 8 : 4) + k) - 0.5 * (ref(edge[0]) + ref(edge[1]))).norm(), 1e-15)
+          << name << " edge " << k;
+    }
+    // And the permutation is a permutation.
+    std::vector<int> p(perm, perm + num_nodes);
+    std::sort(p.begin(), p.end());
+    for (int i = 0; i < num_nodes; ++i) EXPECT_EQ(p[i], i);
+  }
+}
+
+TEST(GmshMesh, RejectsUnsupportedElementTypesNamingThem) {
+  const std::string path = temp_path("prism.msh");
+  {
+    GmshSession session;
+    gmsh::model::add("prism");
+    const int v = gmsh::model::addDiscreteEntity(3);
+    gmsh::model::mesh::addNodes(3, v, {1, 2, 3, 4, 5, 6},
+                                {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1});
+    gmsh::model::mesh::addElementsByType(v, 6, {1}, {1, 2, 3, 4, 5, 6});
+    gmsh::write(path);
+    gmsh::model::remove();
+  }
+  try {
+    read_gmsh(path);
+    FAIL() << "a prism was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, path);
+    EXPECT_NE(e.message().find("Prism"), std::string::npos) << e.message();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(GmshMesh, BadOrMissingFilesAreInvalidInputNamingTheFile) {
+  const std::string path = temp_path("garbage.msh");
+  {
+    std::ofstream out(path);
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n3 1 0 2\nnot a number\n";
+  }
+  try {
+    read_gmsh(path);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, path);
+  }
+  std::filesystem::remove(path);
+  try {
+    read_gmsh(path);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, path);
+    EXPECT_NE(e.message().find("cannot open"), std::string::npos);
+  }
+  GmshReadOptions bad;
+  bad.hexahedron8 = ElementType::kC3D4;
+  EXPECT_THROW(validate(bad), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip

@@ -1,0 +1,160 @@
+#include "io/inp_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+const std::string kDir = std::string(STICKSLIP_TEST_DATA_DIR) + "/mesh/";
+
+std::vector<int> ids_of(const Mesh& m, const std::vector<int>& nodes) {
+  std::vector<int> ids;
+  for (int n : nodes) ids.push_back(m.node_ids[n]);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+std::vector<int> element_ids_of(const Mesh& m, const std::vector<int>& elements) {
+  std::vector<int> ids;
+  for (int e : elements) ids.push_back(m.element_ids[e]);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+std::vector<int> range(int first, int last, int step = 1) {
+  std::vector<int> v;
+  for (int i = first; i <= last; i += step) v.push_back(i);
+  return v;
+}
+
+TEST(InpReader, ReadsTheHandWrittenSampleWithAllFeatures) {
+  const Mesh m = read_inp(kDir + "sample_all_features.inp");
+  ASSERT_EQ(m.num_nodes(), 39);
+  ASSERT_EQ(m.num_elements(), 4);
+  const auto index = node_index_by_id(m);
+  EXPECT_EQ(m.coordinates.col(index.at(300)), Eigen::Vector3d(-1, 0, 0));   // missing y, z = 0
+  EXPECT_EQ(m.coordinates.col(index.at(202)), Eigen::Vector3d(1.5, 0, 5));  // 1.5D0
+  EXPECT_EQ(m.coordinates.col(index.at(7)), Eigen::Vector3d(1, 1, 1));
+
+  // Elements in file order, types and connectivity (by id), continuation lines included.
+  EXPECT_EQ(m.element_ids, (std::vector<int>{1, 2, 4, 3}));
+  EXPECT_EQ(m.element_types, (std::vector<ElementType>{ElementType::kC3D8I, ElementType::kC3D20R,
+                                                       ElementType::kC3D10, ElementType::kC3D4}));
+  auto element_node_ids = [&](int e) {
+    std::vector<int> ids;
+    for (int n : m.element_nodes(e)) ids.push_back(m.node_ids[n]);
+    return ids;
+  };
+  EXPECT_EQ(element_node_ids(0), range(1, 8));
+  EXPECT_EQ(element_node_ids(1), range(101, 120));
+  EXPECT_EQ(element_node_ids(2), range(201, 210));
+  EXPECT_EQ(element_node_ids(3), (std::vector<int>{1, 2, 4, 5}));
+
+  // Sets: names upper-cased, GENERATE, references resolved in file order (UNION sees BOTTOM
+  // before node 5 is added to it), repeated definitions add.
+  EXPECT_EQ(ids_of(m, m.node_sets.at("CUBE NODES")), range(1, 8));
+  EXPECT_EQ(ids_of(m, m.node_sets.at("BOTTOM")), range(1, 5));
+  EXPECT_EQ(ids_of(m, m.node_sets.at("MID")), range(109, 120));
+  EXPECT_EQ(ids_of(m, m.node_sets.at("EVERY_OTHER")), range(201, 209, 2));
+  std::vector<int> expected_union = range(1, 4);
+  for (int id : range(109, 120)) expected_union.push_back(id);
+  expected_union.push_back(300);
+  EXPECT_EQ(ids_of(m, m.node_sets.at("UNION")), expected_union);
+  EXPECT_EQ(m.node_sets.size(), 5u);
+  EXPECT_EQ(element_ids_of(m, m.element_sets.at("HEXA")), (std::vector<int>{1, 2}));
+  EXPECT_EQ(element_ids_of(m, m.element_sets.at("TETS")), (std::vector<int>{3, 4}));
+  EXPECT_EQ(element_ids_of(m, m.element_sets.at("ALL")), range(1, 4));
+  EXPECT_EQ(element_ids_of(m, m.element_sets.at("GEN")), range(1, 3));
+  EXPECT_EQ(m.element_sets.size(), 4u);
+}
+
+TEST(InpReader, SampleMidEdgeNodesLieAtTheMidpointsOfTheCalculixEdges) {
+  // Independent check that the sample (and so the reader's node order) follows CalculiX's
+  // convention: C3D20 edges (0,1)(1,2)(2,3)(3,0)(4,5)(5,6)(6,7)(7,4)(0,4)(1,5)(2,6)(3,7),
+  // C3D10 edges (0,1)(1,2)(2,0)(0,3)(1,3)(2,3) (CalculiX User's Manual, element types).
+  const Mesh m = read_inp(kDir + "sample_all_features.inp");
+  const int hex_edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  const int tet_edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  auto x = [&](int e, int local) {
+    return Eigen::Vector3d(m.coordinates.col(m.element_nodes(e)[local]));
+  };
+  for (int k = 0; k < 12; ++k) {
+    EXPECT_LT((x(1, 8 + k) - 0.5 * (x(1, hex_edges[k][0]) + x(1, hex_edges[k][1]))).norm(), 1e-15);
+  }
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_LT((x(2, 4 + k) - 0.5 * (x(2, tet_edges[k][0]) + x(2, tet_edges[k][1]))).norm(), 1e-15);
+  }
+}
+
+struct BadFile {
+  const char* file;
+  int line;
+  const char* message;  // substring of the message
+};
+
+class InpReaderErrors : public ::testing::TestWithParam<BadFile> {};
+
+TEST_P(InpReaderErrors, NameTheFileTheLineAndTheProblem) {
+  const BadFile& bad = GetParam();
+  const std::string path = kDir + bad.file;
+  try {
+    read_inp(path);
+    FAIL() << bad.file << " was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, path);
+    EXPECT_EQ(e.where().line, bad.line) << e.what();
+    EXPECT_NE(e.message().find(bad.message), std::string::npos)
+        << "message: " << e.message() << "\nexpected to contain: " << bad.message;
+    EXPECT_NE(std::string(e.what()).find(path + ":" + std::to_string(bad.line)), std::string::npos);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    MalformedSamples, InpReaderErrors,
+    ::testing::Values(
+        BadFile{"bad_number.inp", 4, "'1.0x' is not a valid coordinate"},
+        BadFile{"bad_node_id.inp", 6, "'5.5' is not a valid node id"},
+        BadFile{"unknown_node.inp", 11, "element 1 refers to unknown node 99"},
+        BadFile{"duplicate_node.inp", 9, "duplicate node id 3 (first defined on line 4)"},
+        BadFile{"duplicate_element.inp", 12, "duplicate element id 1 (first defined on line 11)"},
+        BadFile{"missing_set.inp", 15, "unknown node set FOO"},
+        BadFile{"wrong_node_count.inp", 12, "element 2 of type C3D8 has 7 nodes, needs 8"},
+        BadFile{"too_many_nodes.inp", 13, "element 2 of type C3D4 has more than 4 nodes"},
+        BadFile{"unsupported_type.inp", 12, "unsupported element type S4R"},
+        BadFile{"missing_type.inp", 12, "*ELEMENT without TYPE="},
+        BadFile{"generate_reversed.inp", 13, "GENERATE: last 1 < first 8"},
+        BadFile{"generate_unknown_element.inp", 13, "element set G: unknown element 2"},
+        BadFile{"data_before_keyword.inp", 1, "data line before any keyword"},
+        BadFile{"include.inp", 12, "*INCLUDE is not supported"},
+        BadFile{"node_too_many_values.inp", 3, "got 5 values"},
+        BadFile{"unsupported_parameter.inp", 1, "*NODE: unsupported parameter SYSTEM"},
+        BadFile{"repeated_node.inp", 13, "element 2 uses node 3 twice"}),
+    [](const ::testing::TestParamInfo<BadFile>& info) {
+      std::string name = info.param.file;
+      return name.substr(0, name.find('.'));
+    });
+
+TEST(InpReader, MissingFileIsInvalidInputNamingIt) {
+  try {
+    read_inp(kDir + "does_not_exist.inp");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, kDir + "does_not_exist.inp");
+  }
+}
+
+TEST(InpReader, StreamFormHandlesCrLfAndTrailingCommas) {
+  std::istringstream in(
+      "*NODE\r\n1, 0, 0, 0,\r\n2, 1, 0, 0\r\n3, 0, 1, 0\r\n4, 0, 0, 1\r\n"
+      "*ELEMENT, TYPE=C3D4,\r\n7, 1, 2, 3, 4\r\n");
+  const Mesh m = read_inp(in, "inline");
+  EXPECT_EQ(m.num_nodes(), 4);
+  EXPECT_EQ(m.element_ids, std::vector<int>{7});
+}
+
+}  // namespace
+}  // namespace stickslip

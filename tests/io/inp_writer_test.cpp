@@ -1,0 +1,98 @@
+#include "io/inp_writer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "core/errors.h"
+#include "io/inp_reader.h"
+
+namespace stickslip {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("stickslip_inp_writer_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+// A mesh with every element type, non-contiguous ids and coordinates that need all 17 digits.
+Mesh mixed_mesh() {
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mesh m;
+  for (int i = 0; i < 45; ++i) m.add_node(1000 - 7 * i, {u(rng), u(rng) * 1e-3, u(rng) * 1e5});
+  std::vector<int> nodes(20);
+  int id = 5;
+  int first = 0;
+  for (ElementType t : {ElementType::kC3D20R, ElementType::kC3D8, ElementType::kC3D4,
+                        ElementType::kC3D10, ElementType::kC3D8I, ElementType::kC3D20}) {
+    const int n = nodes_per_element(t);
+    for (int k = 0; k < n; ++k) nodes[k] = (first + k) % 45;
+    m.add_element(id, t, std::span<const int>(nodes.data(), n));
+    id += 3;
+    first += 4;
+  }
+  m.node_sets["FIRST"] = {0, 1, 2};
+  for (int i = 0; i < 40; i += 2) m.node_sets["MANY"].push_back(i);  // > 16: several lines
+  m.element_sets["SOME"] = {1, 4};
+  return m;
+}
+
+TEST(InpWriter, RoundTripReproducesTheMeshExactly) {
+  const Mesh m = mixed_mesh();
+  const std::string path = temp_path("round_trip.inp");
+  write_inp(path, m);
+  const Mesh r = read_inp(path);
+  std::filesystem::remove(path);
+
+  EXPECT_EQ(r.node_ids, m.node_ids);
+  EXPECT_EQ(r.coordinates, m.coordinates);  // exact: 17 significant digits
+  ASSERT_EQ(r.num_elements(), m.num_elements());
+  // Elements come back grouped by type; compare by id.
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const auto it = std::find(r.element_ids.begin(), r.element_ids.end(), m.element_ids[e]);
+    ASSERT_NE(it, r.element_ids.end());
+    const int re = static_cast<int>(it - r.element_ids.begin());
+    EXPECT_EQ(r.element_types[re], m.element_types[e]);
+    const auto a = m.element_nodes(e);
+    const auto b = r.element_nodes(re);
+    EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
+    // Sets refer to ids: translate.
+    for (const auto& [name, set] : m.element_sets) {
+      const bool in_m = std::binary_search(set.begin(), set.end(), e);
+      const auto& rs = r.element_sets.at(name);
+      EXPECT_EQ(in_m, std::binary_search(rs.begin(), rs.end(), re)) << name;
+    }
+  }
+  EXPECT_EQ(r.node_sets, m.node_sets);  // node order is preserved, so indices agree
+}
+
+TEST(InpWriter, LinesHoldAtMostSixteenEntries) {
+  const Mesh m = mixed_mesh();
+  std::ostringstream out;
+  write_inp(out, m);
+  std::istringstream in(out.str());
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '*') continue;
+    const auto commas = std::count(line.begin(), line.end(), ',');
+    const bool continued = line.back() == ',';
+    EXPECT_LE(commas + (continued ? 0 : 1), 16) << line;
+  }
+}
+
+TEST(InpWriter, RejectsSetNamesThatCannotBeWritten) {
+  Mesh m = mixed_mesh();
+  m.node_sets["A,B"] = {0};
+  std::ostringstream out;
+  EXPECT_THROW(write_inp(out, m), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
