@@ -1,0 +1,280 @@
+#include "continuation/arclength.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include <Eigen/LU>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+// Step factor after a corrector that needed more than the target iterations.
+constexpr double kStepShrink = 0.5;
+// A corrected point farther from the predicted one than this times the step (in scaled variables)
+// is rejected: on a smooth curve the correction is O(step²·curvature); a long correction means
+// the corrector has left for another part of the curve.
+constexpr double kMaxCorrection = 1.0;
+
+std::string str(double v) {
+  std::ostringstream s;
+  s.precision(8);
+  s << v;
+  return s.str();
+}
+
+// The corrector's n+1 equations in the scaled unknowns y = (x / x_scale, λ / lambda_scale):
+//   F(y) = [R(x, λ); residual_scale · (tᵀ (y − y_prev) − dsigma)],
+//   dF/dy = [dR/dx · x_scale, dR/dλ · lambda_scale; residual_scale · tᵀ].
+// The parameter argument of evaluate() is unused. Keeps the last Jacobian it computed so that the
+// tangent at a converged point costs no extra evaluation.
+class ArcLengthSystem final : public ParametrizedSystem {
+ public:
+  ArcLengthSystem(const ParametrizedSystem& sys, double x_scale, double lambda_scale)
+      : sys_(sys), n_(sys.size()), x_scale_(x_scale), lambda_scale_(lambda_scale) {}
+
+  void set_step(const Eigen::VectorXd& y_prev, const Eigen::VectorXd& t, double dsigma) {
+    y_prev_ = y_prev;
+    t_ = t;
+    dsigma_ = dsigma;
+  }
+
+  int size() const override { return n_ + 1; }
+  double residual_scale() const override { return sys_.residual_scale(); }
+
+  void evaluate(const Eigen::VectorXd& y, double /*unused*/, Eigen::VectorXd& F,
+                Eigen::MatrixXd* dF_dy, Eigen::VectorXd* /*unused*/) const override {
+    const double scale = sys_.residual_scale();
+    x_ = x_scale_ * y.head(n_);
+    Eigen::VectorXd R(n_);
+    sys_.evaluate(x_, lambda_scale_ * y(n_), R, dF_dy ? &J_ : nullptr,
+                  dF_dy ? &dR_dlambda_ : nullptr);
+    F.resize(n_ + 1);
+    F.head(n_) = R;
+    F(n_) = scale * (t_.dot(y - y_prev_) - dsigma_);
+    if (dF_dy) {
+      dF_dy->resize(n_ + 1, n_ + 1);
+      dF_dy->topLeftCorner(n_, n_) = x_scale_ * J_;
+      dF_dy->col(n_).head(n_) = lambda_scale_ * dR_dlambda_;
+      dF_dy->row(n_) = scale * t_.transpose();
+      cached_y_ = y;
+      cached_dR_dy_ = dF_dy->topRows(n_);
+    }
+  }
+
+  // dR/dy (n x (n+1)) at y, from the cache when the last Jacobian was computed at y.
+  const Eigen::MatrixXd& dR_dy(const Eigen::VectorXd& y) const {
+    if (cached_y_.size() != y.size() || cached_y_ != y) {
+      Eigen::MatrixXd J;
+      Eigen::VectorXd F;
+      evaluate(y, 0.0, F, &J, nullptr);
+    }
+    return cached_dR_dy_;
+  }
+
+ private:
+  const ParametrizedSystem& sys_;
+  int n_;
+  double x_scale_, lambda_scale_;
+  Eigen::VectorXd y_prev_, t_;
+  double dsigma_ = 0;
+  mutable Eigen::VectorXd x_, dR_dlambda_, cached_y_;
+  mutable Eigen::MatrixXd J_, cached_dR_dy_;
+};
+
+// Unit tangent t with [dR/dy; bᵀ] t = [0; 1], or nothing if the bordered matrix is singular or the
+// result is not finite. bᵀ t = 1 / ||t_raw|| > 0 keeps the orientation of b.
+std::optional<Eigen::VectorXd> tangent(const Eigen::MatrixXd& dR_dy, const Eigen::VectorXd& b,
+                                       double min_rcond) {
+  const Eigen::Index n1 = b.size();
+  Eigen::MatrixXd B(n1, n1);
+  // Row-scale the border to the size of dR/dy so that rcond measures geometry, not units.
+  const double row_scale = std::max(dR_dy.cwiseAbs().maxCoeff(), 1e-300);
+  B.topRows(n1 - 1) = dR_dy;
+  B.row(n1 - 1) = row_scale * b.transpose();
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(B);
+  if (!(lu.rcond() >= min_rcond)) return std::nullopt;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n1);
+  rhs(n1 - 1) = row_scale;
+  Eigen::VectorXd t = lu.solve(rhs);
+  const double norm = t.norm();
+  if (!std::isfinite(norm) || norm == 0) return std::nullopt;
+  return Eigen::VectorXd(t / norm);
+}
+
+}  // namespace
+
+void validate(const ArcLengthOptions& o) {
+  const std::string p = "ArcLengthOptions.";
+  require(std::isfinite(o.lambda_start), p + "lambda_start", str(o.lambda_start), "must be finite");
+  require(std::isfinite(o.lambda_end) && o.lambda_end != o.lambda_start, p + "lambda_end",
+          str(o.lambda_end), "must be finite and differ from lambda_start");
+  require(std::isfinite(o.min_step) && o.min_step > 0, p + "min_step", str(o.min_step),
+          "must be finite and > 0");
+  require(std::isfinite(o.max_step) && o.max_step >= o.min_step, p + "max_step", str(o.max_step),
+          "must be finite and >= min_step");
+  require(o.initial_step >= o.min_step && o.initial_step <= o.max_step, p + "initial_step",
+          str(o.initial_step), "must be in [min_step, max_step]");
+  require(o.max_points >= 2, p + "max_points", std::to_string(o.max_points), "must be >= 2");
+  require(o.target_newton_iterations >= 1, p + "target_newton_iterations",
+          std::to_string(o.target_newton_iterations), "must be >= 1");
+  validate(o.newton, p + "newton.");
+  require(std::isfinite(o.x_scale) && o.x_scale >= 0, p + "x_scale", str(o.x_scale),
+          "must be finite and >= 0 (0 = automatic)");
+  require(std::isfinite(o.lambda_scale) && o.lambda_scale >= 0, p + "lambda_scale",
+          str(o.lambda_scale), "must be finite and >= 0 (0 = automatic)");
+  require(o.max_turn_angle > 0 && o.max_turn_angle < std::numbers::pi, p + "max_turn_angle",
+          str(o.max_turn_angle), "must be in (0, pi)");
+  require(std::isfinite(o.step_growth) && o.step_growth >= 1, p + "step_growth", str(o.step_growth),
+          "must be finite and >= 1");
+  const bool behind =
+      (o.lambda_end - o.lambda_start) * (o.lambda_return_limit - o.lambda_start) <= 0;
+  require(std::isnan(o.lambda_return_limit) || (std::isfinite(o.lambda_return_limit) && behind),
+          p + "lambda_return_limit", str(o.lambda_return_limit),
+          "must be NaN (= lambda_start) or finite and not on the lambda_end side of lambda_start");
+}
+
+ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const Eigen::VectorXd& x0,
+                                          const ArcLengthOptions& options) {
+  validate(options);
+  const int n = sys.size();
+  if (x0.size() != n) {
+    throw InvalidInput("arclength_continuation: x0 has size " + std::to_string(x0.size()) +
+                       " but the system has size " + std::to_string(n));
+  }
+  const double lambda_start = options.lambda_start, lambda_end = options.lambda_end;
+  const double direction = lambda_end > lambda_start ? 1.0 : -1.0;
+  const double return_limit =
+      std::isnan(options.lambda_return_limit) ? lambda_start : options.lambda_return_limit;
+
+  ContinuationResult result;
+  auto stop = [&](bool completed, const std::string& why) {
+    result.completed = completed;
+    std::ostringstream m;
+    m << why << " (" << result.points.size() << " points)";
+    result.message = m.str();
+    return result;
+  };
+
+  // 1. First point.
+  {
+    ContinuationPoint first;
+    first.lambda = lambda_start;
+    first.x = x0;
+    first.newton = solve_newton(sys, lambda_start, first.x, options.newton);
+    result.points.push_back(first);
+    if (!first.newton.converged()) {
+      return stop(false, "no solution at lambda_start: " + first.newton.message);
+    }
+  }
+  const Eigen::VectorXd& x_first = result.points.front().x;
+  const double x_scale =
+      options.x_scale > 0 ? options.x_scale : (x_first.norm() > 0 ? x_first.norm() : 1.0);
+  const double lambda_scale =
+      options.lambda_scale > 0 ? options.lambda_scale : std::abs(lambda_end - lambda_start);
+
+  ArcLengthSystem augmented(sys, x_scale, lambda_scale);
+  Eigen::VectorXd y(n + 1);
+  y << x_first / x_scale, lambda_start / lambda_scale;
+
+  // 2. Tangent at the first point, oriented towards lambda_end.
+  Eigen::VectorXd t;
+  {
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n + 1);
+    b(n) = direction;
+    augmented.set_step(y, b, 0.0);  // only dR/dy is used here
+    auto t0 = tangent(augmented.dR_dy(y), b, options.newton.min_rcond);
+    if (!t0) return stop(false, "dR/dx is singular at the first point: no tangent");
+    t = *t0;
+  }
+
+  // Solution at exactly lambda_target from a guess interpolated between the last point (y) and a
+  // point beyond it (y_new).
+  auto clip_onto = [&](double lambda_target, const Eigen::VectorXd& y_new) {
+    const double l0 = y(n) * lambda_scale, l1 = y_new(n) * lambda_scale;
+    const double w = (lambda_target - l0) / (l1 - l0);
+    ContinuationPoint p;
+    p.lambda = lambda_target;
+    p.x = x_scale * ((1 - w) * y.head(n) + w * y_new.head(n));
+    p.newton = solve_newton(sys, lambda_target, p.x, options.newton);
+    return p;
+  };
+
+  double step = options.initial_step;
+  std::string last_failure;
+  while (static_cast<int>(result.points.size()) < options.max_points) {
+    // 3. Predictor and corrector.
+    const double dsigma = step / lambda_scale;
+    augmented.set_step(y, t, dsigma);
+    const Eigen::VectorXd y_predicted = y + dsigma * t;
+    Eigen::VectorXd y_new = y_predicted;
+    NewtonSummary summary = solve_newton(augmented, 0.0, y_new, options.newton);
+
+    // 4. Accept or reject.
+    std::optional<Eigen::VectorXd> t_new;
+    if (summary.converged()) {
+      t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond);
+      if (!t_new) {
+        last_failure = "singular bordered Jacobian at the corrected point";
+      } else if ((y_new - y_predicted).norm() > kMaxCorrection * dsigma) {
+        last_failure = "the corrector moved farther than the step";
+        t_new.reset();
+      } else if (t_new->dot(t) < std::cos(options.max_turn_angle)) {
+        last_failure = "tangent turned by " + str(std::acos(std::clamp(t_new->dot(t), -1.0, 1.0))) +
+                       " rad > max_turn_angle";
+        t_new.reset();
+      }
+    } else {
+      last_failure = summary.message;
+    }
+    if (!t_new) {
+      step *= 0.5;
+      if (step < options.min_step) {
+        return stop(false, "step below min_step = " + str(options.min_step) + " after lambda = " +
+                               str(y(n) * lambda_scale) + "; last failure: " + last_failure);
+      }
+      continue;
+    }
+
+    // 5. Range checks.
+    const double lambda_new = y_new(n) * lambda_scale;
+    if (direction * (lambda_new - lambda_end) > 0) {
+      ContinuationPoint p = clip_onto(lambda_end, y_new);
+      if (p.newton.converged()) {
+        result.points.push_back(std::move(p));
+        return stop(true, "reached lambda_end");
+      }
+      return stop(true, "reached lambda_end; the solution at exactly lambda_end failed (" +
+                            p.newton.message + "), the last point is before it");
+    }
+    if (direction * (lambda_new - return_limit) < 0) {
+      ContinuationPoint p = clip_onto(return_limit, y_new);
+      if (p.newton.converged()) result.points.push_back(std::move(p));
+      return stop(false, std::isnan(options.lambda_return_limit)
+                             ? "the branch turned back past lambda_start"
+                             : "the branch turned back past lambda_return_limit");
+    }
+
+    ContinuationPoint p;
+    p.lambda = lambda_new;
+    p.x = x_scale * y_new.head(n);
+    const int iterations = summary.iterations;
+    p.newton = std::move(summary);
+    result.points.push_back(std::move(p));
+    y = y_new;
+    t = *t_new;
+    if (iterations < options.target_newton_iterations) {
+      step = std::min(step * options.step_growth, options.max_step);
+    } else if (iterations > options.target_newton_iterations) {
+      step = std::max(step * kStepShrink, options.min_step);
+    }
+  }
+  return stop(false, "max_points reached at lambda = " + str(y(n) * lambda_scale));
+}
+
+}  // namespace stickslip

@@ -1,0 +1,69 @@
+// Pseudo arc-length continuation (Keller) of the solution curve of R(x, λ) = 0 in (x, λ), from
+// lambda_start towards lambda_end, following turning points (folds) where λ reverses.
+//
+// Scaling. The curve is followed in the scaled variables y = (x / x_scale, λ / lambda_scale), and
+// step lengths are measured in units of λ:
+//     Δs = sqrt( Δλ² + (lambda_scale / x_scale)² ||Δx||₂² ),
+// i.e. a change of ||x|| by x_scale counts as much as a change of λ by lambda_scale. On a part of
+// the curve where x hardly changes, a step Δs moves λ by about Δs; through a resonance or a fold
+// the step is spent on x. Defaults (0 = automatic): lambda_scale = |lambda_end − lambda_start|,
+// x_scale = ||x|| of the first point (1 if that is 0). For a frequency response that starts off
+// resonance, ||x_first|| is much smaller than the peak and the arc length through the peak is
+// then long (many points at max_step): set x_scale to the expected peak amplitude (e.g. from the
+// linear response) to spend fewer points there.
+//
+// Algorithm.
+//  1. The first point is solve_newton(sys, lambda_start, x0). If it fails, the result holds that
+//     one (not converged) point and completed = false.
+//  2. Tangent t (unit, in y): [dR/dy; bᵀ] t = [0; 1] with b = t_prev (b = e_λ · sign(lambda_end −
+//     lambda_start) at the first point), then normalised; b keeps the orientation (t · t_prev > 0).
+//  3. Predictor y_p = y_k + Δσ t_k with Δσ = Δs / lambda_scale. Corrector: solve_newton (options
+//     .newton) on the n+1 equations [R(x, λ); residual_scale · (t_kᵀ (y − y_k) − Δσ)] = 0.
+//  4. A corrector that fails, a corrected point farther than Δσ from the predicted one, a singular
+//     bordered matrix, or a tangent turning by more than max_turn_angle (radians, between t_k and
+//     t_{k+1}) rejects the step (the last three guard against jumping to another branch): Δs is
+//     halved and the step retried. Below min_step the continuation stops with completed = false. An
+//     accepted step multiplies Δs by step_growth if the corrector needed fewer than
+//     target_newton_iterations iterations and by 1/2 if more, within [min_step, max_step].
+//  5. Stop when a point lands beyond lambda_end (that point is replaced by the solution at exactly
+//     lambda_end, from an interpolated guess; completed = true), when λ falls back behind
+//     lambda_return_limit (default lambda_start; clipped likewise onto it; completed = false), or
+//     after max_points points (completed = false). lambda_end < lambda_start sweeps downwards.
+// Every returned point is converged (except a failed first point, see 1.). The message says how
+// the continuation ended.
+#pragma once
+
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "continuation/newton.h"
+#include "continuation/parametrized_system.h"
+#include "continuation/sweep.h"
+
+namespace stickslip {
+
+struct ArcLengthOptions {
+  double lambda_start = 0, lambda_end = 0;  // finite, different
+  // Arc-length steps in units of λ (see Scaling): 0 < min_step <= initial_step <= max_step.
+  double initial_step = 0, min_step = 0, max_step = 0;
+  int max_points = 10000;            // >= 2, including the first point
+  int target_newton_iterations = 4;  // >= 1: corrector iterations the step control aims at
+  NewtonOptions newton;              // for the first point, the corrector and the clipping
+  double x_scale = 0;                // >= 0; 0 = ||x_first|| (1 if 0)
+  double lambda_scale = 0;           // >= 0; 0 = |lambda_end − lambda_start|
+  double max_turn_angle = 0.5;       // radians, in (0, π): largest angle between two tangents
+  double step_growth = 1.5;          // >= 1: step factor after an easy corrector
+  // How far back λ may go behind lambda_start after a fold before the continuation stops: a value
+  // on the far side of lambda_start from lambda_end, or NaN (default) for lambda_start itself.
+  double lambda_return_limit = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Throws InvalidInput naming the field ("ArcLengthOptions.min_step = ...") and the rule it broke.
+void validate(const ArcLengthOptions& options);
+
+// x0: initial guess of the solution at lambda_start (size sys.size()).
+ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const Eigen::VectorXd& x0,
+                                          const ArcLengthOptions& options);
+
+}  // namespace stickslip

@@ -1,0 +1,153 @@
+#include "continuation/newton.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/LU>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+// Armijo constant of the sufficient-decrease test ||R_new|| <= (1 - c s) ||R||: small, so that
+// nearly any decrease is accepted while stagnation (||R_new|| == ||R||) is not.
+constexpr double kSufficientDecrease = 1e-4;
+
+std::string str(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+bool all_finite(const Eigen::VectorXd& v) { return v.allFinite(); }
+
+}  // namespace
+
+void validate(const NewtonOptions& o, std::string_view prefix) {
+  const std::string p(prefix);
+  require(std::isfinite(o.tolerance) && o.tolerance > 0, p + "tolerance", str(o.tolerance),
+          "must be finite and > 0");
+  require(o.max_iterations >= 1, p + "max_iterations", std::to_string(o.max_iterations),
+          "must be >= 1");
+  require(o.min_step_fraction > 0 && o.min_step_fraction <= 1, p + "min_step_fraction",
+          str(o.min_step_fraction), "must be in (0, 1]");
+  require(o.min_rcond >= 0 && o.min_rcond < 1, p + "min_rcond", str(o.min_rcond),
+          "must be in [0, 1)");
+}
+
+void validate(const NewtonOptions& o) { validate(o, "NewtonOptions."); }
+
+const char* to_string(NewtonTermination t) {
+  switch (t) {
+    case NewtonTermination::kConverged:
+      return "converged";
+    case NewtonTermination::kMaxIterations:
+      return "max_iterations";
+    case NewtonTermination::kLineSearchFailed:
+      return "line_search_failed";
+    case NewtonTermination::kSingularJacobian:
+      return "singular_jacobian";
+    case NewtonTermination::kNonFinite:
+      return "non_finite";
+  }
+  return "unknown";
+}
+
+NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::VectorXd& x,
+                           const NewtonOptions& options) {
+  validate(options);
+  const int n = sys.size();
+  if (x.size() != n) {
+    throw InvalidInput("solve_newton: x has size " + std::to_string(x.size()) +
+                       " but the system has size " + std::to_string(n));
+  }
+  const double scale = sys.residual_scale();
+  require(std::isfinite(scale) && scale > 0, "ParametrizedSystem::residual_scale()", str(scale),
+          "must be finite and > 0");
+  const double threshold = options.tolerance * scale;
+
+  NewtonSummary summary;
+  auto finish = [&](NewtonTermination t, const std::string& why) {
+    summary.termination = t;
+    std::ostringstream m;
+    m << to_string(t) << " after " << summary.iterations
+      << " iterations at lambda = " << str(lambda) << ": ||R|| = " << str(summary.residual_norm)
+      << " (threshold " << str(threshold) << ")";
+    if (!why.empty()) m << "; " << why;
+    summary.message = m.str();
+    return summary;
+  };
+
+  Eigen::VectorXd R(n), R_trial(n), dx(n), x_trial(n);
+  Eigen::MatrixXd J(n, n), J_trial(n, n);
+  sys.evaluate(x, lambda, R, &J, nullptr);
+  STICKSLIP_VERIFY(R.size() == n && J.rows() == n && J.cols() == n,
+                   "ParametrizedSystem::evaluate returned outputs of the wrong size");
+  bool have_jacobian = true;
+  if (!all_finite(R)) {
+    summary.residual_norm = std::numeric_limits<double>::quiet_NaN();
+    return finish(NewtonTermination::kNonFinite, "R is not finite at the initial guess");
+  }
+  double r = R.norm();
+  summary.residual_norm = r;
+  summary.residual_history.push_back(r);
+
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(n);
+  while (true) {
+    if (r <= threshold) return finish(NewtonTermination::kConverged, "");
+    if (summary.iterations >= options.max_iterations) {
+      return finish(NewtonTermination::kMaxIterations, "");
+    }
+    if (!have_jacobian) {
+      sys.evaluate(x, lambda, R, &J, nullptr);
+      have_jacobian = true;
+    }
+    if (!J.allFinite()) return finish(NewtonTermination::kNonFinite, "dR/dx is not finite");
+    lu.compute(J);
+    const double rcond = lu.rcond();
+    if (!(rcond >= options.min_rcond)) {
+      return finish(NewtonTermination::kSingularJacobian,
+                    "rcond(dR/dx) = " + str(rcond) + " < min_rcond = " + str(options.min_rcond));
+    }
+    dx = lu.solve(-R);
+    if (!all_finite(dx)) {
+      return finish(NewtonTermination::kSingularJacobian, "the Newton step is not finite");
+    }
+
+    // Backtracking: the full step is evaluated with its Jacobian (it is usually accepted); the
+    // shorter ones with R only, the Jacobian is then computed at the start of the next iteration.
+    bool accepted = false;
+    bool any_finite = false;
+    for (double s = 1.0; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
+      x_trial = x + s * dx;
+      const bool full = (s == 1.0);
+      sys.evaluate(x_trial, lambda, R_trial, full ? &J_trial : nullptr, nullptr);
+      if (!all_finite(R_trial)) continue;
+      any_finite = true;
+      const double r_trial = R_trial.norm();
+      if (r_trial <= (1 - kSufficientDecrease * s) * r) {
+        x.swap(x_trial);
+        R.swap(R_trial);
+        if (full) J.swap(J_trial);
+        have_jacobian = full;
+        r = r_trial;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      return finish(
+          any_finite ? NewtonTermination::kLineSearchFailed : NewtonTermination::kNonFinite,
+          any_finite ? "no step fraction >= " + str(options.min_step_fraction) + " decreased ||R||"
+                     : "R is not finite at any trial point of the line search");
+    }
+    ++summary.iterations;
+    summary.residual_norm = r;
+    summary.residual_history.push_back(r);
+  }
+}
+
+}  // namespace stickslip

@@ -1,0 +1,74 @@
+// Damped Newton–Raphson for R(x, λ) = 0 at a fixed parameter λ (ParametrizedSystem).
+//
+// Iteration k: solve dR/dx(x_k) Δx = −R(x_k) by dense LU with partial pivoting, then take
+// x_{k+1} = x_k + s Δx with the largest s ∈ {1, 1/2, 1/4, ..., >= min_step_fraction} that gives a
+// sufficient decrease ||R(x_{k+1})|| <= (1 − 1e-4 s) ||R(x_k)|| (backtracking on the 2-norm of R).
+// Converged when ||R(x_k)||₂ <= tolerance · sys.residual_scale() (checked before each step, so an
+// initial guess that already satisfies it returns with 0 iterations).
+//
+// Numerical failure is a returned value, never an exception: NewtonSummary.termination says why
+// the solve stopped, and x holds the last accepted iterate (the best one found, in ||R||).
+//   kConverged         ||R|| <= tolerance · scale.
+//   kMaxIterations     max_iterations steps taken without convergence.
+//   kLineSearchFailed  no step fraction down to min_step_fraction decreased ||R|| (e.g. a local
+//                      minimum of ||R||, or no root near x).
+//   kSingularJacobian  the reciprocal condition number estimate of dR/dx is below min_rcond.
+//   kNonFinite         R or dR/dx is NaN/inf at an accepted iterate (incl. the initial guess), or
+//                      at every trial point of a line search.
+// Bad options, a size mismatch between x and sys.size(), or a residual_scale() that is not a
+// positive finite number throw InvalidInput.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "continuation/parametrized_system.h"
+
+namespace stickslip {
+
+struct NewtonOptions {
+  double tolerance = 1e-8;  // on ||R||₂ relative to sys.residual_scale(); > 0
+  int max_iterations = 30;  // Newton steps (linear solves); >= 1
+  // Smallest step fraction tried by the backtracking line search; in (0, 1]. 1 = plain
+  // (undamped) Newton that stops with kLineSearchFailed when the full step does not decrease ||R||.
+  double min_step_fraction = 1.0 / 64;
+  // dR/dx is declared singular when LU's reciprocal condition estimate (1-norm) is below this;
+  // in [0, 1).
+  double min_rcond = 1e-14;
+};
+
+// Throws InvalidInput naming the field ("NewtonOptions.tolerance = ...") and the rule it broke.
+void validate(const NewtonOptions& options);
+// Same, with the fields named "<prefix>tolerance" etc. (for options nested in other options).
+void validate(const NewtonOptions& options, std::string_view field_prefix);
+
+enum class NewtonTermination {
+  kConverged,
+  kMaxIterations,
+  kLineSearchFailed,
+  kSingularJacobian,
+  kNonFinite
+};
+
+// "converged", "max_iterations", ...
+const char* to_string(NewtonTermination termination);
+
+struct NewtonSummary {
+  NewtonTermination termination = NewtonTermination::kMaxIterations;
+  int iterations = 0;        // Newton steps taken (linear solves whose step was accepted)
+  double residual_norm = 0;  // ||R||₂ at the returned x
+  std::string message;       // one line for humans
+  // ||R||₂ at the initial guess and after each accepted step (size iterations + 1, except when
+  // the initial evaluation is non-finite: then empty).
+  std::vector<double> residual_history;
+  bool converged() const { return termination == NewtonTermination::kConverged; }
+};
+
+// Solves R(x, lambda) = 0 for x in place, starting from the given x (size sys.size()).
+NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::VectorXd& x,
+                           const NewtonOptions& options);
+
+}  // namespace stickslip

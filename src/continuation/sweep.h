@@ -1,0 +1,72 @@
+// Stepped parameter sweep (NOVA-style fmin:step:fmax) of R(x, λ) = 0, and the result type shared
+// with arc-length continuation (continuation/arclength.h).
+//
+// stepped_sweep solves R(x, λ_i) = 0 with solve_newton for each requested λ_i in the given order
+// (increasing, decreasing or arbitrary). The initial guess is the solution at the last converged
+// point (x0 for the first point), or optionally the secant extrapolation through the last two
+// converged points. If Newton fails at λ_i, the step from the last converged point (λ_g, x_g) is
+// halved (at most max_step_halvings times) and λ_i is approached through intermediate
+// parameters, each solved from the previous one; intermediate solutions are not returned.
+// If that fails too, and jump_max_points > 0, the solution curve is followed by arc-length
+// continuation (arclength.h) from (λ_g, x_g) until it first reaches λ_i: past a fold this goes
+// round the fold and the unstable branch behind it and lands on the branch the response jumps to
+// (the curve may go back no further than the far end of the requested range).
+// If λ_i is still not reached, the point is REPORTED (newton.converged() == false, x = the last
+// iterate of the direct attempt from (λ_g, x_g) at λ_i) and the sweep goes on from (λ_g, x_g):
+// the result has exactly one point per requested λ, in order. Before any point has converged
+// there is no good start to halve from: each λ_i is then tried directly from x0.
+// On a multivalued response the sweep follows the branch it is on until that branch ends at a
+// fold, then jumps to another branch: the hysteresis of a physical sweep.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "continuation/newton.h"
+#include "continuation/parametrized_system.h"
+
+namespace stickslip {
+
+struct ContinuationPoint {
+  double lambda = 0;
+  Eigen::VectorXd x;
+  // The Newton solve that produced x. For arc-length points, the corrector on the augmented
+  // system (R; arc-length equation): residual_norm includes the arc-length equation scaled by
+  // sys.residual_scale(), which is ~0 at convergence.
+  NewtonSummary newton;
+  // stepped_sweep only: how many times the step had to be halved to reach lambda (0 = direct),
+  // and whether the arc-length fallback reached it (typically a jump after a fold).
+  int step_halvings = 0;
+  bool by_arclength = false;
+};
+
+struct ContinuationResult {
+  std::vector<ContinuationPoint> points;
+  // stepped_sweep: every requested point converged. arclength_continuation: the branch was
+  // followed to lambda_end.
+  bool completed = false;
+  std::string message;  // one line for humans: how it ended, which points failed
+};
+
+struct SteppedSweepOptions {
+  NewtonOptions newton;
+  int max_step_halvings = 4;      // >= 0; 0 = no retry
+  bool secant_predictor = false;  // guess by extrapolating the last two converged points
+  // Points allowed to the arc-length fallback per failed point; 0 disables it, else >= 2.
+  // It uses steps between |Δλ|/1e6 and 4|Δλ| (Δλ = λ_i − λ_g), lambda_scale = the requested
+  // range, x_scale = ||x_g||.
+  int jump_max_points = 1000;
+};
+
+// Throws InvalidInput naming the field ("SteppedSweepOptions.max_step_halvings = -1. ...").
+void validate(const SteppedSweepOptions& options);
+
+// x0: initial guess for lambdas[0] (size sys.size()). lambdas: non-empty, finite.
+ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::VectorXd& x0,
+                                 std::span<const double> lambdas,
+                                 const SteppedSweepOptions& options);
+
+}  // namespace stickslip
