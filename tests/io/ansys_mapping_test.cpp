@@ -1,0 +1,204 @@
+// ANSYS HBMAT mapping files and reduced bodies read from Harwell–Boeing + mapping: parsing, the
+// DOF map (nodal translations vs generalised coordinates), a write/read round trip, and one test
+// per kind of malformed mapping file.
+#include "io/ansys_mapping.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.h"
+#include "core/types.h"
+#include "io/harwell_boeing.h"
+
+namespace stickslip {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  fs::path dir = fs::temp_directory_path() /
+                 ("stickslip_map_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+void expect_invalid(const std::string& text, int line, const std::string& fragment) {
+  std::istringstream in(text);
+  try {
+    read_ansys_mapping(in, "K2.mapping");
+    FAIL() << "no InvalidInput; expected one mentioning '" << fragment << "'";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, "K2.mapping");
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(AnsysMapping, ReadsHeaderAndRowsInAnyOrder) {
+  std::istringstream in(
+      "Matrix Eqn   Node   DOF\n"
+      "     2     17   UY\n"
+      "     1     17   UX\n"
+      "\n"
+      "     3     17   uz\n"
+      "     4      0   GEN\n");
+  const AnsysMapping m = read_ansys_mapping(in, "K2.mapping");
+  ASSERT_EQ(m.entries.size(), 4u);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(m.entries[k].equation, k + 1);
+  EXPECT_EQ(m.entries[0].label, "UX");
+  EXPECT_EQ(m.entries[1].label, "UY");
+  EXPECT_EQ(m.entries[1].line, 2);
+  EXPECT_EQ(m.entries[2].node, 17);
+  int dir = -1;
+  EXPECT_EQ(classify_ansys_label("uz", &dir), AnsysDofKind::kTranslation);
+  EXPECT_EQ(dir, 2);
+  EXPECT_EQ(classify_ansys_label("ROTY", &dir), AnsysDofKind::kRotation);
+  EXPECT_EQ(dir, 1);
+  EXPECT_EQ(classify_ansys_label("GEN", &dir), AnsysDofKind::kGeneralized);
+  EXPECT_EQ(dir, -1);
+}
+
+TEST(AnsysMapping, FileWithoutHeaderIsAccepted) {
+  std::istringstream in("1 5 UX\n2 5 UY\n");
+  EXPECT_EQ(read_ansys_mapping(in, "m").entries.size(), 2u);
+}
+
+TEST(AnsysMapping, MappingPathReplacesTheExtension) {
+  EXPECT_EQ(ansys_mapping_path("dir/K2.txt"), "dir/K2.mapping");
+  EXPECT_EQ(ansys_mapping_path("K2"), "K2.mapping");
+}
+
+// A two-node boundary (6 translations) plus two generalised coordinates, as a CMS superelement:
+// K's modal block diagonal (ω²), M's modal block the identity. Written as RSA + mapping, read
+// back as a ReducedBody.
+TEST(AnsysMapping, ReducedBodyFromHarwellBoeingAndMappingFiles) {
+  const fs::path dir = scratch_dir();
+  const int n = 8;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), M = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < 6; ++i) {
+    K(i, i) = 2e8;
+    M(i, i) = 0.5;
+  }
+  K(0, 3) = K(3, 0) = -1e8;
+  M(1, 7) = M(7, 1) = 0.01;
+  const double w1 = hz_to_rad_s(1234.5), w2 = hz_to_rad_s(2345.25);
+  K(6, 6) = w1 * w1;
+  K(7, 7) = w2 * w2;
+  M(6, 6) = M(7, 7) = 1.0;
+  HarwellBoeingWriteOptions o;
+  write_harwell_boeing((dir / "K2.txt").string(), K.sparseView(), o);
+  write_harwell_boeing((dir / "M2.txt").string(), M.sparseView(), o);
+  {
+    std::ofstream map(dir / "K2.mapping");
+    map << "Matrix Eqn   Node   DOF\n";
+    const char* labels[] = {"UX", "UY", "UZ"};
+    for (int k = 0; k < 6; ++k)
+      map << k + 1 << " " << (k < 3 ? 101 : 205) << " " << labels[k % 3] << "\n";
+    map << "7 0 GC\n8 0 GC\n";
+  }
+  const ReducedBody body =
+      read_ansys_reduced_body((dir / "K2.txt").string(), (dir / "M2.txt").string());
+  ASSERT_EQ(body.size(), n);
+  EXPECT_EQ(body.num_physical(), 6);
+  EXPECT_EQ(body.num_modal(), 2);
+  EXPECT_EQ(body.K, K);
+  EXPECT_EQ(body.M, M);
+  EXPECT_EQ(body.dofs[4].kind, ReducedDof::Kind::kPhysical);
+  EXPECT_EQ(body.dofs[4].node_id, 205);
+  EXPECT_EQ(body.dofs[4].direction, 1);
+  EXPECT_EQ(body.dofs[4].node_index, -1);  // a file knows node numbers, not mesh indices
+  EXPECT_EQ(body.dofs[7].kind, ReducedDof::Kind::kModal);
+  EXPECT_EQ(body.dofs[7].mode, 1);
+  // sqrt(K_jj / M_jj) / 2π of a diagonal modal block is the frequency put in.
+  constexpr double kFrequencyTolerance = 1e-9;  // relative; only round-off of sqrt and 2π
+  EXPECT_NEAR(body.dofs[6].frequency_hz, 1234.5, kFrequencyTolerance * 1234.5);
+  EXPECT_NEAR(body.dofs[7].frequency_hz, 2345.25, kFrequencyTolerance * 2345.25);
+
+  // Writing it back (RSA + mapping next to each matrix) and reading again gives the same body.
+  ReducedBody copy = body;
+  write_ansys_reduced_body((dir / "K3.txt").string(), (dir / "M3.txt").string(), copy);
+  EXPECT_TRUE(fs::exists(dir / "K3.mapping"));
+  EXPECT_TRUE(fs::exists(dir / "M3.mapping"));
+  const ReducedBody again =
+      read_ansys_reduced_body((dir / "K3.txt").string(), (dir / "M3.txt").string());
+  EXPECT_EQ(again.K, K);
+  EXPECT_EQ(again.M, M);
+  for (int k = 0; k < n; ++k) {
+    EXPECT_EQ(again.dofs[k].kind, body.dofs[k].kind);
+    EXPECT_EQ(again.dofs[k].node_id, body.dofs[k].node_id);
+    EXPECT_EQ(again.dofs[k].direction, body.dofs[k].direction);
+    EXPECT_EQ(again.dofs[k].mode, body.dofs[k].mode);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(AnsysMapping, RotationalDofsAreRejectedNamingTheLine) {
+  const fs::path dir = scratch_dir();
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(2, 2);
+  write_harwell_boeing((dir / "K.txt").string(), I.sparseView(), {});
+  {
+    std::ofstream map(dir / "K.mapping");
+    map << "Matrix Eqn   Node   DOF\n1 3 UX\n2 3 ROTZ\n";
+  }
+  try {
+    read_ansys_reduced_body((dir / "K.txt").string(), (dir / "K.txt").string());
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_NE(std::string(e.what()).find("ROTZ"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(AnsysMapping, MatrixSizeMustMatchMapping) {
+  const fs::path dir = scratch_dir();
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3, 3);
+  write_harwell_boeing((dir / "K.txt").string(), I.sparseView(), {});
+  {
+    std::ofstream map(dir / "K.mapping");
+    map << "Matrix Eqn   Node   DOF\n1 3 UX\n2 3 UY\n";
+  }
+  EXPECT_THROW(read_ansys_reduced_body((dir / "K.txt").string(), (dir / "K.txt").string()),
+               InvalidInput);
+  fs::remove_all(dir);
+}
+
+// ---- Malformed mapping files: one test per kind of error. ----
+
+TEST(AnsysMappingMalformed, WrongFieldCount) {
+  expect_invalid("Matrix Eqn   Node   DOF\n1 3 UX\n2 3\n", 3, "found 2 fields");
+}
+
+TEST(AnsysMappingMalformed, NonIntegerNode) {
+  expect_invalid("Matrix Eqn   Node   DOF\n1 3 UX\n2 x3 UY\n", 3, "'x3' is not an integer");
+}
+
+TEST(AnsysMappingMalformed, EquationBelowOne) {
+  expect_invalid("Matrix Eqn   Node   DOF\n0 3 UX\n", 2, "start at 1");
+}
+
+TEST(AnsysMappingMalformed, NegativeNode) {
+  expect_invalid("Matrix Eqn   Node   DOF\n1 -3 UX\n", 2, "must not be negative");
+}
+
+TEST(AnsysMappingMalformed, EquationBeyondRowCount) {
+  expect_invalid("Matrix Eqn   Node   DOF\n1 3 UX\n3 3 UZ\n", 3, "equations must be numbered 1..2");
+}
+
+TEST(AnsysMappingMalformed, RepeatedEquation) {
+  expect_invalid("Matrix Eqn   Node   DOF\n1 3 UX\n1 3 UY\n", 3, "already mapped on line 2");
+}
+
+TEST(AnsysMappingMalformed, NoRows) {
+  expect_invalid("Matrix Eqn   Node   DOF\n\n", 2, "no mapping rows");
+}
+
+}  // namespace
+}  // namespace stickslip
