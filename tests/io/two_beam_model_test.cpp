@@ -1,15 +1,22 @@
 #include "io/two_beam_model.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <regex>
+#include <sstream>
 #include <tuple>
 
 #include <Eigen/Geometry>
 
 #include "core/errors.h"
+#include "io/inp_writer.h"
 
 namespace stickslip {
 namespace {
@@ -303,6 +310,61 @@ TEST(TwoBeamModel, QuadraticHexahedraHaveMidNodesOnTheirEdges) {
       ASSERT_LT((x_of(m, n[8 + k]) - mid).norm(), kPositionTolerance);
     }
   }
+}
+
+// CalculiX prints volumes with 7 significant digits.
+constexpr double kCalculixPrintTolerance = 5e-7;
+
+// CalculiX (an external program) reads the deck written by write_inp for the generated model,
+// runs a static step (both beams clamped, the thesis's forces on FORCE1/FORCE2) and prints the
+// total volume of each beam from its own element formulation: it must equal the analytic
+// volume, which fails if the node order, the continuation lines or the sets were wrong
+// (CalculiX stops on a negative Jacobian).
+TEST(TwoBeamModel, CalculixReadsTheWrittenDeckAndFindsTheAnalyticVolume) {
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("stickslip_two_beam_ccx_" + std::to_string(::getpid())))
+                              .string();
+  std::filesystem::create_directories(dir);
+  for (ElementType type : {ElementType::kC3D8I, ElementType::kC3D20R}) {
+    for (Arrangement arrangement : {Arrangement::kButt, Arrangement::kLap}) {
+      TwoBeamOptions o;
+      o.box = {6, 2, 4};
+      o.end_block = {2, 2, 2};
+      o.element_type = type;
+      o.arrangement = arrangement;
+      const TwoBeamModel model = make_two_beam_model(o);
+      {
+        std::ofstream deck(dir + "/beams.inp");
+        write_inp(deck, model.mesh);
+        deck << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2e11, 0.3\n*DENSITY\n7800\n"
+             << "*SOLID SECTION, ELSET=BEAM1, MATERIAL=STEEL\n"
+             << "*SOLID SECTION, ELSET=BEAM2, MATERIAL=STEEL\n"
+             << "*BOUNDARY\nCLAMP1, 1, 3\nCLAMP2, 1, 3\n"
+             << "*STEP\n*STATIC\n*CLOAD\nFORCE1, 3, 50.\nFORCE2, 3, -50.\n"
+             << "*EL PRINT, ELSET=BEAM1, TOTALS=ONLY\nEVOL\n"
+             << "*EL PRINT, ELSET=BEAM2, TOTALS=ONLY\nEVOL\n*END STEP\n";
+      }
+      std::filesystem::remove(dir + "/beams.dat");
+      const std::string command =
+          "cd " + dir + " && OMP_NUM_THREADS=1 ccx -i beams > beams.log 2>&1";
+      ASSERT_EQ(std::system(command.c_str()), 0) << "ccx failed, see " << dir << "/beams.log";
+      std::ifstream dat(dir + "/beams.dat");
+      std::stringstream text;
+      text << dat.rdbuf();
+      const std::string s = text.str();
+      const std::regex volume(R"(total volume for set (BEAM[12]) and time\s+\S+\s+(\S+))");
+      int found = 0;
+      const double expected = beam_volume(dims(o));
+      for (auto it = std::sregex_iterator(s.begin(), s.end(), volume); it != std::sregex_iterator();
+           ++it) {
+        EXPECT_NEAR(std::stod((*it)[2]), expected, kCalculixPrintTolerance * expected)
+            << element_type_name(type) << " " << (*it)[1];
+        ++found;
+      }
+      EXPECT_EQ(found, 2) << s.substr(0, 400);
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(TwoBeamModel, ValidateNamesTheFieldAndTheRule) {
