@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/errors.h"
@@ -82,11 +83,7 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
 }
 
 SubMesh extract_element_set(const Mesh& mesh, const std::string& element_set) {
-  const auto it = mesh.element_sets.find(element_set);
-  if (it == mesh.element_sets.end()) {
-    throw InvalidInput("mesh: no element set named '" + element_set + "'");
-  }
-  return extract_submesh(mesh, it->second);
+  return extract_submesh(mesh, find_element_set(mesh, element_set));
 }
 
 std::vector<int> select_nodes(const Mesh& mesh, const NodePredicate& predicate) {
@@ -122,6 +119,56 @@ std::vector<int> nodes_in_box(const Mesh& mesh, const Eigen::Vector3d& lower,
     return (x.array() >= lower.array() - tolerance).all() &&
            (x.array() <= upper.array() + tolerance).all();
   });
+}
+
+int nearest_node(const Mesh& mesh, const Eigen::Vector3d& x, double max_distance) {
+  std::vector<int> all(mesh.num_nodes());
+  for (int i = 0; i < mesh.num_nodes(); ++i) all[i] = i;
+  return nearest_node(mesh, all, x, max_distance);
+}
+
+int nearest_node(const Mesh& mesh, std::span<const int> candidates, const Eigen::Vector3d& x,
+                 double max_distance) {
+  int best = -1;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (int i : candidates) {
+    STICKSLIP_VERIFY(i >= 0 && i < mesh.num_nodes(), "node index out of range");
+    const double d = (mesh.coordinates.col(i) - x).norm();
+    if (d < best_distance || (d == best_distance && i < best)) {
+      best = i;
+      best_distance = d;
+    }
+  }
+  std::ostringstream where;
+  where.precision(9);
+  where << "(" << x.x() << ", " << x.y() << ", " << x.z() << ")";
+  if (best < 0) throw InvalidInput("mesh: no candidate node near " + where.str());
+  if (best_distance > max_distance) {
+    throw InvalidInput("mesh: the node nearest to " + where.str() + " is " +
+                       describe_node(mesh, best) + ", farther than " +
+                       std::to_string(max_distance) + " m");
+  }
+  return best;
+}
+
+namespace {
+const std::vector<int>& find_set(const std::map<std::string, std::vector<int>>& sets,
+                                 const std::string& name, const char* kind) {
+  const auto it = sets.find(name);
+  if (it != sets.end()) return it->second;
+  std::string known;
+  for (const auto& [n, s] : sets) known += (known.empty() ? "" : ", ") + n;
+  throw InvalidInput(std::string("mesh: no ") + kind + " set named '" + name + "' (" +
+                     (known.empty() ? std::string("there are none") : "known: " + known) + ")");
+}
+}  // namespace
+
+const std::vector<int>& find_node_set(const Mesh& mesh, const std::string& name) {
+  return find_set(mesh.node_sets, name, "node");
+}
+
+const std::vector<int>& find_element_set(const Mesh& mesh, const std::string& name) {
+  return find_set(mesh.element_sets, name, "element");
 }
 
 std::vector<std::pair<int, int>> match_coincident_nodes(const Mesh& mesh_a,

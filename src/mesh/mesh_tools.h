@@ -7,6 +7,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <span>
 #include <string>
 #include <utility>
@@ -49,6 +50,17 @@ std::vector<int> nodes_on_plane(const Mesh& mesh, const Eigen::Vector3d& point,
 // Nodes inside the axis-aligned box [lower − tol, upper + tol] (componentwise).
 std::vector<int> nodes_in_box(const Mesh& mesh, const Eigen::Vector3d& lower,
                               const Eigen::Vector3d& upper, double tolerance);
+
+// The node (among all, or among `candidates`) nearest to `x`; ties go to the lowest index.
+// InvalidInput if there is no candidate or the nearest one is farther than max_distance.
+int nearest_node(const Mesh& mesh, const Eigen::Vector3d& x,
+                 double max_distance = std::numeric_limits<double>::infinity());
+int nearest_node(const Mesh& mesh, std::span<const int> candidates, const Eigen::Vector3d& x,
+                 double max_distance = std::numeric_limits<double>::infinity());
+
+// The node / element set `name`; InvalidInput naming it and the sets that exist if missing.
+const std::vector<int>& find_node_set(const Mesh& mesh, const std::string& name);
+const std::vector<int>& find_element_set(const Mesh& mesh, const std::string& name);
 
 // Pairs every node of `nodes_a` (indices into mesh_a) with the one node of `nodes_b` (indices
 // into mesh_b) at distance <= tolerance. Returns (a, b) index pairs in the order of nodes_a.

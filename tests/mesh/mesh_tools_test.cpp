@@ -96,6 +96,28 @@ TEST(MatchCoincidentNodes, PairsEveryNodeOfAWithExactlyOneOfB) {
   EXPECT_THROW(match_coincident_nodes(twin, a_face, b, b_face, 1e-9), InvalidInput);
 }
 
+TEST(NearestNode, FindsTheClosestAndRejectsFarOnes) {
+  const Mesh m = cube_row(3);
+  EXPECT_EQ(nearest_node(m, {2.1, 0.9, 0.05}), 9);
+  EXPECT_EQ(nearest_node(m, std::vector<int>{0, 1, 2, 3}, {2.1, 0.9, 0.05}), 1);
+  EXPECT_EQ(nearest_node(m, {2.1, 0.9, 0.05}, 0.2), 9);
+  EXPECT_THROW(nearest_node(m, {2.5, 0.5, 0.5}, 0.1), InvalidInput);
+  EXPECT_THROW(nearest_node(m, std::vector<int>{}, {0, 0, 0}), InvalidInput);
+}
+
+TEST(FindSet, NamesTheMissingSetAndTheKnownOnes) {
+  const Mesh m = cube_row(2);
+  EXPECT_EQ(find_node_set(m, "X0").size(), 4u);
+  EXPECT_EQ(find_element_set(m, "LEFT"), std::vector<int>{0});
+  try {
+    find_element_set(m, "MIDDLE");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'MIDDLE'"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("known: LEFT, RIGHT"), std::string::npos) << e.what();
+  }
+}
+
 TEST(AppendMesh, ShiftsIdsAndIndicesAndMergesSets) {
   Mesh m = cube_row(2);
   const Mesh part = cube_row(1, 5.0);
