@@ -11,6 +11,8 @@
 //    y): end block [L, L+e] x [0,W] x [T/2,T], large box [L+e, 2L+e] x [0,W] x [0,T], clamped at
 //    x = 2L + e. The end blocks overlap by e and touch on the face z = T/2 (e x W), normal +z.
 //  The two beams have separate nodes everywhere (coincident ones at the contact face are paired).
+//  In kLap the tip of each end block also lies against the other beam's step face (x = L and
+//  x = L + e, W x T/2); those coincident faces are not paired (no contact there).
 //
 // Mesh of one beam. Conforming (default): the large box has box.x x box.y x box.z elements, of
 // which end_block.z layers lie below mid-thickness and box.z − end_block.z above (uniform when
@@ -29,7 +31,8 @@
 // Forced nodes: beam 1's node at (L, 0, T), the top corner (y = 0) of the free end face of its
 // large box, above the step (free in both arrangements, not a contact node), and its mirror on
 // beam 2 under the map above: (L + 2e, 0, T) for kButt, (L + e, 0, 0) for kLap. The thesis loads
-// them with +z (beam 1) and −z (beam 2); the load itself is the case file's business.
+// them with +z (beam 1) and −z (beam 2); the load itself is the case file's business. (In kLap
+// each forced node coincides with a tip corner of the other beam's end block, unpaired.)
 #pragma once
 
 #include <utility>
