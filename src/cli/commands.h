@@ -1,0 +1,21 @@
+// The subcommands of the stickslip program. Each returns the process exit code
+// (0 success, 1 numerical failure reported to the user); bad input throws InvalidInput.
+#pragma once
+
+#include <string>
+
+namespace stickslip {
+
+struct ModesCommand {
+  std::string arrangement = "butt";
+  int num_modes = 8;
+  bool thesis_coarse = false;
+  std::string element = "C3D8I";
+  double k_t = 4.467e9;   // N/m per pair (the thesis)
+  double k_n = 5.6309e9;  // N/m per pair (the thesis)
+  std::string output_dir = ".";
+  bool quiet = false;
+};
+int run_modes(const ModesCommand& command);
+
+}  // namespace stickslip
