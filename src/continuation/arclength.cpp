@@ -16,10 +16,6 @@ namespace {
 
 // Step factor after a corrector that needed more than the target iterations.
 constexpr double kStepShrink = 0.5;
-// A corrected point farther from the predicted one than this times the step (in scaled variables)
-// is rejected: on a smooth curve the correction is O(step²·curvature); a long correction means
-// the corrector has left for another part of the curve.
-constexpr double kMaxCorrection = 1.0;
 
 std::string str(double v) {
   std::ostringstream s;
@@ -132,6 +128,8 @@ void validate(const ArcLengthOptions& o) {
           str(o.max_turn_angle), "must be in (0, pi)");
   require(std::isfinite(o.step_growth) && o.step_growth >= 1, p + "step_growth", str(o.step_growth),
           "must be finite and >= 1");
+  require(std::isfinite(o.max_correction) && o.max_correction > 0, p + "max_correction",
+          str(o.max_correction), "must be finite and > 0");
   const bool behind =
       (o.lambda_end - o.lambda_start) * (o.lambda_return_limit - o.lambda_start) <= 0;
   require(std::isnan(o.lambda_return_limit) || (std::isfinite(o.lambda_return_limit) && behind),
@@ -172,7 +170,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
       return stop(false, "no solution at lambda_start: " + first.newton.message);
     }
   }
-  const Eigen::VectorXd& x_first = result.points.front().x;
+  const Eigen::VectorXd x_first = result.points.front().x;
   const double x_scale =
       options.x_scale > 0 ? options.x_scale : (x_first.norm() > 0 ? x_first.norm() : 1.0);
   const double lambda_scale =
@@ -218,12 +216,10 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     // 4. Accept or reject.
     std::optional<Eigen::VectorXd> t_new;
     if (summary.converged()) {
-      t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond);
-      if (!t_new) {
-        last_failure = "singular bordered Jacobian at the corrected point";
-      } else if ((y_new - y_predicted).norm() > kMaxCorrection * dsigma) {
+      if ((y_new - y_predicted).norm() > options.max_correction * dsigma) {
         last_failure = "the corrector moved farther than the step";
-        t_new.reset();
+      } else if (t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond); !t_new) {
+        last_failure = "singular bordered Jacobian at the corrected point";
       } else if (t_new->dot(t) < std::cos(options.max_turn_angle)) {
         last_failure = "tangent turned by " + str(std::acos(std::clamp(t_new->dot(t), -1.0, 1.0))) +
                        " rad > max_turn_angle";

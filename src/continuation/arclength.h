@@ -19,12 +19,15 @@
 //     lambda_start) at the first point), then normalised; b keeps the orientation (t · t_prev > 0).
 //  3. Predictor y_p = y_k + Δσ t_k with Δσ = Δs / lambda_scale. Corrector: solve_newton (options
 //     .newton) on the n+1 equations [R(x, λ); residual_scale · (t_kᵀ (y − y_k) − Δσ)] = 0.
-//  4. A corrector that fails, a corrected point farther than Δσ from the predicted one, a singular
+//  4. A corrector that fails, a corrected point farther than max_correction · Δσ from the predicted
+//  one, a singular
 //     bordered matrix, or a tangent turning by more than max_turn_angle (radians, between t_k and
-//     t_{k+1}) rejects the step (the last three guard against jumping to another branch): Δs is
-//     halved and the step retried. Below min_step the continuation stops with completed = false. An
-//     accepted step multiplies Δs by step_growth if the corrector needed fewer than
-//     target_newton_iterations iterations and by 1/2 if more, within [min_step, max_step].
+//     t_{k+1}) rejects the step (the distance and angle tests guard against jumping to another
+//     branch): Δs is halved and the step retried. Below min_step the continuation stops with
+//     completed = false. An accepted step multiplies Δs by step_growth if the corrector needed
+//     fewer than target_newton_iterations iterations and by 1/2 if more, within
+//     [min_step, max_step].
+//  Cost per accepted step: one LU of size n+1 per corrector iteration plus one for the tangent.
 //  5. Stop when a point lands beyond lambda_end (that point is replaced by the solution at exactly
 //     lambda_end, from an interpolated guess; completed = true), when λ falls back behind
 //     lambda_return_limit (default lambda_start; clipped likewise onto it; completed = false), or
@@ -53,7 +56,11 @@ struct ArcLengthOptions {
   double x_scale = 0;                // >= 0; 0 = ||x_first|| (1 if 0)
   double lambda_scale = 0;           // >= 0; 0 = |lambda_end − lambda_start|
   double max_turn_angle = 0.5;       // radians, in (0, π): largest angle between two tangents
-  double step_growth = 1.5;          // >= 1: step factor after an easy corrector
+  // Largest distance between corrected and predicted point, relative to the step (in y); > 0.
+  // On a smooth curve the correction is O(step² · curvature); a long one means the corrector
+  // went to another part of the curve.
+  double max_correction = 1.0;
+  double step_growth = 1.5;  // >= 1: step factor after an easy corrector
   // How far back λ may go behind lambda_start after a fold before the continuation stops: a value
   // on the far side of lambda_start from lambda_end, or NaN (default) for lambda_start itself.
   double lambda_return_limit = std::numeric_limits<double>::quiet_NaN();

@@ -1,7 +1,9 @@
 #include "continuation/arclength.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -128,6 +130,41 @@ TEST(ArcLength, SCurveInPhysicalUnitsNeedsNoManualScaling) {
   check_s_curve(1e-6, 1e4, 1e3, 1e2, true);
 }
 
+TEST(ArcLength, StepGuardsResolveFoldsEvenWithHugeSteps) {
+  // max_step = the whole λ range: without the tangent-angle and correction-distance limits the
+  // steps hop across the folds (the path's extreme λ would be ~0.1 instead of ±0.385). Each
+  // guard alone must prevent it (3.1 rad and 1e9 switch a guard off).
+  const FunctionSystem sys = s_curve();
+  const std::pair<double, double> guards[] = {{0.5, 1e9}, {3.1, 1.0}};
+  for (const auto& [max_turn_angle, max_correction] : guards) {
+    for (double max_step : {1.0, 2.0}) {
+      SCOPED_TRACE(::testing::Message() << "max_turn_angle " << max_turn_angle << " max_correction "
+                                        << max_correction << " max_step " << max_step);
+      ArcLengthOptions o = s_curve_options(-1, 1);
+      o.initial_step = 0.5;
+      o.max_step = max_step;
+      o.max_turn_angle = max_turn_angle;
+      o.max_correction = max_correction;
+      const ContinuationResult r = arclength_continuation(sys, VectorXd{{-1.3}}, o);
+      ASSERT_TRUE(r.completed) << r.message;
+      double lambda_max_lower = -10, lambda_min_upper = 10;
+      std::vector<double> lambda;
+      for (const ContinuationPoint& p : r.points) {
+        const double l = p.lambda, x = p.x(0);
+        lambda.push_back(l);
+        EXPECT_LE(std::abs(x * x * x - x - l), kNewtonTolerance);
+        if (x < 0) lambda_max_lower = std::max(lambda_max_lower, l);  // the fold at x = −1/√3
+        if (x > 0) lambda_min_upper = std::min(lambda_min_upper, l);  // the fold at x = +1/√3
+      }
+      EXPECT_EQ(count_reversals(lambda), 2);
+      // A step that overshoots a fold by more than ~one step's sagitta is rejected.
+      constexpr double kCoarseFoldResolution = 0.03;
+      EXPECT_NEAR(lambda_max_lower, kFoldLambda, kCoarseFoldResolution);
+      EXPECT_NEAR(lambda_min_upper, -kFoldLambda, kCoarseFoldResolution);
+    }
+  }
+}
+
 TEST(ArcLength, StopsAtMaxPoints) {
   const FunctionSystem sys = s_curve();
   ArcLengthOptions o = s_curve_options(-1, 1);
@@ -235,6 +272,10 @@ TEST(ArcLength, InvalidOptionsThrowNamingTheField) {
                               "ArcLengthOptions.lambda_scale");
   expect_invalid_input_naming(with([](ArcLengthOptions& o) { o.max_turn_angle = 4; }),
                               "ArcLengthOptions.max_turn_angle");
+  expect_invalid_input_naming(with([](ArcLengthOptions& o) { o.max_correction = 0; }),
+                              "ArcLengthOptions.max_correction");
+  expect_invalid_input_naming(with([](ArcLengthOptions& o) { o.lambda_return_limit = 0.5; }),
+                              "ArcLengthOptions.lambda_return_limit");
   expect_invalid_input_naming(with([](ArcLengthOptions& o) { o.step_growth = 0.5; }),
                               "ArcLengthOptions.step_growth");
   // Defaults (zero steps) are not a valid configuration: steps must be chosen.
