@@ -1,0 +1,244 @@
+#include "reduction/craig_bampton.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/errors.h"
+#include "linalg/sparse_cholesky.h"
+#include "linalg/sparse_ops.h"
+
+// Reference BLAS (the system's libblas.so.3: OpenBLAS on Debian with libopenblas0-pthread).
+extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
+                       const int* k, const double* alpha, const double* a, const int* lda,
+                       const double* b, const int* ldb, const double* beta, double* c,
+                       const int* ldc);
+
+namespace stickslip {
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// C (m x n, column-major, leading dimension ldc) = op(A) op(B) through BLAS dgemm.
+void gemm(char transa, char transb, int m, int n, int k, const double* a, int lda, const double* b,
+          int ldb, double* c, int ldc) {
+  if (m == 0 || n == 0) return;
+  const double one = 1.0, zero = 0.0;
+  if (k == 0) {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < m; ++i) c[static_cast<size_t>(j) * ldc + i] = 0.0;
+    return;
+  }
+  dgemm_(&transa, &transb, &m, &n, &k, &one, a, &lda, b, &ldb, &zero, c, &ldc);
+}
+
+// Y (rows of A x cols) = A X for A sparse row-major and X, Y dense row-major: one pass over A,
+// each nonzero an axpy on a contiguous row (cols = first `cols` columns of X).
+void sparse_times_rows(const RowSparse& A, const RowMatrix& X, int cols, RowMatrix& Y) {
+  Y.setZero(A.rows(), cols);
+  for (int r = 0; r < A.outerSize(); ++r) {
+    auto y = Y.row(r);
+    for (RowSparse::InnerIterator it(A, r); it; ++it) {
+      y.noalias() += it.value() * X.row(it.col()).head(cols);
+    }
+  }
+}
+
+// G (cols of A x cols of X) = Aᵀ X for A sparse column-major (rows of A index the rows of X).
+Eigen::MatrixXd transpose_times_rows(const SparseMatrix& A, const RowMatrix& X) {
+  RowMatrix G = RowMatrix::Zero(A.cols(), X.cols());
+  for (int j = 0; j < A.outerSize(); ++j) {
+    auto g = G.row(j);
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      g.noalias() += it.value() * X.row(it.row());
+  }
+  return G;
+}
+
+void check_dof_list(std::span<const int> dofs, int n, const char* field, std::vector<char>& mark,
+                    char tag) {
+  for (size_t k = 0; k < dofs.size(); ++k) {
+    const int d = dofs[k];
+    if (d < 0 || d >= n) {
+      throw InvalidInput(std::string("craig_bampton: ") + field + "[" + std::to_string(k) +
+                         "] = " + std::to_string(d) + " is outside 0.." + std::to_string(n - 1));
+    }
+    if (mark[d] == tag) {
+      throw InvalidInput(std::string("craig_bampton: ") + field + " lists DOF " +
+                         std::to_string(d) + " twice");
+    }
+    if (mark[d] != 0) {
+      throw InvalidInput("craig_bampton: DOF " + std::to_string(d) +
+                         " is both constrained and boundary");
+    }
+    mark[d] = tag;
+  }
+}
+
+}  // namespace
+
+void validate(const CraigBamptonOptions& options) {
+  require(options.num_modes >= 0, "CraigBamptonOptions::num_modes",
+          std::to_string(options.num_modes), "num_modes >= 0");
+  require(options.block_size >= 1, "CraigBamptonOptions::block_size",
+          std::to_string(options.block_size), "block_size >= 1");
+  if (options.num_modes > 0) {
+    ModalOptions modal = options.modal;
+    modal.num_modes = options.num_modes;
+    validate(modal);
+  }
+}
+
+CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
+                                 std::span<const int> constrained_dofs,
+                                 std::span<const int> boundary_dofs,
+                                 const CraigBamptonOptions& options) {
+  validate(options);
+  const int n = static_cast<int>(K.rows());
+  if (K.cols() != n || M.rows() != n || M.cols() != n) {
+    throw InvalidInput("craig_bampton: K (" + std::to_string(K.rows()) + " x " +
+                       std::to_string(K.cols()) + ") and M (" + std::to_string(M.rows()) + " x " +
+                       std::to_string(M.cols()) + ") must be square and of the same size");
+  }
+  std::vector<char> mark(static_cast<size_t>(n), 0);
+  check_dof_list(constrained_dofs, n, "constrained_dofs", mark, 1);
+  check_dof_list(boundary_dofs, n, "boundary_dofs", mark, 2);
+
+  CraigBamptonResult result;
+  CraigBamptonSummary& summary = result.summary;
+  std::vector<int>& interior = result.interior_dofs;
+  for (int d = 0; d < n; ++d)
+    if (mark[d] == 0) interior.push_back(d);
+  const std::vector<int> boundary(boundary_dofs.begin(), boundary_dofs.end());
+  const int nb = static_cast<int>(boundary.size());
+  const int ni = static_cast<int>(interior.size());
+  const int nm = options.num_modes;
+  summary.num_dofs = n;
+  summary.num_constrained = static_cast<int>(constrained_dofs.size());
+  summary.num_boundary = nb;
+  summary.num_interior = ni;
+  summary.num_modes = nm;
+  if (nm > 0 && nm >= ni) {
+    throw InvalidInput("craig_bampton: CraigBamptonOptions::num_modes = " + std::to_string(nm) +
+                       ". Violated constraint: num_modes < number of interior DOFs (" +
+                       std::to_string(ni) + ")");
+  }
+  const int nr = nb + nm;
+
+  // Partition and factorise K_ii.
+  auto start = std::chrono::steady_clock::now();
+  const SparseMatrix K_ii = submatrix(K, interior, interior);
+  const SparseMatrix K_ib = submatrix(K, interior, boundary);
+  const SparseMatrix M_ii = submatrix(M, interior, interior);
+  const SparseMatrix M_ib = submatrix(M, interior, boundary);
+  const Eigen::MatrixXd K_bb(submatrix(K, boundary, boundary));
+  const Eigen::MatrixXd M_bb(submatrix(M, boundary, boundary));
+  SparseCholesky cholesky;
+  if (ni > 0 && !cholesky.factorize(K_ii)) {
+    summary.termination = CraigBamptonTermination::kFactorizationFailed;
+    summary.message = "Cholesky factorisation of K_ii failed: " + cholesky.message() +
+                      ". The boundary and constrained DOFs must prevent every rigid-body motion "
+                      "of the interior, and K must be symmetric positive semi-definite.";
+    summary.seconds_factor = seconds_since(start);
+    return result;
+  }
+  summary.factor_nonzeros = ni > 0 ? cholesky.factor_nonzeros() : 0.0;
+  summary.seconds_factor = seconds_since(start);
+
+  // Psi = [Φ_c Φ_n] (n_i x n_r), row-major so that rows are contiguous for the sparse products
+  // and for scattering into T.
+  start = std::chrono::steady_clock::now();
+  RowMatrix Psi(ni, nr);
+  if (ni > 0) {
+    for (int c0 = 0; c0 < nb; c0 += options.block_size) {
+      const int bs = std::min(options.block_size, nb - c0);
+      const Eigen::MatrixXd rhs = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
+      Psi.middleCols(c0, bs) = cholesky.solve(rhs);
+    }
+  }
+  summary.seconds_constraint = seconds_since(start);
+  cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
+
+  start = std::chrono::steady_clock::now();
+  result.mode_eigenvalues.resize(nm);
+  if (nm > 0) {
+    ModalOptions modal = options.modal;
+    modal.num_modes = nm;
+    ModalResult modes = solve_modes(K_ii, M_ii, modal);
+    if (!modes.summary.ok()) {
+      summary.termination = CraigBamptonTermination::kEigenSolveFailed;
+      summary.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
+      summary.seconds_modes = seconds_since(start);
+      return result;
+    }
+    result.mode_eigenvalues = modes.eigenvalues;
+    Psi.rightCols(nm) = modes.modes;
+  }
+  summary.seconds_modes = seconds_since(start);
+
+  // Reduced matrices. With K_ii Φ_c = −K_ib, Φ_nᵀ K_ii Φ_n = Ω², Φ_nᵀ M_ii Φ_n = I:
+  //   K_r = [K_bb + K_bi Φ_c, 0; 0, Ω²]
+  //   M_r = [M_bb + X + Xᵀ + Φ_cᵀ V, G_η + Vᵀ Φ_n; (sym), I],  V = M_ii Φ_c,
+  //   [X G_η] = M_bi [Φ_c Φ_n].
+  start = std::chrono::steady_clock::now();
+  ReducedBody& body = result.body;
+  body.K = Eigen::MatrixXd::Zero(nr, nr);
+  body.M = Eigen::MatrixXd::Zero(nr, nr);
+  {
+    const Eigen::MatrixXd KbiPsi = transpose_times_rows(K_ib, Psi);  // nb x nr
+    body.K.topLeftCorner(nb, nb) = K_bb + KbiPsi.leftCols(nb);
+    body.K.bottomRightCorner(nm, nm).diagonal() = result.mode_eigenvalues;
+
+    const Eigen::MatrixXd G = transpose_times_rows(M_ib, Psi);  // nb x nr: M_bi [Φ_c Φ_n]
+    RowMatrix V;
+    sparse_times_rows(RowSparse(M_ii), Psi, nb, V);  // n_i x nb, row-major
+    // Row-major n_i x k blocks are column-major k x n_i: Φ_cᵀ V = (Psiᵀ)[0:nb, :] (Vᵀ)ᵀ.
+    Eigen::MatrixXd S(nb, nb);
+    gemm('N', 'T', nb, nb, ni, Psi.data(), std::max(nr, 1), V.data(), std::max(nb, 1), S.data(),
+         std::max(nb, 1));
+    body.M.topLeftCorner(nb, nb) = M_bb + G.leftCols(nb) + G.leftCols(nb).transpose() + S;
+    if (nm > 0) {
+      Eigen::MatrixXd R(nb, nm);  // Φ_cᵀ M_ii Φ_n = Vᵀ Φ_n
+      gemm('N', 'T', nb, nm, ni, V.data(), std::max(nb, 1), Psi.data() + nb, nr, R.data(),
+           std::max(nb, 1));
+      body.M.topRightCorner(nb, nm) = G.rightCols(nm) + R;
+      body.M.bottomLeftCorner(nm, nb) = body.M.topRightCorner(nb, nm).transpose();
+      body.M.bottomRightCorner(nm, nm).setIdentity();
+    }
+  }
+  // Round-off leaves K_bb + K_bi Φ_c and Φ_cᵀ V asymmetric in the last digits.
+  body.K = 0.5 * (body.K + body.K.transpose()).eval();
+  body.M = 0.5 * (body.M + body.M.transpose()).eval();
+
+  body.dofs.resize(static_cast<size_t>(nr));
+  for (int k = 0; k < nb; ++k) {
+    ReducedDof& d = body.dofs[k];
+    d.kind = ReducedDof::Kind::kPhysical;
+    d.full_dof = boundary[k];
+    d.node_index = boundary[k] / kDofsPerNode;
+    d.direction = boundary[k] % kDofsPerNode;
+  }
+  for (int j = 0; j < nm; ++j) {
+    ReducedDof& d = body.dofs[nb + j];
+    d.kind = ReducedDof::Kind::kModal;
+    d.mode = j;
+    d.frequency_hz = rad_s_to_hz(std::sqrt(std::max(result.mode_eigenvalues(j), 0.0)));
+  }
+
+  if (options.keep_basis) {
+    result.T = Eigen::MatrixXd::Zero(n, nr);
+    for (int k = 0; k < nb; ++k) result.T(boundary[k], k) = 1.0;
+    for (int r = 0; r < ni; ++r) result.T.row(interior[r]) = Psi.row(r);
+  }
+  summary.seconds_projection = seconds_since(start);
+  return result;
+}
+
+}  // namespace stickslip

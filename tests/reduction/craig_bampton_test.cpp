@@ -1,0 +1,425 @@
+// Craig–Bampton reduction against independent references computed densely in the test:
+// the full body's eigenfrequencies (Rayleigh–Ritz upper bounds, converging as modes are added),
+// the full static solution (exact at the boundary and, through T, everywhere), TᵀKT and TᵀMT
+// formed plainly from T, the Guyan reduction from its textbook formula, fixed-interface
+// frequencies of (K_ii, M_ii), Rayleigh damping Tᵀ(αM+βK)T; failures reported, not thrown.
+// Bodies: a seeded random 3D spring lattice with consistent bar masses (hand-made SPD system)
+// and a small hex8 cantilever assembled by fe/.
+#include "reduction/craig_bampton.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "core/errors.h"
+#include "fe/assembly.h"
+#include "mesh/mesh.h"
+
+namespace stickslip {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Test bodies.
+
+struct Body {
+  SparseMatrix K, M;
+  std::vector<int> constrained;  // clamped DOFs
+  std::vector<int> boundary;     // master DOFs
+};
+
+// nx x ny x nz nodes, spacing h; every node joined to its 13 "forward" neighbours in the 3x3x3
+// stencil by an axial spring of random stiffness (seeded) and a consistent bar mass
+// (m/6)[2 1; 1 2] ⊗ I. Nodes with x index 0 are clamped; the boundary is the three translations
+// of the listed nodes (grid coordinates).
+Body spring_lattice(int nx, int ny, int nz, const std::vector<std::array<int, 3>>& masters,
+                    unsigned seed = 42) {
+  const double h = 0.01, k0 = 1e6, m0 = 0.05;
+  auto node = [&](int i, int j, int k) { return i + nx * (j + ny * k); };
+  const int n = 3 * nx * ny * nz;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> vary(0.5, 1.5);
+  std::vector<Triplet> tk, tm;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const int order = di + 3 * (dj + 3 * dk);  // forward neighbours: order > 0
+              if (order <= 0) continue;
+              const int i2 = i + di, j2 = j + dj, k2 = k + dk;
+              if (i2 < 0 || i2 >= nx || j2 < 0 || j2 >= ny || k2 < 0 || k2 >= nz) continue;
+              const Eigen::Vector3d d(di * h, dj * h, dk * h);
+              const Eigen::Vector3d e = d.normalized();
+              const Eigen::Matrix3d ke = k0 * vary(rng) * (h / d.norm()) * e * e.transpose();
+              const double me = m0 * vary(rng);
+              const int a = node(i, j, k), b = node(i2, j2, k2);
+              for (int p = 0; p < 3; ++p) {
+                for (int q = 0; q < 3; ++q) {
+                  tk.emplace_back(3 * a + p, 3 * a + q, ke(p, q));
+                  tk.emplace_back(3 * b + p, 3 * b + q, ke(p, q));
+                  tk.emplace_back(3 * a + p, 3 * b + q, -ke(p, q));
+                  tk.emplace_back(3 * b + p, 3 * a + q, -ke(p, q));
+                }
+                tm.emplace_back(3 * a + p, 3 * a + p, me / 3.0);
+                tm.emplace_back(3 * b + p, 3 * b + p, me / 3.0);
+                tm.emplace_back(3 * a + p, 3 * b + p, me / 6.0);
+                tm.emplace_back(3 * b + p, 3 * a + p, me / 6.0);
+              }
+            }
+  Body body;
+  body.K.resize(n, n);
+  body.M.resize(n, n);
+  body.K.setFromTriplets(tk.begin(), tk.end());
+  body.M.setFromTriplets(tm.begin(), tm.end());
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int d = 0; d < 3; ++d) body.constrained.push_back(3 * node(0, j, k) + d);
+  for (const auto& m : masters)
+    for (int d = 0; d < 3; ++d) body.boundary.push_back(3 * node(m[0], m[1], m[2]) + d);
+  return body;
+}
+
+// The lattice most tests use: 12 x 3 x 3 nodes (324 DOFs, 27 clamped), masters at two tip
+// corners and one node midway (9 boundary DOFs, 288 interior).
+Body default_lattice() { return spring_lattice(12, 3, 3, {{11, 0, 0}, {11, 2, 2}, {6, 1, 1}}); }
+
+// A hex8 (C3D8) cantilever 0.25 x 0.05 x 0.03 m, steel, ex x ey x ez elements, clamped at x = 0;
+// masters: the nodes of the tip face x = 0.25.
+Body hex8_cantilever(int ex, int ey, int ez) {
+  const double lx = 0.25, ly = 0.05, lz = 0.03;
+  Mesh mesh;
+  auto id = [&](int i, int j, int k) { return i + (ex + 1) * (j + (ey + 1) * k); };
+  for (int k = 0; k <= ez; ++k)
+    for (int j = 0; j <= ey; ++j)
+      for (int i = 0; i <= ex; ++i)
+        mesh.add_node(id(i, j, k) + 1, Eigen::Vector3d(lx * i / ex, ly * j / ey, lz * k / ez));
+  int eid = 1;
+  for (int k = 0; k < ez; ++k)
+    for (int j = 0; j < ey; ++j)
+      for (int i = 0; i < ex; ++i) {
+        const int nodes[8] = {
+            id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
+            id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+        mesh.add_element(eid++, ElementType::kC3D8, nodes);
+      }
+  Body body;
+  const IsotropicMaterial steel{2e11, 0.3, 7800.0};
+  assemble_stiffness_mass(mesh, steel, AssemblyOptions{}, &body.K, &body.M);
+  for (int k = 0; k <= ez; ++k)
+    for (int j = 0; j <= ey; ++j)
+      for (int d = 0; d < 3; ++d) {
+        body.constrained.push_back(3 * id(0, j, k) + d);
+        body.boundary.push_back(3 * id(ex, j, k) + d);
+      }
+  return body;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dense references.
+
+std::vector<int> complement(int n, const std::vector<int>& a, const std::vector<int>& b = {}) {
+  std::vector<char> used(n, 0);
+  for (int d : a) used[d] = 1;
+  for (int d : b) used[d] = 1;
+  std::vector<int> out;
+  for (int d = 0; d < n; ++d)
+    if (!used[d]) out.push_back(d);
+  return out;
+}
+
+Eigen::MatrixXd dense_block(const SparseMatrix& A, const std::vector<int>& rows,
+                            const std::vector<int>& cols) {
+  const Eigen::MatrixXd D(A);
+  Eigen::MatrixXd B(rows.size(), cols.size());
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = 0; j < cols.size(); ++j) B(i, j) = D(rows[i], cols[j]);
+  return B;
+}
+
+// Natural frequencies (Hz, ascending) of the dense pencil (K, M).
+Eigen::VectorXd frequencies_hz(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M) {
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, M, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().cwiseMax(0.0).cwiseSqrt() / (2.0 * kPi);
+}
+
+// The full body clamped: frequencies of (K_ff, M_ff), f = free DOFs.
+Eigen::VectorXd full_frequencies_hz(const Body& b) {
+  const auto free = complement(static_cast<int>(b.K.rows()), b.constrained);
+  return frequencies_hz(dense_block(b.K, free, free), dense_block(b.M, free, free));
+}
+
+double max_abs(const Eigen::MatrixXd& A) { return A.cwiseAbs().maxCoeff(); }
+
+// Every full-body mode below a quarter of the cutoff frequency (the highest fixed-interface mode
+// kept) is an upper bound (Rayleigh–Ritz) within kResolvedTolerance: the truncated modes enter a
+// mode at ω with weights ~(ω/ω_k)² <= 1/16, times small participation. Returns how many modes
+// were checked.
+int expect_resolved_below_cutoff(const Eigen::VectorXd& full, const Eigen::VectorXd& reduced,
+                                 double cutoff_hz) {
+  constexpr double kResolvedTolerance = 5e-4;  // relative (0.05 %)
+  constexpr double kUpperBoundSlack = 1e-10;   // relative; round-off
+  int checked = 0;
+  for (Eigen::Index j = 0; j < full.size() && full(j) < 0.25 * cutoff_hz; ++j, ++checked) {
+    const double e = (reduced(j) - full(j)) / full(j);
+    EXPECT_GE(e, -kUpperBoundSlack) << "mode " << j;
+    EXPECT_LT(e, kResolvedTolerance)
+        << "mode " << j << " at " << full(j) << " Hz, cutoff " << cutoff_hz << " Hz";
+  }
+  return checked;
+}
+
+CraigBamptonResult reduce(const Body& b, int modes, int block = 128) {
+  CraigBamptonOptions o;
+  o.num_modes = modes;
+  o.block_size = block;
+  CraigBamptonResult r = craig_bampton(b.K, b.M, b.constrained, b.boundary, o);
+  EXPECT_TRUE(r.summary.ok()) << r.summary.message;
+  return r;
+}
+
+// Products of the reduction carry the round-off of solves with K_ii (condition number of the
+// lattice ~1e4) and of sums of ~1e2 terms: 1e-10 relative to the largest entry is generous.
+constexpr double kProjectionTolerance = 1e-10;
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(CraigBampton, ReducedMatricesEqualTransposeProjectionsThroughT) {
+  const Body b = default_lattice();
+  const CraigBamptonResult r = reduce(b, 20);
+  const int nr = 9 + 20;
+  ASSERT_EQ(r.T.rows(), b.K.rows());
+  ASSERT_EQ(r.T.cols(), nr);
+  ASSERT_EQ(r.body.K.rows(), nr);
+  const Eigen::MatrixXd TKT = r.T.transpose() * Eigen::MatrixXd(b.K) * r.T;
+  const Eigen::MatrixXd TMT = r.T.transpose() * Eigen::MatrixXd(b.M) * r.T;
+  EXPECT_LE(max_abs(r.body.K - TKT), kProjectionTolerance * max_abs(TKT));
+  EXPECT_LE(max_abs(r.body.M - TMT), kProjectionTolerance * max_abs(TMT));
+  // Structure: K_r block diagonal with Ω² on the modal block, M_r's modal block the identity.
+  EXPECT_EQ(max_abs(r.body.K.topRightCorner(9, 20)), 0.0);
+  EXPECT_EQ(Eigen::VectorXd(r.body.K.bottomRightCorner(20, 20).diagonal()), r.mode_eigenvalues);
+  EXPECT_EQ(r.body.M.bottomRightCorner(20, 20), Eigen::MatrixXd::Identity(20, 20));
+  EXPECT_EQ(r.body.K, r.body.K.transpose());
+  EXPECT_EQ(r.body.M, r.body.M.transpose());
+  // T: identity at the boundary rows, zero at the clamped rows.
+  for (size_t k = 0; k < b.boundary.size(); ++k) {
+    Eigen::RowVectorXd e = Eigen::RowVectorXd::Zero(nr);
+    e(k) = 1.0;
+    EXPECT_EQ(r.T.row(b.boundary[k]), e);
+  }
+  for (int d : b.constrained) EXPECT_EQ(r.T.row(d).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(CraigBampton, StaticBoundaryLoadGivesTheFullSolutionExactly) {
+  const Body b = default_lattice();
+  const CraigBamptonResult r = reduce(b, 30);
+  const int n = static_cast<int>(b.K.rows()), nb = static_cast<int>(b.boundary.size());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd fr = Eigen::VectorXd::Zero(r.body.size());
+  for (int k = 0; k < nb; ++k) f(b.boundary[k]) = fr(k) = 100.0 * g(rng);
+  // Full model, clamped DOFs eliminated, dense Cholesky (independent of CHOLMOD).
+  const auto free = complement(n, b.constrained);
+  Eigen::VectorXd f_free(free.size());
+  for (size_t k = 0; k < free.size(); ++k) f_free(k) = f(free[k]);
+  const Eigen::VectorXd x_free = dense_block(b.K, free, free).llt().solve(f_free);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  for (size_t k = 0; k < free.size(); ++k) x(free[k]) = x_free(k);
+  // Reduced model.
+  const Eigen::VectorXd q = r.body.K.llt().solve(fr);
+  constexpr double kStaticTolerance = 1e-10;  // round-off of two SPD solves, cond ~1e4
+  for (int k = 0; k < nb; ++k) {
+    EXPECT_NEAR(q(k), x(b.boundary[k]), kStaticTolerance * x.cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(q.tail(30).cwiseAbs().maxCoeff(), kStaticTolerance * x.cwiseAbs().maxCoeff());
+  // Expansion through T recovers every DOF of the static solution.
+  EXPECT_LE((r.T * q - x).cwiseAbs().maxCoeff(), kStaticTolerance * x.cwiseAbs().maxCoeff());
+}
+
+TEST(CraigBampton, FrequenciesConvergeFromAboveAsModesAreAdded) {
+  const Body b = default_lattice();
+  const Eigen::VectorXd full = full_frequencies_hz(b);
+  constexpr int kCompared = 8;                // the lowest modes of the clamped body
+  constexpr double kUpperBoundSlack = 1e-10;  // relative; Rayleigh–Ritz bound up to round-off
+  constexpr double kRoundOffFloor = 1e-11;    // errors below this no longer fall measurably
+  std::vector<Eigen::VectorXd> errors;
+  for (int modes : {10, 30, 60}) {
+    const CraigBamptonResult r = reduce(b, modes);
+    const Eigen::VectorXd red = frequencies_hz(r.body.K, r.body.M);
+    Eigen::VectorXd e(kCompared);
+    for (int j = 0; j < kCompared; ++j) {
+      e(j) = (red(j) - full(j)) / full(j);
+      EXPECT_GE(e(j), -kUpperBoundSlack) << "mode " << j << " with " << modes << " modes";
+    }
+    errors.push_back(e);
+  }
+  for (int j = 0; j < kCompared; ++j) {
+    for (int s = 1; s < 3; ++s) {
+      if (errors[s - 1](j) < kRoundOffFloor) continue;
+      EXPECT_LT(errors[s](j), errors[s - 1](j)) << "mode " << j << ", step " << s;
+    }
+  }
+  // Modes well below the cutoff (the highest kept fixed-interface frequency) are resolved closely.
+  const CraigBamptonResult r60 = reduce(b, 60);
+  expect_resolved_below_cutoff(full, frequencies_hz(r60.body.K, r60.body.M),
+                               r60.body.dofs.back().frequency_hz);
+}
+
+TEST(CraigBampton, WithoutModesItIsGuyanReduction) {
+  const Body b = default_lattice();
+  const CraigBamptonResult r = reduce(b, 0);
+  const int n = static_cast<int>(b.K.rows());
+  const auto interior = complement(n, b.constrained, b.boundary);
+  EXPECT_EQ(r.interior_dofs, interior);
+  // Textbook Guyan: K_g = K_bb − K_bi K_ii⁻¹ K_ib; M_g = T_gᵀ M T_g with T_g = [I; −K_ii⁻¹K_ib].
+  const Eigen::MatrixXd Kii = dense_block(b.K, interior, interior);
+  const Eigen::MatrixXd Kib = dense_block(b.K, interior, b.boundary);
+  const Eigen::MatrixXd Kbb = dense_block(b.K, b.boundary, b.boundary);
+  const Eigen::MatrixXd Phi = -Kii.ldlt().solve(Kib);
+  const Eigen::MatrixXd Kg = Kbb + Kib.transpose() * Phi;
+  Eigen::MatrixXd Tg = Eigen::MatrixXd::Zero(n, b.boundary.size());
+  for (size_t k = 0; k < b.boundary.size(); ++k) Tg(b.boundary[k], k) = 1.0;
+  for (size_t i = 0; i < interior.size(); ++i) Tg.row(interior[i]) = Phi.row(i);
+  const Eigen::MatrixXd Mg = Tg.transpose() * Eigen::MatrixXd(b.M) * Tg;
+  ASSERT_EQ(r.body.size(), 9);
+  EXPECT_EQ(r.body.num_modal(), 0);
+  EXPECT_LE(max_abs(r.body.K - Kg), kProjectionTolerance * max_abs(Kg));
+  EXPECT_LE(max_abs(r.body.M - Mg), kProjectionTolerance * max_abs(Mg));
+  EXPECT_LE(max_abs(r.T - Tg), kProjectionTolerance);
+}
+
+TEST(CraigBampton, DofMapNamesNodesDirectionsModesAndFixedInterfaceFrequencies) {
+  const Body b = default_lattice();
+  const CraigBamptonResult r = reduce(b, 12);
+  const int n = static_cast<int>(b.K.rows());
+  const auto interior = complement(n, b.constrained, b.boundary);
+  const Eigen::VectorXd fixed =
+      frequencies_hz(dense_block(b.K, interior, interior), dense_block(b.M, interior, interior));
+  ASSERT_EQ(r.body.size(), 21);
+  for (int k = 0; k < 9; ++k) {
+    const ReducedDof& d = r.body.dofs[k];
+    EXPECT_EQ(d.kind, ReducedDof::Kind::kPhysical);
+    EXPECT_EQ(d.full_dof, b.boundary[k]);
+    EXPECT_EQ(3 * d.node_index + d.direction, b.boundary[k]);
+    EXPECT_EQ(d.direction, k % 3);
+  }
+  constexpr double kFrequencyTolerance = 1e-8;  // relative; Lanczos converged to 1e-10
+  for (int j = 0; j < 12; ++j) {
+    const ReducedDof& d = r.body.dofs[9 + j];
+    EXPECT_EQ(d.kind, ReducedDof::Kind::kModal);
+    EXPECT_EQ(d.mode, j);
+    EXPECT_NEAR(d.frequency_hz, fixed(j), kFrequencyTolerance * fixed(j));
+  }
+  EXPECT_EQ(r.summary.num_boundary, 9);
+  EXPECT_EQ(r.summary.num_interior, static_cast<int>(interior.size()));
+  EXPECT_EQ(r.summary.num_constrained, 27);
+  EXPECT_GT(r.summary.factor_nonzeros, 0.0);
+}
+
+TEST(CraigBampton, BlockSizeDoesNotChangeTheResult) {
+  const Body b = default_lattice();
+  const CraigBamptonResult one = reduce(b, 5, 1);
+  const CraigBamptonResult big = reduce(b, 5, 1000);
+  const CraigBamptonResult odd = reduce(b, 5, 4);  // 9 = 4 + 4 + 1
+  EXPECT_LE(max_abs(one.body.K - big.body.K), kProjectionTolerance * max_abs(big.body.K));
+  EXPECT_LE(max_abs(odd.body.M - big.body.M), kProjectionTolerance * max_abs(big.body.M));
+  EXPECT_LE(max_abs(odd.T.leftCols(9) - big.T.leftCols(9)), kProjectionTolerance);
+}
+
+TEST(CraigBampton, RayleighDampingReducesConsistentlyAndModalRatioAddsToModes) {
+  const Body b = default_lattice();
+  const CraigBamptonResult r = reduce(b, 6);
+  const double alpha = 5.0, beta = 2e-6, zeta = 0.01;
+  const Eigen::MatrixXd C_full = alpha * Eigen::MatrixXd(b.M) + beta * Eigen::MatrixXd(b.K);
+  const Eigen::MatrixXd TCT = r.T.transpose() * C_full * r.T;
+  const Eigen::MatrixXd C = reduced_damping(r.body, {alpha, beta, 0.0});
+  EXPECT_LE(max_abs(C - TCT), kProjectionTolerance * max_abs(TCT));
+  const Eigen::MatrixXd Cz = reduced_damping(r.body, {alpha, beta, zeta});
+  Eigen::MatrixXd added = Cz - C;
+  for (int j = 0; j < 6; ++j) {
+    const double omega = std::sqrt(r.mode_eigenvalues(j));
+    EXPECT_NEAR(added(9 + j, 9 + j), 2.0 * zeta * omega, 1e-9 * 2.0 * zeta * omega);
+    added(9 + j, 9 + j) = 0.0;
+  }
+  EXPECT_EQ(max_abs(added), 0.0);
+  EXPECT_THROW(reduced_damping(r.body, {-1.0, 0.0, 0.0}), InvalidInput);
+}
+
+TEST(CraigBampton, WithoutKeepBasisTIsEmptyAndMatricesUnchanged) {
+  const Body b = default_lattice();
+  CraigBamptonOptions o;
+  o.num_modes = 4;
+  o.keep_basis = false;
+  const CraigBamptonResult r = craig_bampton(b.K, b.M, b.constrained, b.boundary, o);
+  ASSERT_TRUE(r.summary.ok());
+  EXPECT_EQ(r.T.size(), 0);
+  const CraigBamptonResult with_t = reduce(b, 4);
+  EXPECT_EQ(r.body.K, with_t.body.K);
+  EXPECT_EQ(r.body.M, with_t.body.M);
+}
+
+TEST(CraigBampton, HexCantileverReproducesTheFullFrequencies) {
+  const Body b = hex8_cantilever(10, 2, 2);  // 99 nodes, 297 DOFs; 9 tip nodes are masters
+  const Eigen::VectorXd full = full_frequencies_hz(b);
+  const CraigBamptonResult r = reduce(b, 40);
+  const Eigen::VectorXd red = frequencies_hz(r.body.K, r.body.M);
+  EXPECT_GE(expect_resolved_below_cutoff(full, red, r.body.dofs.back().frequency_hz), 3);
+  const Eigen::MatrixXd TKT = r.T.transpose() * Eigen::MatrixXd(b.K) * r.T;
+  EXPECT_LE(max_abs(r.body.K - TKT), kProjectionTolerance * max_abs(TKT));
+}
+
+TEST(CraigBampton, IndefiniteStiffnessIsReportedNotThrown) {
+  Body b = default_lattice();
+  b.K = -b.K;
+  CraigBamptonOptions o;
+  o.num_modes = 5;
+  const CraigBamptonResult r = craig_bampton(b.K, b.M, b.constrained, b.boundary, o);
+  EXPECT_EQ(r.summary.termination, CraigBamptonTermination::kFactorizationFailed);
+  EXPECT_FALSE(r.summary.ok());
+  EXPECT_NE(r.summary.message.find("K_ii"), std::string::npos) << r.summary.message;
+}
+
+TEST(CraigBampton, FailedEigenSolveIsReportedNotThrown) {
+  const Body b = default_lattice();
+  CraigBamptonOptions o;
+  o.num_modes = 20;
+  o.modal.subspace_size = 21;  // the smallest Lanczos basis, one restart: cannot converge
+  o.modal.max_iterations = 1;
+  o.modal.tolerance = 1e-15;
+  const CraigBamptonResult r = craig_bampton(b.K, b.M, b.constrained, b.boundary, o);
+  EXPECT_EQ(r.summary.termination, CraigBamptonTermination::kEigenSolveFailed) << r.summary.message;
+  EXPECT_NE(r.summary.message.find("eigen"), std::string::npos);
+}
+
+TEST(CraigBampton, BadInputThrowsInvalidInput) {
+  const Body b = default_lattice();
+  CraigBamptonOptions o;
+  o.num_modes = 3;
+  auto run = [&](std::vector<int> c, std::vector<int> m, const CraigBamptonOptions& opt) {
+    return craig_bampton(b.K, b.M, c, m, opt);
+  };
+  EXPECT_THROW(run(b.constrained, {0, 1, 2000}, o), InvalidInput);        // out of range
+  EXPECT_THROW(run(b.constrained, {60, 61, 60}, o), InvalidInput);        // repeated
+  EXPECT_THROW(run(b.constrained, {b.constrained[0]}, o), InvalidInput);  // both lists
+  CraigBamptonOptions too_many = o;
+  too_many.num_modes = 288;  // = number of interior DOFs
+  EXPECT_THROW(run(b.constrained, b.boundary, too_many), InvalidInput);
+  CraigBamptonOptions negative = o;
+  negative.num_modes = -1;
+  EXPECT_THROW(validate(negative), InvalidInput);
+  CraigBamptonOptions block = o;
+  block.block_size = 0;
+  EXPECT_THROW(validate(block), InvalidInput);
+  const SparseMatrix small(5, 5);
+  EXPECT_THROW(craig_bampton(b.K, small, b.constrained, b.boundary, o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
