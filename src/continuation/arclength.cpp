@@ -50,6 +50,10 @@ class ArcLengthSystem final : public ParametrizedSystem {
     Eigen::VectorXd R(n_);
     sys_.evaluate(x_, lambda_scale_ * y(n_), R, dF_dy ? &J_ : nullptr,
                   dF_dy ? &dR_dlambda_ : nullptr);
+    STICKSLIP_VERIFY(R.size() == n_ && (!dF_dy || (J_.rows() == n_ && J_.cols() == n_ &&
+                                                   dR_dlambda_.size() == n_)),
+                     "ParametrizedSystem::evaluate must fill R, dR/dx and dR/dlambda (sizes n, "
+                     "n x n, n) when asked for them");
     F.resize(n_ + 1);
     F.head(n_) = R;
     F(n_) = scale * (t_.dot(y - y_prev_) - dsigma_);

@@ -122,7 +122,7 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
       a.lambda_scale = lambda_max > lambda_min ? lambda_max - lambda_min : std::abs(dl);
       a.initial_step = 0.5 * std::abs(dl);
       a.min_step = 1e-6 * std::abs(dl);
-      a.max_step = 4 * std::abs(dl);
+      a.max_step = std::max(4 * std::abs(dl), 0.1 * a.lambda_scale);
       a.max_points = options.jump_max_points;
       a.newton = options.newton;
       ContinuationResult arc = arclength_continuation(sys, history.x_g, a);

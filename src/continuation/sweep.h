@@ -56,9 +56,9 @@ struct SteppedSweepOptions {
   int max_step_halvings = 4;      // >= 0; 0 = no retry
   bool secant_predictor = false;  // guess by extrapolating the last two converged points
   // Points allowed to the arc-length fallback per failed point; 0 disables it, else >= 2.
-  // It uses steps between |Δλ|/1e6 and 4|Δλ| (Δλ = λ_i − λ_g), lambda_scale = the requested
-  // range, x_scale = ||x_g||.
-  int jump_max_points = 1000;
+  // It uses lambda_scale = L = the requested λ range, x_scale = ||x_g||, steps from |Δλ|/2
+  // (Δλ = λ_i − λ_g), between |Δλ|/1e6 and max(4|Δλ|, L/10), and the default step guards.
+  int jump_max_points = 200;
 };
 
 // Throws InvalidInput naming the field ("SteppedSweepOptions.max_step_halvings = -1. ...").
