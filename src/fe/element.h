@@ -26,6 +26,8 @@
 // the patch test. The 9 internal DOFs are condensed statically:
 //   K_e = K_uu - K_ua K_aa^-1 K_au,   alpha = -K_aa^-1 K_au u_e.
 // The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass).
+// CalculiX 2.20's C3D8I uses J0 but omits the det J0 / det J factor: identical on
+// parallelepipeds, different (and failing the patch test) on distorted bricks.
 //
 // A non-positive Jacobian determinant at an integration point throws InvalidInput.
 #pragma once
