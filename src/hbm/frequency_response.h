@@ -51,7 +51,7 @@ struct FrequencyResponseOptions {
   SteppedSweepOptions sweep;   // stepped sweep
   ArcLengthOptions arclength;  // arc-length: lambda = Ω
   InitialGuess initial_guess = InitialGuess::kLinearStuck;
-  std::vector<int> history_pairs;  // pairs whose sampled cycle is kept per point
+  std::vector<int> history_pairs{};  // pairs whose sampled cycle is kept per point
 };
 
 struct FrequencyResponse {

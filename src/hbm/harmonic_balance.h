@@ -52,9 +52,9 @@
 namespace stickslip {
 
 struct LinearModel {
-  Eigen::VectorXd omega2;         // ω_r², (rad/s)², ≥ 0, size nm
-  Eigen::MatrixXd Phi;            // ndof x nm, mass-normalised
-  Eigen::VectorXd modal_damping;  // c_r, 1/s, ≥ 0, size nm
+  Eigen::VectorXd omega2{};         // ω_r², (rad/s)², ≥ 0, size nm
+  Eigen::MatrixXd Phi{};            // ndof x nm, mass-normalised
+  Eigen::VectorXd modal_damping{};  // c_r, 1/s, ≥ 0, size nm
 };
 void validate(const LinearModel& model);
 
@@ -65,23 +65,23 @@ LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::Ma
                                        double alpha, double beta);
 
 struct ContactPair {
-  std::vector<int> dofs_a;  // k master-DOF indices of node A; empty = ground
-  std::vector<int> dofs_b;  // k master-DOF indices of node B; empty = ground
-  Eigen::MatrixXd frame;    // R, m x k (m = element dimension); 3D contact rows t1, t2, n
-  ElementPtr element;
+  std::vector<int> dofs_a{};  // k master-DOF indices of node A; empty = ground
+  std::vector<int> dofs_b{};  // k master-DOF indices of node B; empty = ground
+  Eigen::MatrixXd frame{};    // R, m x k (m = element dimension); 3D contact rows t1, t2, n
+  ElementPtr element{};
 };
 
 struct Excitation {
-  std::map<int, Eigen::VectorXcd> harmonics;  // k ≥ 0 -> F_k (size ndof), N
+  std::map<int, Eigen::VectorXcd> harmonics{};  // k ≥ 0 -> F_k (size ndof), N
 };
 
 enum class StaticCoupling { kUncoupled, kCoupled };
 
 struct HarmonicBalanceOptions {
-  int harmonics = 1;               // H: dynamic harmonics 1..H
-  std::vector<int> harmonic_list;  // if not empty, the dynamic harmonics (≥ 1, increasing),
-                                   // e.g. {1, 3, 5}; overrides `harmonics`
-  int time_samples = 64;           // N per period for AFT; N ≥ 2(2 H_max + 1)
+  int harmonics = 1;                 // H: dynamic harmonics 1..H
+  std::vector<int> harmonic_list{};  // if not empty, the dynamic harmonics (≥ 1, increasing),
+                                     // e.g. {1, 3, 5}; overrides `harmonics`
+  int time_samples = 64;             // N per period for AFT; N ≥ 2(2 H_max + 1)
   StaticCoupling static_coupling = StaticCoupling::kUncoupled;
   double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
   NewtonOptions static_newton;  // for the uncoupled static problem

@@ -1,0 +1,592 @@
+// Condensed harmonic balance: derivatives against finite differences, limits against linear
+// FRFs solved directly, the 1-DOF Jenkins oscillator against its closed-form describing function
+// and against an independent time integration, a 3D contact with lift-off against time
+// integration, and arc-length continuation of a Duffing oscillator against the one-harmonic
+// amplitude equation.
+#include "hbm/harmonic_balance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <functional>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "contact/friction_contact.h"
+#include "contact/springs.h"
+#include "core/errors.h"
+#include "core/types.h"
+#include "hbm/frequency_response.h"
+
+namespace stickslip {
+namespace {
+
+using Complex = std::complex<double>;
+
+// ---------- Two 3D nodes on ground springs, joined by a friction contact (6 DOFs). ----------
+
+struct TwoNodes {
+  Eigen::MatrixXd K, M;
+  double alpha = 2.0, beta = 1e-5;
+  Eigen::Matrix3d R;  // contact frame rows t1, t2, n
+  FrictionContactParameters contact{.kt = 3e4, .kn = 5e4, .mu = 0.4, .normal_preload = 20.0};
+  Eigen::VectorXcd load1;  // harmonic-1 nodal forces
+};
+
+TwoNodes two_nodes() {
+  TwoNodes s;
+  s.K = Eigen::MatrixXd::Zero(6, 6);
+  s.M = Eigen::MatrixXd::Zero(6, 6);
+  const double k[6] = {1e4, 2e4, 1.5e4, 1.2e4, 0.8e4, 2.5e4};
+  const double m[6] = {1.0, 1.0, 1.0, 1.5, 1.5, 1.5};
+  for (int i = 0; i < 6; ++i) {
+    s.K(i, i) = k[i];
+    s.M(i, i) = m[i];
+  }
+  s.K(0, 3) = s.K(3, 0) = -2e3;  // a little structural coupling between the nodes
+  s.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  s.load1.resize(6);
+  s.load1 << Complex(3, 1), Complex(-2, 0), Complex(1, 2), 0, Complex(0.5, 0), 0;
+  return s;
+}
+
+HarmonicBalanceSystem make_two_node_system(const TwoNodes& s, const FrictionContactParameters& p,
+                                           StaticCoupling coupling, int harmonics,
+                                           Eigen::VectorXcd static_load = {}) {
+  ContactPair pair{.dofs_a = {0, 1, 2},
+                   .dofs_b = {3, 4, 5},
+                   .frame = s.R,
+                   .element = std::make_shared<FrictionContact3D>(p)};
+  Excitation e;
+  e.harmonics[1] = s.load1;
+  if (static_load.size() == 6) e.harmonics[0] = static_load;
+  HarmonicBalanceOptions o;
+  o.harmonics = harmonics;
+  o.time_samples = 32;
+  o.static_coupling = coupling;
+  o.static_newton.tolerance = 1e-12;
+  return HarmonicBalanceSystem(linear_model_from_matrices(s.K, s.M, s.alpha, s.beta), {pair}, e, o);
+}
+
+// Direct linear solve (K + Bᵀ Kc B − (kΩ)² M + i kΩ C) x = F with C = αM + βK (structure only).
+Eigen::VectorXcd linear_frf(const TwoNodes& s, const Eigen::Vector3d& kc_local, double omega,
+                            const Eigen::VectorXcd& load) {
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3, 6);
+  B.leftCols(3) = s.R;
+  B.rightCols(3) = -s.R;
+  const Eigen::MatrixXd Kc = B.transpose() * kc_local.asDiagonal() * B;
+  const Eigen::MatrixXd C = s.alpha * s.M + s.beta * s.K;
+  const Eigen::MatrixXcd D =
+      (s.K + Kc - omega * omega * s.M).cast<Complex>() + Complex(0, omega) * C.cast<Complex>();
+  return D.partialPivLu().solve(load);
+}
+
+NewtonOptions tight_newton() {
+  NewtonOptions n;
+  n.tolerance = 1e-12;
+  n.max_iterations = 50;
+  return n;
+}
+
+TEST(HarmonicBalance, JacobiansMatchFiniteDifferences) {
+  // Mixed cycle (stick, slip, lift-off) of the 3D contact plus a Jenkins element to ground and a
+  // cubic spring, H = 2, coupled and uncoupled. Central differences with h = 1e-7 of the
+  // unknowns' scale: truncation and round-off ≲ 1e-8 relative.
+  constexpr double kFdRelativeTolerance = 1e-6;
+  const TwoNodes s = two_nodes();
+  for (StaticCoupling coupling : {StaticCoupling::kCoupled, StaticCoupling::kUncoupled}) {
+    std::vector<ContactPair> pairs;
+    pairs.push_back({.dofs_a = {0, 1, 2},
+                     .dofs_b = {3, 4, 5},
+                     .frame = s.R,
+                     .element = std::make_shared<FrictionContact3D>(s.contact)});
+    pairs.push_back({.dofs_a = {4},
+                     .dofs_b = {},
+                     .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                     .element = std::make_shared<Jenkins1D>(
+                         JenkinsParameters{.kt = 1e4, .mu = 0.3, .normal_load = 10})});
+    pairs.push_back(
+        {.dofs_a = {1},
+         .dofs_b = {5},
+         .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+         .element = std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = 100, .k3 = 1e9})});
+    Excitation e;
+    e.harmonics[1] = s.load1;
+    HarmonicBalanceOptions o;
+    o.harmonics = 2;
+    o.time_samples = 32;
+    o.static_coupling = coupling;
+    const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.alpha, s.beta), pairs, e,
+                                    o);
+    ASSERT_TRUE(sys.static_summary().converged());
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> dist(-1, 1);
+    Eigen::VectorXd x(sys.size());
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = 6e-4 * dist(rng);  // ~ lift-off amplitude
+    const double omega = 110.0;
+    Eigen::VectorXd R, dRdw;
+    Eigen::MatrixXd J;
+    sys.evaluate(x, omega, R, &J, &dRdw);
+    const double h = 1e-7 * 6e-4;
+    Eigen::MatrixXd fd(J.rows(), J.cols());
+    for (Eigen::Index q = 0; q < x.size(); ++q) {
+      Eigen::VectorXd xp = x, xm = x, Rp, Rm;
+      xp[q] += h;
+      xm[q] -= h;
+      sys.evaluate(xp, omega, Rp, nullptr, nullptr);
+      sys.evaluate(xm, omega, Rm, nullptr, nullptr);
+      fd.col(q) = (Rp - Rm) / (2 * h);
+    }
+    EXPECT_LE((fd - J).norm(), kFdRelativeTolerance * J.norm());
+    const double hw = 1e-6 * omega;
+    Eigen::VectorXd Rp, Rm;
+    sys.evaluate(x, omega + hw, Rp, nullptr, nullptr);
+    sys.evaluate(x, omega - hw, Rm, nullptr, nullptr);
+    EXPECT_LE(((Rp - Rm) / (2 * hw) - dRdw).norm(), kFdRelativeTolerance * dRdw.norm());
+    // Cycle covers the regimes the derivatives must handle.
+    std::vector<CycleStatistics> stats;
+    Eigen::VectorXd F;
+    sys.contact_forces(x, F, &stats);
+    EXPECT_GT(stats[0].separation_fraction, 0.0);
+    EXPECT_GT(stats[0].slip_fraction, 0.0);
+  }
+}
+
+TEST(HarmonicBalance, ZeroFrictionGivesFreeAndHugeFrictionGivesStuckLinearFrf) {
+  // μ = 0: tangentially free, normal spring kn (no lift-off at this amplitude); μN → ∞: stuck,
+  // tangential springs kt. Both are linear systems solved here directly; the HBM must agree to
+  // round-off at and away from resonances, for harmonic 0 coupled or not.
+  constexpr double kRoundOff = 1e-9;
+  const TwoNodes s = two_nodes();
+  const Eigen::Vector3d free_k(0, 0, s.contact.kn),
+      stuck_k(s.contact.kt, s.contact.kt, s.contact.kn);
+  const std::vector<double> omegas = {50, 90, 100, 118, 140, 160, 220};
+  for (StaticCoupling coupling : {StaticCoupling::kCoupled, StaticCoupling::kUncoupled}) {
+    for (bool stuck : {false, true}) {
+      FrictionContactParameters p = s.contact;
+      p.mu = stuck ? 1e9 : 0.0;
+      const HarmonicBalanceSystem sys = make_two_node_system(s, p, coupling, 2);
+      FrequencyResponseOptions o;
+      o.omegas = omegas;
+      o.sweep.newton = tight_newton();
+      const FrequencyResponse r = frequency_response(sys, o);
+      ASSERT_TRUE(r.completed) << r.message;
+      ASSERT_EQ(r.harmonics, (std::vector<int>{0, 1, 2}));
+      for (const FrequencyPoint& pt : r.points) {
+        const Eigen::VectorXcd ref = linear_frf(s, stuck ? stuck_k : free_k, pt.omega, s.load1);
+        EXPECT_LE((pt.master.col(1) - ref).norm(), kRoundOff * ref.norm()) << pt.omega;
+        EXPECT_LE(pt.master.col(2).norm(), kRoundOff * ref.norm());  // linear: no harmonic 2
+        EXPECT_EQ(pt.pairs[0].cycle.separation_fraction, 0.0);
+        // Static part: (K + Bᵀ Kc B) x0 = −Bᵀ (0, 0, N0) (the preload pushes B away from A).
+        Eigen::VectorXcd pre = Eigen::VectorXcd::Zero(6);
+        pre.head(3) = -s.R.transpose().col(2).cast<Complex>() * s.contact.normal_preload;
+        pre.tail(3) = -pre.head(3);
+        const Eigen::VectorXcd ref0 = linear_frf(s, stuck ? stuck_k : free_k, 0.0, pre);
+        EXPECT_LE((pt.master.col(0) - ref0).norm(), kRoundOff * ref0.norm());
+        // Global force on B is Rᵀ f_local; normal mean N0 + kn w0.
+        EXPECT_LE((pt.pairs[0].force_global - s.R.transpose() * pt.pairs[0].force_local).norm(),
+                  1e-12 * pt.pairs[0].force_global.norm());
+      }
+    }
+  }
+}
+
+TEST(HarmonicBalance, RecoveredMasterResponseReproducesContactUnknowns) {
+  // x_k recovered from the modes must satisfy B x_k = U_k (the condensed unknowns).
+  const TwoNodes s = two_nodes();
+  const HarmonicBalanceSystem sys = make_two_node_system(s, s.contact, StaticCoupling::kCoupled, 3);
+  FrequencyResponseOptions o;
+  o.omegas = {100, 105, 110};
+  o.sweep.newton = tight_newton();
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3, 6);
+  B.leftCols(3) = s.R;
+  B.rightCols(3) = -s.R;
+  for (const FrequencyPoint& pt : r.points) {
+    const Eigen::MatrixXcd Bx = B.cast<Complex>() * pt.master;
+    EXPECT_LE((Bx - pt.pairs[0].displacement_local).norm(),
+              1e-10 * pt.pairs[0].displacement_local.norm());
+  }
+}
+
+// ---------- 1-DOF oscillator with a Jenkins element to ground. ----------
+
+struct Oscillator {
+  double m = 1.0, k = 1e4, c = 2.0;  // ω_n = 100 rad/s, ζ = 1 %
+  double kt = 5e3, fs = 1.0;         // Jenkins: x_cr = fs/kt = 2e-4 m; stuck ω = 122.5 rad/s
+  double force = 1.5;                // F cos Ωt, N
+};
+
+HarmonicBalanceSystem make_oscillator(const Oscillator& o, std::vector<int> harmonics, int n) {
+  LinearModel model{.omega2 = Eigen::VectorXd::Constant(1, o.k / o.m),
+                    .Phi = Eigen::MatrixXd::Constant(1, 1, 1.0 / std::sqrt(o.m)),
+                    .modal_damping = Eigen::VectorXd::Constant(1, o.c / o.m)};
+  ContactPair pair{.dofs_a = {0},
+                   .dofs_b = {},
+                   .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                   .element = std::make_shared<Jenkins1D>(
+                       JenkinsParameters{.kt = o.kt, .mu = 1.0, .normal_load = o.fs})};
+  Excitation e;
+  e.harmonics[1] = Eigen::VectorXcd::Constant(1, o.force);
+  HarmonicBalanceOptions opt;
+  opt.harmonic_list = harmonics;
+  opt.time_samples = n;
+  return HarmonicBalanceSystem(model, {pair}, e, opt);
+}
+
+// Closed-form first harmonic of the Jenkins force for u = x0 cos θ (derived independently of the
+// AFT; thesis eqs. 2.24–2.25): F1 = a1 − i b1.
+Complex jenkins_f1(const Oscillator& o, double x0) {
+  if (o.kt * x0 <= o.fs) return o.kt * x0;
+  const double beta = std::acos(1 - 2 * o.fs / (o.kt * x0));
+  const double a1 = o.kt * x0 * (beta - 0.5 * std::sin(2 * beta)) / kPi;
+  const double b1 = -4 * o.fs / kPi * (1 - o.fs / (o.kt * x0));
+  return Complex(a1, -b1);
+}
+
+// Amplitude from x0 |k − mΩ² + icΩ + F1(x0)/x0| = F, by bracketing on a log grid + bisection.
+// Returns every root found (the response is single-valued for this oscillator: one root).
+std::vector<double> describing_function_amplitudes(const Oscillator& o, double omega) {
+  const Complex d(o.k - o.m * omega * omega, o.c * omega);
+  auto g = [&](double x0) { return std::abs(x0 * d + jenkins_f1(o, x0)) - o.force; };
+  std::vector<double> roots;
+  double lo = 1e-9, glo = g(lo);
+  for (double x = lo * 1.05; x < 1.0; x *= 1.05) {
+    const double gx = g(x);
+    if ((glo < 0) != (gx < 0)) {
+      double a = lo, b = x;
+      for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (a + b);
+        ((g(mid) < 0) == (g(a) < 0) ? a : b) = mid;
+      }
+      roots.push_back(0.5 * (a + b));
+    }
+    lo = x;
+    glo = gx;
+  }
+  return roots;
+}
+
+TEST(HarmonicBalance, JenkinsOscillatorMatchesDescribingFunctionOnStickSlipAndTransition) {
+  // H = 1: the AFT's first-harmonic force differs from the closed form by the rectangle rule's
+  // O((2π/N)²) error at the stick/slip kinks (≤ 1.4e-6 relative at N = 4096, aft_test). At the
+  // peak the amplitude amplifies it (measured 9.6e-7 at N = 4096), so N = 8192 (4x smaller)
+  // keeps the 1e-6 target with margin. The stick part is exact to round-off.
+  constexpr double kDescribingFunctionTolerance = 1e-6;
+  const Oscillator osc;
+  const HarmonicBalanceSystem sys = make_oscillator(osc, {1}, 8192);
+  FrequencyResponseOptions o;
+  for (double w = 60; w <= 160; w += 2.5) o.omegas.push_back(w);
+  o.sweep.newton = tight_newton();
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  int stick = 0, slip = 0;
+  for (const FrequencyPoint& pt : r.points) {
+    const std::vector<double> ref = describing_function_amplitudes(osc, pt.omega);
+    ASSERT_EQ(ref.size(), 1u) << pt.omega;
+    const double amp = std::abs(pt.master(0, 1));
+    EXPECT_LE(std::abs(amp - ref[0]), kDescribingFunctionTolerance * ref[0]) << pt.omega;
+    (amp <= osc.fs / osc.kt ? stick : slip)++;
+    // Energy per cycle: π x0 Im(F1) (from the closed form), to the trapezoid's O(1/N²).
+    const double energy = kPi * amp * jenkins_f1(osc, amp).imag();
+    EXPECT_NEAR(pt.pairs[0].cycle.dissipated_energy, energy, 1e-5 * osc.fs * amp + 1e-15);
+  }
+  EXPECT_GT(stick, 5);
+  EXPECT_GT(slip, 5);
+}
+
+// Independent time integration of m ẍ + c ẋ + k x + τ = F cos Ωt with RK4 at fixed step; the
+// Jenkins state (τ, x at the last step) is updated once per step, each RK stage uses the stick
+// predictor from the step's start clamped to ±fs. Returns x(t) over the last period, run until
+// the periodic steady state.
+std::vector<double> integrate_jenkins(const Oscillator& o, double omega, int steps_per_period,
+                                      int periods) {
+  const double T = 2 * kPi / omega, dt = T / steps_per_period;
+  double x = 0, v = 0, tau = 0, x_ref = 0, t = 0;
+  auto force = [&](double xs) { return std::clamp(tau + o.kt * (xs - x_ref), -o.fs, o.fs); };
+  auto acc = [&](double ts, double xs, double vs) {
+    return (o.force * std::cos(omega * ts) - o.c * vs - o.k * xs - force(xs)) / o.m;
+  };
+  std::vector<double> last(steps_per_period);
+  for (int p = 0; p < periods; ++p) {
+    for (int s = 0; s < steps_per_period; ++s) {
+      const double k1x = v, k1v = acc(t, x, v);
+      const double k2x = v + 0.5 * dt * k1v, k2v = acc(t + 0.5 * dt, x + 0.5 * dt * k1x, k2x);
+      const double k3x = v + 0.5 * dt * k2v, k3v = acc(t + 0.5 * dt, x + 0.5 * dt * k2x, k3x);
+      const double k4x = v + dt * k3v, k4v = acc(t + dt, x + dt * k3x, k4x);
+      x += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      t += dt;
+      tau = force(x);
+      x_ref = x;
+      last[s] = x;
+    }
+  }
+  return last;
+}
+
+TEST(HarmonicBalance, JenkinsOscillatorConvergesToTimeIntegrationWithHarmonics) {
+  // Peak displacement over the period, HBM (odd harmonics up to H) vs RK4 (2·10⁴ steps per
+  // period, 400 periods: the transient decays as e^{−ζω t} and faster with friction).
+  constexpr double kH7Tolerance = 5e-3;  // issue 4: H = 7 within 0.5 %
+  const Oscillator osc;
+  const double omega = 108.0;  // between free (100) and stuck (122.5) resonance: strong slip
+  const std::vector<double> xt = integrate_jenkins(osc, omega, 20000, 400);
+  const double ref =
+      std::max(*std::max_element(xt.begin(), xt.end()), -*std::min_element(xt.begin(), xt.end()));
+  std::vector<double> errors;
+  for (int H : {1, 3, 5, 7}) {
+    std::vector<int> list;
+    for (int k = 1; k <= H; k += 2) list.push_back(k);
+    const HarmonicBalanceSystem sys = make_oscillator(osc, list, 1024);
+    FrequencyResponseOptions o;
+    o.omegas = {omega};
+    o.sweep.newton = tight_newton();
+    const FrequencyResponse r = frequency_response(sys, o);
+    ASSERT_TRUE(r.completed) << r.message;
+    double peak = 0;
+    for (int j = 0; j < 2000; ++j) {
+      const double theta = 2 * kPi * j / 2000;
+      double x = 0;
+      for (size_t h = 1; h < r.harmonics.size(); ++h) {
+        x += (r.points[0].master(0, h) * std::exp(Complex(0, r.harmonics[h] * theta))).real();
+      }
+      peak = std::max(peak, std::abs(x));
+    }
+    errors.push_back(std::abs(peak - ref) / ref);
+  }
+  // Measured: 7.1e-4, 2.1e-4, 3.9e-5, 2.1e-5 for H = 1, 3, 5, 7.
+  EXPECT_LE(errors.back(), kH7Tolerance) << errors[0] << " " << errors[1] << " " << errors[2];
+  for (size_t i = 1; i < errors.size(); ++i) EXPECT_LT(errors[i], errors[i - 1]);
+}
+
+// ---------- 3D contact with lift-off against time integration. ----------
+
+TEST(HarmonicBalance, ContactWithLiftOffMatchesTimeIntegration) {
+  // One node (unit masses, ground springs) touching the ground through a 3D friction contact
+  // (normal +z, preload N0), excited along x and z strongly enough to lift off part of the cycle.
+  // Coupled harmonic 0 (the mean normal load changes with the vibration), H = 10, N = 256,
+  // reached by a stepped sweep from 60 rad/s. Time integration: RK4 (4000 steps per period),
+  // contact state updated once per step, 200 periods. Measured: peaks agree to ≈ 1e-4 of the
+  // peak-to-peak range (33 % separation, 59 % slip); the tolerance leaves room for the HBM
+  // truncation at H = 10 and the stepper's O(dt) contact-event error.
+  constexpr double kPeakTolerance = 1e-3;
+  const double kx = 1e4, ky = 1.3e4, kz = 2e4, c = 4.0;
+  const FrictionContactParameters p{.kt = 8e3, .kn = 3e4, .mu = 0.3, .normal_preload = 2.0};
+  const double omega = 90.0;
+  const Eigen::Vector3d load(2.0, 0.0, 1.5);
+
+  LinearModel model{.omega2 = Eigen::Vector3d(kx, ky, kz),
+                    .Phi = Eigen::MatrixXd::Identity(3, 3),
+                    .modal_damping = Eigen::VectorXd::Constant(3, c)};
+  // u = R (x_A − x_B), B = ground at z = 0 below A: approach w = −z_A, so n = −e_z; t1 = e_x.
+  Eigen::Matrix3d R;
+  R << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  ContactPair pair{.dofs_a = {0, 1, 2},
+                   .dofs_b = {},
+                   .frame = R,
+                   .element = std::make_shared<FrictionContact3D>(p)};
+  Excitation e;
+  e.harmonics[1] = load.cast<Complex>();
+  HarmonicBalanceOptions opt;
+  opt.harmonics = 10;
+  opt.time_samples = 256;
+  opt.static_coupling = StaticCoupling::kCoupled;
+  const HarmonicBalanceSystem sys(model, {pair}, e, opt);
+  FrequencyResponseOptions o;
+  for (double w = 60.0; w < omega; w += 5.0) o.omegas.push_back(w);
+  o.omegas.push_back(omega);
+  o.history_pairs = {0};
+  o.sweep.newton = tight_newton();
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  const FrequencyPoint& pt = r.points.back();
+  EXPECT_GT(pt.pairs[0].cycle.separation_fraction, 0.2);
+  EXPECT_GT(pt.pairs[0].cycle.slip_fraction, 0.05);
+  EXPECT_EQ(pt.pairs[0].history.u.cols(), 256);
+
+  // Time integration of the same model.
+  const int steps = 4000, periods = 200;
+  const double T = 2 * kPi / omega, dt = T / steps;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+  Eigen::Vector2d tau = Eigen::Vector2d::Zero(), ut_ref = Eigen::Vector2d::Zero();
+  const Eigen::Vector3d kdiag(kx, ky, kz);
+  auto contact_force = [&](const Eigen::Vector3d& xs, Eigen::Vector2d* tau_out) {
+    const Eigen::Vector3d u = R * xs;
+    const double n = std::max(0.0, p.normal_preload + p.kn * u[2]);
+    Eigen::Vector2d t = Eigen::Vector2d::Zero();
+    if (n > 0) {
+      t = tau + p.kt * (u.head<2>() - ut_ref);
+      if (t.norm() > p.mu * n) t *= p.mu * n / t.norm();
+    }
+    if (tau_out) *tau_out = t;
+    return Eigen::Vector3d(R.transpose() * Eigen::Vector3d(t[0], t[1], n));  // force on B
+  };
+  auto acc = [&](double ts, const Eigen::Vector3d& xs, const Eigen::Vector3d& vs) {
+    // Force on A = −(force on B).
+    return Eigen::Vector3d(load * std::cos(omega * ts) - c * vs - kdiag.cwiseProduct(xs) -
+                           contact_force(xs, nullptr));
+  };
+  Eigen::Vector3d max_x = Eigen::Vector3d::Constant(-1e9), min_x = Eigen::Vector3d::Constant(1e9);
+  double t = 0;
+  for (int per = 0; per < periods; ++per) {
+    for (int s = 0; s < steps; ++s) {
+      const Eigen::Vector3d k1x = v, k1v = acc(t, x, v);
+      const Eigen::Vector3d k2x = v + 0.5 * dt * k1v,
+                            k2v = acc(t + 0.5 * dt, x + 0.5 * dt * k1x, k2x);
+      const Eigen::Vector3d k3x = v + 0.5 * dt * k2v,
+                            k3v = acc(t + 0.5 * dt, x + 0.5 * dt * k2x, k3x);
+      const Eigen::Vector3d k4x = v + dt * k3v, k4v = acc(t + dt, x + dt * k3x, k4x);
+      x += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      t += dt;
+      Eigen::Vector2d new_tau;
+      contact_force(x, &new_tau);
+      tau = new_tau;
+      ut_ref = (R * x).head<2>();
+      if (per == periods - 1) {
+        max_x = max_x.cwiseMax(x);
+        min_x = min_x.cwiseMin(x);
+      }
+    }
+  }
+  // HBM time history of the master DOFs on a fine grid.
+  Eigen::Vector3d hmax = Eigen::Vector3d::Constant(-1e9), hmin = Eigen::Vector3d::Constant(1e9);
+  for (int j = 0; j < 4000; ++j) {
+    const double theta = 2 * kPi * j / 4000;
+    Eigen::Vector3d xs = Eigen::Vector3d::Zero();
+    for (size_t h = 0; h < r.harmonics.size(); ++h) {
+      xs += (pt.master.col(h) * std::exp(Complex(0, r.harmonics[h] * theta))).real();
+    }
+    hmax = hmax.cwiseMax(xs);
+    hmin = hmin.cwiseMin(xs);
+  }
+  for (int d : {0, 2}) {
+    const double range = max_x[d] - min_x[d];
+    EXPECT_NEAR(hmax[d], max_x[d], kPeakTolerance * range) << "dof " << d;
+    EXPECT_NEAR(hmin[d], min_x[d], kPeakTolerance * range) << "dof " << d;
+  }
+}
+
+// ---------- Duffing oscillator through its turning points. ----------
+
+TEST(HarmonicBalance, DuffingArcLengthFollowsBothFoldsOfTheAmplitudeEquation) {
+  // m ẍ + c ẋ + k x + k3 x³ = F cos Ωt with H = 1: the amplitude A satisfies
+  // [(k − mΩ² + ¾ k3 A²)² + (cΩ)²] A² = F² (independent one-harmonic balance). The AFT of a cubic
+  // with N = 16 is exact for H = 1 (no aliasing of harmonic 3 onto 1), so every continuation point
+  // must satisfy it to round-off, and the branch must pass through all three solutions at
+  // frequencies inside the hysteresis region.
+  const double m = 1, k = 1e4, c = 1.0, k3 = 4e9, F = 0.25;
+  LinearModel model{.omega2 = Eigen::VectorXd::Constant(1, k),
+                    .Phi = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                    .modal_damping = Eigen::VectorXd::Constant(1, c)};
+  ContactPair pair{.dofs_a = {0},
+                   .dofs_b = {},
+                   .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                   .element = std::make_shared<CubicSpring>(CubicSpringParameters{.k3 = k3})};
+  Excitation e;
+  e.harmonics[1] = Eigen::VectorXcd::Constant(1, F);
+  HarmonicBalanceOptions opt;
+  opt.time_samples = 16;
+  const HarmonicBalanceSystem sys(model, {pair}, e, opt);
+  FrequencyResponseOptions o;
+  o.method = ContinuationMethod::kArcLength;
+  o.arclength.lambda_start = 80;
+  o.arclength.lambda_end = 160;
+  o.arclength.initial_step = 0.5;
+  o.arclength.min_step = 1e-6;
+  o.arclength.max_step = 1.0;
+  o.arclength.max_points = 5000;
+  o.arclength.newton = tight_newton();
+  o.arclength.x_scale = 1e-3;
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  auto equation = [&](double w, double a) {
+    const double re = k - m * w * w + 0.75 * k3 * a * a;
+    return (re * re + c * c * w * w) * a * a - F * F;
+  };
+  int folds = 0;
+  for (size_t i = 0; i < r.points.size(); ++i) {
+    const double a = std::abs(r.points[i].master(0, 1));
+    EXPECT_LE(std::abs(equation(r.points[i].omega, a)), 1e-8 * F * F) << r.points[i].omega;
+    if (i >= 2) {
+      const double d1 = r.points[i - 1].omega - r.points[i - 2].omega;
+      const double d2 = r.points[i].omega - r.points[i - 1].omega;
+      folds += (d1 > 0) != (d2 > 0);
+    }
+  }
+  EXPECT_EQ(folds, 2);
+  // At Ω inside the hysteresis region the cubic in A² has three positive roots (found here by
+  // bisection on its three monotone pieces); the branch must cross Ω three times, once near each.
+  for (double w : {120.0, 130.0}) {
+    auto g = [&](double a) { return equation(w, a); };
+    // Roots separated by the extrema of g in A: scan a fine grid for sign changes.
+    std::vector<double> roots;
+    for (double a = 1e-6; a < 5e-3; a *= 1.001) {
+      if ((g(a) < 0) != (g(a * 1.001) < 0)) {
+        double lo = a, hi = a * 1.001;
+        for (int i = 0; i < 100; ++i) {
+          const double mid = 0.5 * (lo + hi);
+          ((g(mid) < 0) == (g(lo) < 0) ? lo : hi) = mid;
+        }
+        roots.push_back(lo);
+      }
+    }
+    ASSERT_EQ(roots.size(), 3u) << w;
+    std::vector<double> crossings;
+    for (size_t i = 1; i < r.points.size(); ++i) {
+      const double w0 = r.points[i - 1].omega, w1 = r.points[i].omega;
+      if ((w0 - w) * (w1 - w) <= 0 && w0 != w1) {
+        const double s = (w - w0) / (w1 - w0);
+        crossings.push_back((1 - s) * std::abs(r.points[i - 1].master(0, 1)) +
+                            s * std::abs(r.points[i].master(0, 1)));
+      }
+    }
+    ASSERT_EQ(crossings.size(), 3u) << w;
+    std::sort(crossings.begin(), crossings.end());
+    // Linear interpolation between neighbouring points (|ΔA| ≲ 1e-5 per step): ≲ 0.1 %.
+    constexpr double kInterpolationTolerance = 5e-3;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(crossings[i], roots[i], kInterpolationTolerance * roots[i]) << w;
+    }
+  }
+}
+
+TEST(HarmonicBalance, RejectsBadInput) {
+  const TwoNodes s = two_nodes();
+  const LinearModel model = linear_model_from_matrices(s.K, s.M, s.alpha, s.beta);
+  auto contact = std::make_shared<FrictionContact3D>(s.contact);
+  Excitation e;
+  e.harmonics[1] = s.load1;
+  HarmonicBalanceOptions bad_samples;
+  bad_samples.harmonics = 3;
+  bad_samples.time_samples = 8;
+  EXPECT_THROW(
+      HarmonicBalanceSystem(
+          model, {{.dofs_a = {0, 1, 2}, .dofs_b = {3, 4, 9}, .frame = s.R, .element = contact}}, e,
+          {}),
+      InvalidInput);
+  EXPECT_THROW(
+      HarmonicBalanceSystem(model, {{.dofs_a = {0, 1}, .frame = s.R, .element = contact}}, e, {}),
+      InvalidInput);
+  EXPECT_THROW(
+      HarmonicBalanceSystem(model, {{.dofs_a = {0, 1, 2}, .frame = s.R, .element = contact}}, e,
+                            bad_samples),
+      InvalidInput);
+  Excitation e3;
+  e3.harmonics[3] = s.load1;
+  HarmonicBalanceOptions two_harmonics;
+  two_harmonics.harmonics = 2;
+  EXPECT_THROW(
+      HarmonicBalanceSystem(model, {{.dofs_a = {0, 1, 2}, .frame = s.R, .element = contact}}, e3,
+                            two_harmonics),
+      InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
