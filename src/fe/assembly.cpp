@@ -12,8 +12,8 @@
 namespace stickslip {
 
 void validate(const AssemblyOptions& options) {
-  require(options.num_threads >= 1, "AssemblyOptions::num_threads",
-          std::to_string(options.num_threads), ">= 1");
+  require(options.num_threads >= 0, "AssemblyOptions::num_threads",
+          std::to_string(options.num_threads), ">= 0 (0 = one per hardware thread)");
 }
 
 ElementType effective_element_type(ElementType type, const AssemblyOptions& options) {
@@ -229,7 +229,8 @@ void assemble_stiffness_mass(const Mesh& mesh, std::span<const int> elements,
     *M = *K;  // same pattern, zero values
   }
   const Scatter scatter{mesh, adj, material, options, K, M};
-  const int threads = std::min(options.num_threads, 64);
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = std::min(options.num_threads == 0 ? hardware : options.num_threads, 64);
   if (threads == 1 || elements.size() < 1000) {
     Scatter::Buffers buf;
     for (int e : elements) scatter.element(e, buf);

@@ -227,32 +227,37 @@ double jacobian_det(const Matrix<double, 3, NEN>& X, const Matrix<double, 3, NEN
   return det;
 }
 
-// Adds, for blocks b >= a, the isotropic stiffness density of gradient columns a and b:
-//   K(3a+i, 3b+j) += cl G(i,a) G(j,b) + cm G(j,a) G(i,b) + cm delta_ij G_a . G_b
-// (cl = weight * lambda, cm = weight * mu).
+// Gradient rows of all integration points: row g = sqrt(w_g det J_g) [G(0,:), G(1,:), G(2,:)]
+// (G = 3 x M physical gradients at point g). Up to 27 points, no heap allocation.
 template <int M>
-void add_isotropic_upper(const Matrix<double, 3, M>& G, double cl, double cm,
+using GradientRows = Matrix<double, Eigen::Dynamic, 3 * M, Eigen::RowMajor, 27, 3 * M>;
+
+template <int M>
+void set_gradient_row(const Matrix<double, 3, M>& G, double c, int g, GradientRows<M>& R) {
+  const double s = std::sqrt(c);
+  for (int i = 0; i < 3; ++i) R.row(g).template segment<M>(i * M) = s * G.row(i);
+}
+
+// K = integral of the isotropic stiffness density from the gradient rows R:
+//   A = R^T R,  A(iM+a, jM+b) = sum_g c_g G(i,a) G(j,b),
+//   K(3a+i, 3b+j) = lambda A(iM+a, jM+b) + mu A(jM+a, iM+b) + mu delta_ij sum_k A(kM+a, kM+b).
+// Only the upper triangle is formed, then mirrored (exact symmetry).
+template <int M>
+void isotropic_stiffness(const GradientRows<M>& R, double lambda, double mu,
                          Matrix<double, 3 * M, 3 * M>& K) {
+  Matrix<double, 3 * M, 3 * M> A;
+  A.noalias() = R.transpose() * R;
   for (int b = 0; b < M; ++b) {
-    const double gb0 = G(0, b), gb1 = G(1, b), gb2 = G(2, b);
     for (int a = 0; a <= b; ++a) {
-      const double ga0 = G(0, a), ga1 = G(1, a), ga2 = G(2, a);
-      const double d = cm * (ga0 * gb0 + ga1 * gb1 + ga2 * gb2);
-      const double la[3] = {cl * ga0, cl * ga1, cl * ga2};
-      const double ma[3] = {cm * ga0, cm * ga1, cm * ga2};
-      const double gb[3] = {gb0, gb1, gb2};
+      const double d = mu * (A(a, b) + A(M + a, M + b) + A(2 * M + a, 2 * M + b));
       for (int j = 0; j < 3; ++j) {
-        double* col = &K(3 * a, 3 * b + j);
-        for (int i = 0; i < 3; ++i) col[i] += la[i] * gb[j] + ma[j] * gb[i];
-        col[j] += d;
+        for (int i = 0; i < 3; ++i) {
+          K(3 * a + i, 3 * b + j) =
+              lambda * A(i * M + a, j * M + b) + mu * A(j * M + a, i * M + b) + (i == j ? d : 0.0);
+        }
       }
     }
   }
-}
-
-// Copies the strict upper triangle to the lower one (exact symmetry).
-template <int M>
-void mirror_upper_blocks(Matrix<double, 3 * M, 3 * M>& K) {
   for (int c = 0; c < 3 * M; ++c) {
     for (int r = c + 1; r < 3 * M; ++r) K(r, c) = K(c, r);
   }
@@ -261,13 +266,14 @@ void mirror_upper_blocks(Matrix<double, 3 * M, 3 * M>& K) {
 template <int NEN>
 void stiffness_standard(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref, double lambda,
                         double mu, Matrix<double, 3 * NEN, 3 * NEN>& K) {
-  K.setZero();
+  const int ngp = static_cast<int>(ref.w.size());
+  GradientRows<NEN> R(ngp, 3 * NEN);
   Matrix<double, 3, NEN> G;
-  for (size_t g = 0; g < ref.w.size(); ++g) {
+  for (int g = 0; g < ngp; ++g) {
     const double c = ref.w[g] * gradients<NEN>(X, ref.dN[g], G);
-    add_isotropic_upper<NEN>(G, c * lambda, c * mu, K);
+    set_gradient_row<NEN>(G, c, g, R);
   }
-  mirror_upper_blocks<NEN>(K);
+  isotropic_stiffness<NEN>(R, lambda, mu, K);
 }
 
 // Physical gradients of the incompatible modes (Taylor modification) at integration point g,
@@ -298,17 +304,16 @@ void stiffness_hex8i(const Matrix<double, 3, 8>& X, double lambda, double mu,
   const RefData<8>& ref = hex8_2();
   const Hex8Centre centre = hex8_centre(X);
   Matrix<double, 33, 33> Ke;
-  Ke.setZero();
+  GradientRows<11> R(8, 33);
   Matrix<double, 3, 8> Gu;
   Matrix<double, 3, 11> G;
-  for (size_t g = 0; g < ref.w.size(); ++g) {
+  for (int g = 0; g < 8; ++g) {
     const double det = gradients<8>(X, ref.dN[g], Gu);
     G.leftCols<8>() = Gu;
     G.rightCols<3>() = incompatible_gradients(centre, ref.xi[g], det);
-    const double c = ref.w[g] * det;
-    add_isotropic_upper<11>(G, c * lambda, c * mu, Ke);
+    set_gradient_row<11>(G, ref.w[g] * det, g, R);
   }
-  mirror_upper_blocks<11>(Ke);
+  isotropic_stiffness<11>(R, lambda, mu, Ke);
   const Eigen::LLT<Matrix<double, 9, 9>> llt(Ke.bottomRightCorner<9, 9>());
   const Matrix<double, 9, 24> S = llt.solve(Ke.bottomLeftCorner<9, 24>());
   K = Ke.topLeftCorner<24, 24>();

@@ -145,6 +145,9 @@ TEST(Assembly, BadInputThrows) {
   EXPECT_THROW(assemble_stiffness_mass(mesh, bad, kSteel, {}, &K, nullptr), InvalidInput);
   const std::vector<int> out{3};
   EXPECT_THROW(assemble_stiffness_mass(mesh, out, kSteel, {}, &K, nullptr), InvalidInput);
+  AssemblyOptions negative_threads;
+  negative_threads.num_threads = -1;
+  EXPECT_THROW(assemble_stiffness_mass(mesh, kSteel, negative_threads, &K, nullptr), InvalidInput);
   IsotropicMaterial m = kSteel;
   m.poisson_ratio = 0.6;
   EXPECT_THROW(assemble_stiffness_mass(mesh, m, {}, &K, nullptr), InvalidInput);
