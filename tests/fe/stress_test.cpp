@@ -7,6 +7,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <Eigen/LU>
 
 #include "fe/element.h"
 #include "fe_test_util.h"
@@ -72,6 +73,30 @@ TEST(Stress, LinearFieldGivesExactConstantNodalStressRealAndComplex) {
       EXPECT_LT((S.col(n) - sigma).norm(), kRoundOff * sigma.norm()) << element_type_name(type);
       EXPECT_LT((Sc.col(n) - amp * sigma).norm(), kRoundOff * std::abs(amp) * sigma.norm());
     }
+  }
+}
+
+// The strain operators used for stresses are those of the stiffness: K_e = sum_g w_g det J_g
+// B_g^T D B_g (for C3D8I with B_g = B_u + B_a T this equals the condensed K_uu - K_ua K_aa^-1
+// K_au), so the internal forces of the recovered stresses balance K_e u_e.
+TEST(Stress, StrainOperatorsReproduceTheElementStiffness) {
+  for (ElementType type : kAllTypes) {
+    const Eigen::Matrix3Xd X = testing::distorted_element(type, 51, 0.2, 0.0);
+    std::vector<Eigen::MatrixXd> B;
+    element_strain_operators(type, X, kSteel, B);
+    const Eigen::Matrix3Xd P = integration_points(type);
+    const Eigen::VectorXd w = integration_weights(type);
+    ASSERT_EQ(B.size(), static_cast<size_t>(P.cols()));
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(3 * X.cols(), 3 * X.cols()), Ke;
+    Eigen::VectorXd N;
+    Eigen::Matrix3Xd dN;
+    for (int g = 0; g < P.cols(); ++g) {
+      shape_functions(type, P.col(g), N, dN);
+      const double det = (dN * X.transpose()).determinant();
+      K += w(g) * det * B[g].transpose() * elasticity_matrix(kSteel) * B[g];
+    }
+    element_stiffness(type, X, kSteel, Ke);
+    EXPECT_LT((K - Ke).norm(), kRoundOff * Ke.norm()) << element_type_name(type);
   }
 }
 
