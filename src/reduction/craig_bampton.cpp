@@ -172,6 +172,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     ModalOptions modal = options.modal;
     modal.num_modes = nm;
     ModalResult modes = solve_modes(K_ii, M_ii, modal);
+    summary.modal = modes.summary;
     if (!modes.summary.ok()) {
       summary.termination = CraigBamptonTermination::kEigenSolveFailed;
       summary.message = "fixed-interface eigen-solve failed: " + modes.summary.message;

@@ -65,6 +65,7 @@ struct CraigBamptonSummary {
   double seconds_constraint = 0.0;  // constraint-mode solves
   double seconds_modes = 0.0;       // fixed-interface eigen-solve
   double seconds_projection = 0.0;  // reduced matrices and T
+  ModalSummary modal;  // the fixed-interface eigen-solve (its own factorisation, iterations)
   bool ok() const { return termination == CraigBamptonTermination::kSuccess; }
 };
 
