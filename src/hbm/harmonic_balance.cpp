@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <complex>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include <Eigen/Dense>
@@ -286,65 +288,10 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
     F.segment(r * nc_, m * nc_) = fp;
   }
 
-  // 𝔾 (n x n) in the real split, u_lin in the unknown layout, and their Ω-derivatives.
-  Eigen::MatrixXd Gbig = Eigen::MatrixXd::Zero(n, n);
-  Eigen::MatrixXd dGbig;
-  Eigen::VectorXd ulin = Eigen::VectorXd::Zero(n), dulin;
-  if (dR_domega) {
-    dGbig.setZero(n, n);
-    dulin.setZero(n);
-  }
-  const HarmonicSet& set = unknown_harmonics();
-  const Eigen::MatrixXcd Psi = Psi_.cast<Complex>();
-  for (int pos = 0; pos < set.size(); ++pos) {
-    const int k = set.harmonics()[pos], o = set.offset(pos);
-    const Eigen::VectorXcd h = modal_receptance(k, omega);
-    const Eigen::MatrixXcd G = Psi * h.asDiagonal() * Psi.transpose();
-    const auto load = modal_load_.find(k);
-    const Eigen::VectorXcd ul = load == modal_load_.end()
-                                    ? Eigen::VectorXcd::Zero(rows_)
-                                    : Eigen::VectorXcd(Psi * h.cwiseProduct(load->second));
-    Eigen::MatrixXcd dG;
-    Eigen::VectorXcd dul;
-    if (dR_domega && k > 0) {
-      Eigen::VectorXcd dh(h.size());
-      for (Eigen::Index r = 0; r < h.size(); ++r) {
-        dh[r] = -h[r] * h[r] * Complex(-2.0 * k * k * omega, k * model_.modal_damping[r]);
-      }
-      dG = Psi * dh.asDiagonal() * Psi.transpose();
-      dul = load == modal_load_.end() ? Eigen::VectorXcd::Zero(rows_)
-                                      : Eigen::VectorXcd(Psi * dh.cwiseProduct(load->second));
-    }
-    for (int s = 0; s < rows_; ++s) {
-      if (k == 0) {
-        ulin[s * nc_ + o] = ul[s].real();
-        for (int r = 0; r < rows_; ++r) Gbig(s * nc_ + o, r * nc_ + o) = G(s, r).real();
-        continue;
-      }
-      ulin[s * nc_ + o] = ul[s].real();
-      ulin[s * nc_ + o + 1] = -ul[s].imag();
-      for (int r = 0; r < rows_; ++r) {
-        const double gr = G(s, r).real(), gi = G(s, r).imag();
-        Gbig(s * nc_ + o, r * nc_ + o) = gr;
-        Gbig(s * nc_ + o, r * nc_ + o + 1) = gi;
-        Gbig(s * nc_ + o + 1, r * nc_ + o) = -gi;
-        Gbig(s * nc_ + o + 1, r * nc_ + o + 1) = gr;
-      }
-      if (dR_domega) {
-        dulin[s * nc_ + o] = dul[s].real();
-        dulin[s * nc_ + o + 1] = -dul[s].imag();
-        for (int r = 0; r < rows_; ++r) {
-          const double gr = dG(s, r).real(), gi = dG(s, r).imag();
-          dGbig(s * nc_ + o, r * nc_ + o) = gr;
-          dGbig(s * nc_ + o, r * nc_ + o + 1) = gi;
-          dGbig(s * nc_ + o + 1, r * nc_ + o) = -gi;
-          dGbig(s * nc_ + o + 1, r * nc_ + o + 1) = gr;
-        }
-      }
-    }
-  }
-
-  R = x - ulin + Gbig * F;
+  const std::shared_ptr<const CondensedOperator> op =
+      condensed_operator(omega, dR_domega != nullptr);
+  const Eigen::MatrixXd& Gbig = op->G;
+  R = x - op->ulin + Gbig * F;
   if (dR_dx) {
     dR_dx->setIdentity(n, n);
     for (size_t p = 0; p < pairs_.size(); ++p) {
@@ -352,7 +299,84 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
       dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w) * blocks[p];
     }
   }
-  if (dR_domega) *dR_domega = dGbig * F - dulin;
+  if (dR_domega) *dR_domega = op->dG * F - op->dulin;
+}
+
+std::shared_ptr<const HarmonicBalanceSystem::CondensedOperator>
+HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    if (cache_->last && cache_->last->omega == omega &&
+        (!derivative || cache_->last->has_derivative)) {
+      return cache_->last;
+    }
+  }
+  const int n = size();
+  auto op = std::make_shared<CondensedOperator>();
+  op->omega = omega;
+  op->has_derivative = derivative;
+  op->G.setZero(n, n);
+  op->ulin.setZero(n);
+  if (derivative) {
+    op->dG.setZero(n, n);
+    op->dulin.setZero(n);
+  }
+  const HarmonicSet& set = unknown_harmonics();
+  Eigen::MatrixXd psi_d, gr(rows_, rows_), gi(rows_, rows_);
+  // Scatter the real split of a complex nu x nu matrix (Gr, Gi) into 𝔾's harmonic block.
+  auto scatter = [&](Eigen::MatrixXd& big, int k, int o) {
+    // Only the lower triangles of gr, gi are computed (G_k is symmetric).
+    for (int r = 0; r < rows_; ++r) {
+      for (int s = 0; s < rows_; ++s) {
+        const double re = s >= r ? gr(s, r) : gr(r, s);
+        big(s * nc_ + o, r * nc_ + o) = re;
+        if (k == 0) continue;
+        const double im = s >= r ? gi(s, r) : gi(r, s);
+        big(s * nc_ + o, r * nc_ + o + 1) = im;
+        big(s * nc_ + o + 1, r * nc_ + o) = -im;
+        big(s * nc_ + o + 1, r * nc_ + o + 1) = re;
+      }
+    }
+  };
+  auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c, int k, int o) {
+    for (int s = 0; s < rows_; ++s) {
+      v[s * nc_ + o] = c[s].real();
+      if (k > 0) v[s * nc_ + o + 1] = -c[s].imag();
+    }
+  };
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    const Eigen::VectorXcd h = modal_receptance(k, omega);
+    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ.
+    psi_d = Psi_ * h.real().asDiagonal();
+    gr.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+    if (k > 0) {
+      psi_d = Psi_ * h.imag().asDiagonal();
+      gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+    }
+    scatter(op->G, k, o);
+    const auto load = modal_load_.find(k);
+    if (load != modal_load_.end()) {
+      scatter_vector(op->ulin, Psi_.cast<Complex>() * h.cwiseProduct(load->second), k, o);
+    }
+    if (derivative && k > 0) {
+      Eigen::VectorXcd dh(h.size());
+      for (Eigen::Index r = 0; r < h.size(); ++r) {
+        dh[r] = -h[r] * h[r] * Complex(-2.0 * k * k * omega, k * model_.modal_damping[r]);
+      }
+      psi_d = Psi_ * dh.real().asDiagonal();
+      gr.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+      psi_d = Psi_ * dh.imag().asDiagonal();
+      gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+      scatter(op->dG, k, o);
+      if (load != modal_load_.end()) {
+        scatter_vector(op->dulin, Psi_.cast<Complex>() * dh.cwiseProduct(load->second), k, o);
+      }
+    }
+  }
+  const std::lock_guard<std::mutex> lock(cache_->mutex);
+  cache_->last = op;
+  return op;
 }
 
 Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) const {

@@ -38,6 +38,8 @@
 #pragma once
 
 #include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -138,6 +140,20 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::MatrixXcd master_response(const Eigen::MatrixXcd& contact_force, double omega) const;
 
  private:
+  // 𝔾(Ω) (n x n, the real split of G_k per harmonic, unknown layout), u_lin(Ω) (n) and, if
+  // requested, their Ω-derivatives. The last one is cached: Newton iterations at one Ω and the
+  // recovery reuse it.
+  struct CondensedOperator {
+    double omega = 0.0;
+    bool has_derivative = false;
+    Eigen::MatrixXd G, dG;
+    Eigen::VectorXd ulin, dulin;
+  };
+  struct OperatorCache {
+    std::mutex mutex;
+    std::shared_ptr<const CondensedOperator> last;
+  };
+  std::shared_ptr<const CondensedOperator> condensed_operator(double omega, bool derivative) const;
   Eigen::VectorXcd modal_receptance(int k, double omega) const;  // h_k (nm)
   void solve_static();
 
@@ -156,6 +172,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::VectorXd u0_, f0_;
   NewtonSummary static_summary_;
   double residual_scale_ = 1.0;
+  std::shared_ptr<OperatorCache> cache_ = std::make_shared<OperatorCache>();
 };
 
 }  // namespace stickslip
