@@ -8,10 +8,16 @@ std::string format_location(const SourceLocation& where) {
   std::string s;
   if (!where.file.empty()) {
     s += where.file;
-    if (where.line > 0) s += ":" + std::to_string(where.line);
+    if (where.line > 0) {
+      s += ':';
+      s += std::to_string(where.line);
+    }
     s += ": ";
   }
-  if (!where.key.empty()) s += where.key + ": ";
+  if (!where.key.empty()) {
+    s += where.key;
+    s += ": ";
+  }
   return s;
 }
 
