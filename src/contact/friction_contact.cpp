@@ -109,7 +109,9 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
             dtau = (mu * e) * dn.transpose() + (limit / norm_pred) * projector * dtau_pred;
           }
         }
-        f.col(j) << tau, normal;
+        f(0, j) = tau[0];
+        f(1, j) = tau[1];
+        f(2, j) = normal;
         if (jac) {
           df_dp->middleRows(3 * j, 2) = dtau;
           df_dp->row(3 * j + 2) = dn.transpose();

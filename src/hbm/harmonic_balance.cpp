@@ -20,6 +20,15 @@ std::string idx(const std::string& name, size_t i) { return name + "[" + std::to
 
 bool all_finite(const Eigen::MatrixXd& m) { return m.allFinite(); }
 
+// A v for real A and complex v, as two real products (vectorised, no complex casts of A).
+template <typename Matrix>
+Eigen::VectorXcd real_times(const Matrix& A, const Eigen::VectorXcd& v) {
+  Eigen::VectorXcd out(A.rows());
+  out.real() = A * v.real();
+  out.imag() = A * v.imag();
+  return out;
+}
+
 // The static problem u = u_lin,0 − G_0 f(u) on the contact rows (harmonic 0 only, AFT with a
 // constant two-sample signal: the static element law from the virgin state).
 class StaticContactSystem final : public ParametrizedSystem {
@@ -238,7 +247,7 @@ Eigen::MatrixXcd HarmonicBalanceSystem::receptance(int k, double omega) const {
 Eigen::VectorXcd HarmonicBalanceSystem::linear_contact_response(int k, double omega) const {
   const auto it = modal_load_.find(k);
   if (it == modal_load_.end()) return Eigen::VectorXcd::Zero(rows_);
-  return Psi_.cast<Complex>() * modal_receptance(k, omega).cwiseProduct(it->second);
+  return real_times(Psi_, modal_receptance(k, omega).cwiseProduct(it->second));
 }
 
 void HarmonicBalanceSystem::solve_static() {
@@ -357,7 +366,7 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
     scatter(op->G, k, o);
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) {
-      scatter_vector(op->ulin, Psi_.cast<Complex>() * h.cwiseProduct(load->second), k, o);
+      scatter_vector(op->ulin, real_times(Psi_, h.cwiseProduct(load->second)), k, o);
     }
     if (derivative && k > 0) {
       Eigen::VectorXcd dh(h.size());
@@ -370,7 +379,7 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
       scatter(op->dG, k, o);
       if (load != modal_load_.end()) {
-        scatter_vector(op->dulin, Psi_.cast<Complex>() * dh.cwiseProduct(load->second), k, o);
+        scatter_vector(op->dulin, real_times(Psi_, dh.cwiseProduct(load->second)), k, o);
       }
     }
   }
@@ -430,10 +439,10 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
   Eigen::MatrixXcd x(model_.Phi.rows(), nh);
   for (int c = 0; c < nh; ++c) {
     const int k = output_harmonics_[c];
-    Eigen::VectorXcd q = -Psi_.transpose().cast<Complex>() * contact_force.col(c);
+    Eigen::VectorXcd q = -real_times(Psi_.transpose(), contact_force.col(c));
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) q += load->second;
-    x.col(c) = model_.Phi.cast<Complex>() * modal_receptance(k, omega).cwiseProduct(q);
+    x.col(c) = real_times(model_.Phi, modal_receptance(k, omega).cwiseProduct(q));
   }
   return x;
 }
