@@ -78,7 +78,47 @@ std::string status_text(int status) {
   }
 }
 
+// A CHOLMOD view of a compressed Eigen matrix (no copy); stype -1: lower triangle only.
+cholmod_sparse lower_view(const SparseMatrix& A) {
+  cholmod_sparse view;
+  std::memset(&view, 0, sizeof(view));
+  view.nrow = static_cast<size_t>(A.rows());
+  view.ncol = static_cast<size_t>(A.cols());
+  view.nzmax = static_cast<size_t>(A.nonZeros());
+  view.p = const_cast<int*>(A.outerIndexPtr());
+  view.i = const_cast<int*>(A.innerIndexPtr());
+  view.x = const_cast<double*>(A.valuePtr());
+  view.stype = -1;
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = 1;
+  return view;
+}
+
 }  // namespace
+
+CholeskyEstimate SparseCholesky::estimate(const SparseMatrix& A) {
+  require(A.rows() == A.cols(), "A", std::to_string(A.rows()) + " x " + std::to_string(A.cols()),
+          "the matrix to analyse must be square");
+  SparseMatrix compressed;
+  const SparseMatrix* source = &A;
+  if (!A.isCompressed()) {
+    compressed = A;
+    compressed.makeCompressed();
+    source = &compressed;
+  }
+  Impl p;
+  cholmod_sparse view = lower_view(*source);
+  CholeskyEstimate estimate;
+  p.factor = cholmod_analyze(&view, &p.common);
+  if (p.factor == nullptr) return estimate;
+  estimate.factor_nonzeros = p.common.lnz;
+  estimate.flops = p.common.fl;
+  estimate.ordering = ordering_name(p.common.method[p.common.selected].ordering);
+  return estimate;
+}
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
 SparseCholesky::SparseCholesky(const SparseMatrix& A) : SparseCholesky() { factorize(A); }
@@ -95,7 +135,7 @@ bool SparseCholesky::factorize(const SparseMatrix& A) {
     p.message = "empty matrix";
     return false;
   }
-  // CHOLMOD reads an Eigen compressed column matrix in place (stype -1: lower triangle only).
+  // CHOLMOD reads an Eigen compressed column matrix in place.
   SparseMatrix compressed;
   const SparseMatrix* source = &A;
   if (!A.isCompressed()) {
@@ -103,20 +143,7 @@ bool SparseCholesky::factorize(const SparseMatrix& A) {
     compressed.makeCompressed();
     source = &compressed;
   }
-  cholmod_sparse view;
-  std::memset(&view, 0, sizeof(view));
-  view.nrow = static_cast<size_t>(source->rows());
-  view.ncol = static_cast<size_t>(source->cols());
-  view.nzmax = static_cast<size_t>(source->nonZeros());
-  view.p = const_cast<int*>(source->outerIndexPtr());
-  view.i = const_cast<int*>(source->innerIndexPtr());
-  view.x = const_cast<double*>(source->valuePtr());
-  view.stype = -1;
-  view.itype = CHOLMOD_INT;
-  view.xtype = CHOLMOD_REAL;
-  view.dtype = CHOLMOD_DOUBLE;
-  view.sorted = 1;
-  view.packed = 1;
+  cholmod_sparse view = lower_view(*source);
 
   p.factor = cholmod_analyze(&view, &p.common);
   if (p.factor == nullptr) {

@@ -23,8 +23,18 @@
 
 namespace stickslip {
 
+// Size and cost of a factorisation, from the symbolic analysis only (cheap: no numbers).
+struct CholeskyEstimate {
+  double factor_nonzeros = 0;  // nnz(L)
+  double flops = 0;            // floating-point operations of the numerical factorisation
+  std::string ordering;        // the ordering CHOLMOD would select
+};
+
 class SparseCholesky {
  public:
+  // Symbolic analysis of A (square, lower triangle read) without factorising it.
+  static CholeskyEstimate estimate(const SparseMatrix& A);
+
   SparseCholesky();
   explicit SparseCholesky(const SparseMatrix& A);  // calls factorize(A)
   ~SparseCholesky();

@@ -58,6 +58,18 @@ TEST(SparseCholesky, SolvesManyRightHandSides) {
   EXPECT_LT((y - reference.col(3)).norm() / reference.col(3).norm(), kSolveTolerance);
 }
 
+TEST(SparseCholesky, EstimateMatchesTheActualFactor) {
+  const SparseMatrix A = random_spd(80, 9);
+  const CholeskyEstimate estimate = SparseCholesky::estimate(A);
+  const SparseCholesky cholesky(A);
+  ASSERT_TRUE(cholesky.ok());
+  EXPECT_EQ(estimate.factor_nonzeros, cholesky.factor_nonzeros());
+  EXPECT_EQ(estimate.ordering, cholesky.ordering());
+  // A dense n x n Cholesky needs n³/3 flops; the sparse one fewer, but more than nnz(L).
+  EXPECT_GT(estimate.flops, estimate.factor_nonzeros);
+  EXPECT_LE(estimate.flops, 80.0 * 80.0 * 80.0);
+}
+
 TEST(SparseCholesky, ReadsOnlyTheLowerTriangle) {
   const int n = 30;
   const SparseMatrix A = random_spd(n, 4);

@@ -1,0 +1,177 @@
+// Benchmark of assembly and modal analysis on structured 8-node hexahedral meshes (issue 2).
+//
+// A box with the proportions of the reference beam (0.25 x 0.05 x 0.03 m, steel), nx x ny x nz
+// C3D8I elements (nx : ny : nz ≈ 5 : 1 : 0.6), clamped at x = 0. For each size it times:
+// mesh generation, assembly of K and M (fe/assembly.h, both triangles), elimination of the clamped
+// DOFs (DofMap), and solve_modes for the lowest 60 modes (factorisation and Lanczos separately).
+//
+// Usage: modal_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [max_factor_gb]
+//   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs. The modal part is skipped when the
+//   Cholesky factor would exceed max_factor_gb (default 8 GB); its size is printed anyway. Peak
+//   memory: run under /usr/bin/time -v (docs/performance.md has the commands and the results).
+// A plain main rather than Google Benchmark: each size runs once (the large one takes minutes)
+// and peak memory is measured per process.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "fe/assembly.h"
+#include "fe/dof_map.h"
+#include "linalg/modal.h"
+#include "linalg/sparse_cholesky.h"
+#include "mesh/mesh.h"
+
+namespace {
+
+using stickslip::ElementType;
+using stickslip::Mesh;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Fills the Mesh arrays directly (Mesh::add_node grows the coordinate matrix one column at a
+// time, which is quadratic for a million nodes).
+Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped) {
+  const double a = 0.25, b = 0.05, c = 0.03;
+  Mesh mesh;
+  const int px = nx + 1, py = ny + 1, pz = nz + 1;
+  const int num_nodes = px * py * pz;
+  mesh.coordinates.resize(3, num_nodes);
+  mesh.node_ids.resize(static_cast<size_t>(num_nodes));
+  const auto node = [&](int i, int j, int k) { return i + px * (j + py * k); };
+  for (int k = 0; k < pz; ++k) {
+    for (int j = 0; j < py; ++j) {
+      for (int i = 0; i < px; ++i) {
+        const int n = node(i, j, k);
+        mesh.coordinates.col(n) << a * i / nx, b * j / ny, c * k / nz;
+        mesh.node_ids[static_cast<size_t>(n)] = n + 1;
+        if (i == 0) clamped->push_back(n);
+      }
+    }
+  }
+  const size_t num_elements = static_cast<size_t>(nx) * ny * nz;
+  mesh.element_types.assign(num_elements, ElementType::kC3D8I);
+  mesh.element_ids.resize(num_elements);
+  mesh.element_offsets.resize(num_elements + 1);
+  mesh.connectivity.resize(8 * num_elements);
+  size_t e = 0;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i, ++e) {
+        const int nodes[8] = {node(i, j, k),
+                              node(i + 1, j, k),
+                              node(i + 1, j + 1, k),
+                              node(i, j + 1, k),
+                              node(i, j, k + 1),
+                              node(i + 1, j, k + 1),
+                              node(i + 1, j + 1, k + 1),
+                              node(i, j + 1, k + 1)};
+        for (int a8 = 0; a8 < 8; ++a8)
+          mesh.connectivity[8 * e + static_cast<size_t>(a8)] = nodes[a8];
+        mesh.element_ids[e] = static_cast<int>(e) + 1;
+        mesh.element_offsets[e + 1] = static_cast<int>(8 * (e + 1));
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int nx = 50, ny = 10, nz = 6;  // small: 11.8k DOFs
+  int arg = 1;
+  if (argc > arg) {
+    const std::string size = argv[arg];
+    if (size == "small") {
+      ++arg;
+    } else if (size == "medium") {
+      nx = 110, ny = 22, nz = 13;  // 107k DOFs
+      ++arg;
+    } else if (size == "large") {
+      nx = 240, ny = 48, nz = 29;  // 1.06M DOFs
+      ++arg;
+    } else if (argc > arg + 2) {
+      nx = std::atoi(argv[arg]), ny = std::atoi(argv[arg + 1]), nz = std::atoi(argv[arg + 2]);
+      arg += 3;
+    }
+  }
+  const int num_modes = argc > arg ? std::atoi(argv[arg]) : 60;
+  ++arg;
+  // Largest factor (GB) the modal part may allocate; the machine is shared.
+  const double max_factor_gb = argc > arg ? std::atof(argv[arg]) : 8.0;
+
+  auto start = std::chrono::steady_clock::now();
+  std::vector<int> clamped;
+  const Mesh mesh = box_mesh(nx, ny, nz, &clamped);
+  const double t_mesh = seconds_since(start);
+
+  stickslip::IsotropicMaterial steel{2.0e11, 0.3, 7800.0};
+  stickslip::AssemblyOptions options;  // C3D8I as the mesh says, 2 threads
+  stickslip::SparseMatrix K, M;
+  start = std::chrono::steady_clock::now();
+  stickslip::assemble_stiffness_mass(mesh, steel, options, &K, &M);
+  const double t_assembly = seconds_since(start);
+
+  start = std::chrono::steady_clock::now();
+  const stickslip::DofMap dofs = stickslip::DofMap::from_nodes(mesh.num_nodes(), clamped);
+  const stickslip::SparseMatrix Kff = dofs.restrict(K);
+  const stickslip::SparseMatrix Mff = dofs.restrict(M);
+  const double t_restrict = seconds_since(start);
+  K.resize(0, 0);  // free the full matrices before the eigensolver's peak
+  M.resize(0, 0);
+
+  std::printf("mesh %dx%dx%d C3D8I: %d nodes, %d elements, %d DOFs (%d free), nnz(K_ff) = %lld\n",
+              nx, ny, nz, mesh.num_nodes(), mesh.num_elements(), mesh.num_dofs(), dofs.num_free(),
+              static_cast<long long>(Kff.nonZeros()));
+  std::printf("mesh generation      %8.2f s\n", t_mesh);
+  std::printf("assembly (K and M)   %8.2f s\n", t_assembly);
+  std::printf("clamp (DofMap)       %8.2f s\n", t_restrict);
+  std::fflush(stdout);
+
+  // The factor behind the shift-invert operator: size and cost from the symbolic analysis, then
+  // (if it fits in max_factor_gb) the factorisation and one solve, timed on their own.
+  start = std::chrono::steady_clock::now();
+  const stickslip::CholeskyEstimate estimate = stickslip::SparseCholesky::estimate(Kff);
+  const double factor_gb = 8.0 * estimate.factor_nonzeros / 1e9;
+  std::printf("factor: %s ordering, nnz(L) = %.3g (%.1f GB), %.3g flops, analysis %.2f s\n",
+              estimate.ordering.c_str(), estimate.factor_nonzeros, factor_gb, estimate.flops,
+              seconds_since(start));
+  if (factor_gb > max_factor_gb) {
+    std::printf("modes skipped: the factor needs %.1f GB > max_factor_gb = %.1f GB\n", factor_gb,
+                max_factor_gb);
+    return 0;
+  }
+  {
+    start = std::chrono::steady_clock::now();
+    const stickslip::SparseCholesky factor(stickslip::SparseMatrix(Kff + Mff));
+    const double t_factor = seconds_since(start);
+    Eigen::VectorXd x = Eigen::VectorXd::Ones(Kff.rows()), y(Kff.rows());
+    start = std::chrono::steady_clock::now();
+    constexpr int kSolves = 5;
+    for (int i = 0; i < kSolves; ++i) factor.solve(x.data(), y.data());
+    std::printf("factorisation alone %.2f s (%.1f GFlop/s), one solve %.3f s\n", t_factor,
+                estimate.flops / t_factor / 1e9, seconds_since(start) / kSolves);
+  }
+
+  stickslip::ModalOptions modal;
+  modal.num_modes = num_modes;
+  start = std::chrono::steady_clock::now();
+  const stickslip::ModalResult result = stickslip::solve_modes(Kff, Mff, modal);
+  const double t_modes = seconds_since(start);
+
+  std::printf(
+      "%d modes             %8.2f s  (factorisation %.2f s, Lanczos %.2f s, %d "
+      "operator applications)\n",
+      num_modes, t_modes, result.summary.factorization_seconds, result.summary.iteration_seconds,
+      result.summary.operations);
+  std::printf("summary: %s\n", result.summary.message.c_str());
+  if (result.eigenvalues.size() > 0) {
+    const Eigen::VectorXd f = result.frequencies_hz();
+    std::printf("f1 = %.3f Hz, f%d = %.3f Hz\n", f(0), static_cast<int>(f.size()), f(f.size() - 1));
+  }
+  return result.summary.ok() ? 0 : 1;
+}
