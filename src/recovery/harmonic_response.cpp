@@ -1,0 +1,331 @@
+#include "recovery/harmonic_response.h"
+
+#include <Eigen/UmfPackSupport>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "core/errors.h"
+#include "linalg/sparse_cholesky.h"
+
+namespace stickslip {
+
+namespace {
+
+std::string to_text(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
+  return buffer;
+}
+
+void check_loads(const Eigen::MatrixXcd& F, int num_dofs, int harmonic, double omega,
+                 const char* where) {
+  if (F.rows() != num_dofs) {
+    throw InvalidInput(std::string(where) + ": load has " + std::to_string(F.rows()) +
+                       " rows, the model has " + std::to_string(num_dofs) + " DOFs");
+  }
+  require(harmonic >= 0, std::string(where) + " harmonic", std::to_string(harmonic),
+          "harmonic >= 0");
+  require(std::isfinite(omega) && omega >= 0.0, std::string(where) + " omega", to_text(omega),
+          "finite and >= 0 (rad/s)");
+}
+
+// Rows of the free DOFs of every column, real and imaginary parts side by side:
+// [Re F_f, Im F_f] (num_free x 2m).
+Eigen::MatrixXd restrict_split(const DofMap& dofs, const Eigen::MatrixXcd& F) {
+  const Eigen::Index m = F.cols();
+  Eigen::MatrixXd out(dofs.num_free(), 2 * m);
+  for (int f = 0; f < dofs.num_free(); ++f) {
+    const int d = dofs.full_dof(f);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      out(f, j) = F(d, j).real();
+      out(f, m + j) = F(d, j).imag();
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXcd expand_columns(const DofMap& dofs, const Eigen::MatrixXcd& x_free) {
+  Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(dofs.num_dofs(), x_free.cols());
+  for (int f = 0; f < dofs.num_free(); ++f) x.row(dofs.full_dof(f)) = x_free.row(f);
+  return x;
+}
+
+Eigen::MatrixXcd join(const Eigen::MatrixXd& split) {
+  const Eigen::Index m = split.cols() / 2;
+  Eigen::MatrixXcd out(split.rows(), m);
+  out.real() = split.leftCols(m);
+  out.imag() = split.rightCols(m);
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void validate(const RayleighDamping& damping) {
+  require(std::isfinite(damping.alpha) && damping.alpha >= 0.0, "RayleighDamping::alpha",
+          to_text(damping.alpha), "finite and >= 0 (1/s)");
+  require(std::isfinite(damping.beta) && damping.beta >= 0.0, "RayleighDamping::beta",
+          to_text(damping.beta), "finite and >= 0 (s)");
+}
+
+void validate(const ModalRecoveryOptions& options) {
+  require(options.num_modes >= 1, "ModalRecoveryOptions::num_modes",
+          std::to_string(options.num_modes), "num_modes >= 1");
+  ModalOptions modal = options.modal;
+  modal.num_modes = options.num_modes;
+  validate(modal);
+}
+
+Eigen::VectorXcd complex_nodal_force_vector(int num_nodes,
+                                            std::span<const ComplexNodalForce> forces) {
+  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(3 * static_cast<Eigen::Index>(num_nodes));
+  for (size_t i = 0; i < forces.size(); ++i) {
+    const int n = forces[i].node;
+    if (n < 0 || n >= num_nodes) {
+      throw InvalidInput("forces[" + std::to_string(i) + "].node = " + std::to_string(n) +
+                         ". Violated constraint: 0 <= node < " + std::to_string(num_nodes));
+    }
+    f.segment<3>(3 * static_cast<Eigen::Index>(n)) += forces[i].force;
+  }
+  return f;
+}
+
+Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::MatrixXcd& loads,
+                                   std::span<const int> harmonics, double omega) {
+  if (loads.cols() != static_cast<Eigen::Index>(harmonics.size())) {
+    throw InvalidInput("harmonic_response: loads has " + std::to_string(loads.cols()) +
+                       " columns but " + std::to_string(harmonics.size()) + " harmonics");
+  }
+  Eigen::MatrixXcd x(solver.num_dofs(), loads.cols());
+  for (Eigen::Index j = 0; j < loads.cols(); ++j) {
+    const int k = harmonics[static_cast<size_t>(j)];
+    if (k == 0) {
+      const double scale = loads.col(j).cwiseAbs().maxCoeff();
+      // Harmonic 0 is the mean of a real signal: its amplitude must be real.
+      constexpr double kRealTolerance = 1e-12;
+      if (loads.col(j).imag().cwiseAbs().maxCoeff() > kRealTolerance * scale) {
+        throw InvalidInput("harmonic_response: the load of harmonic 0 (column " +
+                           std::to_string(j) + ") has an imaginary part; the mean must be real");
+      }
+    }
+    x.col(j) = solver.solve(loads.col(j), k, omega);
+    if (k == 0) x.col(j).imag().setZero();
+  }
+  return x;
+}
+
+// ---------------------------------------------------------------------------------------------
+// DirectRecovery
+
+struct DirectRecovery::Impl {
+  SparseMatrix K_ff, M_ff;
+  RayleighDamping damping;
+  SparseCholesky static_factor;
+  std::string message;
+};
+
+DirectRecovery::DirectRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
+                               RayleighDamping damping)
+    : impl_(std::make_unique<Impl>()), dofs_(dofs) {
+  validate(damping);
+  if (K.rows() != dofs.num_dofs() || M.rows() != dofs.num_dofs() || K.cols() != K.rows() ||
+      M.cols() != M.rows()) {
+    throw InvalidInput("DirectRecovery: K, M must be square with the DofMap's " +
+                       std::to_string(dofs.num_dofs()) + " DOFs");
+  }
+  impl_->K_ff = dofs.restrict(K);
+  impl_->M_ff = dofs.restrict(M);
+  impl_->damping = damping;
+  if (!impl_->static_factor.factorize(impl_->K_ff)) {
+    impl_->message = "Cholesky factorisation of K_ff failed (is the body clamped?): " +
+                     impl_->static_factor.message();
+  }
+}
+
+DirectRecovery::~DirectRecovery() = default;
+bool DirectRecovery::ok() const { return impl_->static_factor.ok(); }
+const std::string& DirectRecovery::message() const { return impl_->message; }
+
+Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic,
+                                       double omega) const {
+  check_loads(F, dofs_.num_dofs(), harmonic, omega, "DirectRecovery::solve");
+  if (!ok()) throw InvalidInput("DirectRecovery::solve: setup failed: " + impl_->message);
+  const double w = harmonic * omega;
+  const Eigen::MatrixXd Ff = restrict_split(dofs_, F);
+  if (w == 0.0) return expand_columns(dofs_, join(impl_->static_factor.solve(Ff)));
+
+  // D = (1 + i w beta) K − (w² − i w alpha) M.
+  using Complex = std::complex<double>;
+  const Complex a(1.0, w * impl_->damping.beta);
+  const Complex b(-w * w, w * impl_->damping.alpha);
+  ComplexSparseMatrix D = impl_->K_ff.cast<Complex>() * a + impl_->M_ff.cast<Complex>() * b;
+  D.makeCompressed();
+  Eigen::UmfPackLU<ComplexSparseMatrix> lu;
+  lu.compute(D);
+  if (lu.info() != Eigen::Success) {
+    throw InvalidInput("DirectRecovery::solve: D_k is singular for harmonic " +
+                       std::to_string(harmonic) + " at omega = " + to_text(omega) +
+                       " rad/s (undamped resonance?)");
+  }
+  const Eigen::MatrixXcd x_free = lu.solve(join(Ff));
+  return expand_columns(dofs_, x_free);
+}
+
+// ---------------------------------------------------------------------------------------------
+// ModalRecovery
+
+struct ModalRecovery::Impl {
+  ModalResult modes;
+  Eigen::VectorXd damping_rates;  // c_r = alpha + beta ω_r²
+  bool residual = true;
+  SparseCholesky static_factor;
+  std::string message;
+  bool ok = false;
+  double setup_seconds = 0.0;
+};
+
+ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
+                             RayleighDamping damping, const ModalRecoveryOptions& options)
+    : impl_(std::make_unique<Impl>()), dofs_(dofs) {
+  validate(damping);
+  validate(options);
+  if (K.rows() != dofs.num_dofs() || M.rows() != dofs.num_dofs() || K.cols() != K.rows() ||
+      M.cols() != M.rows()) {
+    throw InvalidInput("ModalRecovery: K, M must be square with the DofMap's " +
+                       std::to_string(dofs.num_dofs()) + " DOFs");
+  }
+  require(options.num_modes < dofs.num_free(), "ModalRecoveryOptions::num_modes",
+          std::to_string(options.num_modes),
+          "num_modes < number of free DOFs (" + std::to_string(dofs.num_free()) + ")");
+  const auto start = std::chrono::steady_clock::now();
+  const SparseMatrix K_ff = dofs.restrict(K);
+  const SparseMatrix M_ff = dofs.restrict(M);
+  ModalOptions modal = options.modal;
+  modal.num_modes = options.num_modes;
+  impl_->modes = solve_modes(K_ff, M_ff, modal);
+  impl_->residual = options.residual_correction;
+  if (!impl_->modes.summary.ok()) {
+    impl_->message = "modal solve failed: " + impl_->modes.summary.message;
+    impl_->setup_seconds = seconds_since(start);
+    return;
+  }
+  impl_->damping_rates = (damping.alpha + damping.beta * impl_->modes.eigenvalues.array()).matrix();
+  if (impl_->residual) {
+    if (!impl_->static_factor.factorize(K_ff)) {
+      impl_->message =
+          "Cholesky factorisation of K_ff failed (the residual correction needs a "
+          "clamped body): " +
+          impl_->static_factor.message();
+      impl_->setup_seconds = seconds_since(start);
+      return;
+    }
+    if (impl_->modes.eigenvalues.minCoeff() <= 0.0) {
+      impl_->message = "a mode with omega^2 <= 0: the residual correction needs a clamped body";
+      impl_->setup_seconds = seconds_since(start);
+      return;
+    }
+  }
+  impl_->ok = true;
+  impl_->setup_seconds = seconds_since(start);
+}
+
+ModalRecovery::~ModalRecovery() = default;
+bool ModalRecovery::ok() const { return impl_->ok; }
+const std::string& ModalRecovery::message() const { return impl_->message; }
+const Eigen::VectorXd& ModalRecovery::eigenvalues() const { return impl_->modes.eigenvalues; }
+const Eigen::MatrixXd& ModalRecovery::modes() const { return impl_->modes.modes; }
+const ModalSummary& ModalRecovery::modal_summary() const { return impl_->modes.summary; }
+double ModalRecovery::setup_seconds() const { return impl_->setup_seconds; }
+
+Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const {
+  check_loads(F, dofs_.num_dofs(), harmonic, omega, "ModalRecovery::solve");
+  if (!ok()) throw InvalidInput("ModalRecovery::solve: setup failed: " + impl_->message);
+  const double w = harmonic * omega;
+  const Eigen::MatrixXd& Phi = impl_->modes.modes;
+  const Eigen::VectorXd& lambda = impl_->modes.eigenvalues;
+  const Eigen::MatrixXd Ff = restrict_split(dofs_, F);  // [Re, Im], num_free x 2m
+  const Eigen::Index m = F.cols();
+  const Eigen::MatrixXd q_split = Phi.transpose() * Ff;  // n x 2m
+  const Eigen::MatrixXcd q = join(q_split);
+  // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added.
+  Eigen::MatrixXcd eta(q.rows(), m);
+  for (Eigen::Index r = 0; r < q.rows(); ++r) {
+    const std::complex<double> h =
+        1.0 / std::complex<double>(lambda(r) - w * w, w * impl_->damping_rates(r));
+    const std::complex<double> g = impl_->residual ? h - 1.0 / lambda(r) : h;
+    eta.row(r) = g * q.row(r);
+  }
+  Eigen::MatrixXd eta_split(eta.rows(), 2 * m);
+  eta_split.leftCols(m) = eta.real();
+  eta_split.rightCols(m) = eta.imag();
+  Eigen::MatrixXd x_split = Phi * eta_split;  // num_free x 2m
+  if (impl_->residual) x_split += impl_->static_factor.solve(Ff);
+  return expand_columns(dofs_, join(x_split));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Expansion and comparison
+
+Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T, const Eigen::MatrixXcd& q) {
+  if (T.cols() != q.rows()) {
+    throw InvalidInput("expand_reduced_response: T has " + std::to_string(T.cols()) +
+                       " columns but q has " + std::to_string(q.rows()) + " rows");
+  }
+  Eigen::MatrixXcd x(T.rows(), q.cols());
+  x.real() = T * q.real();
+  x.imag() = T * q.imag();
+  return x;
+}
+
+Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T_free, const DofMap& dofs,
+                                         const Eigen::MatrixXcd& q) {
+  if (T_free.rows() != dofs.num_free()) {
+    throw InvalidInput("expand_reduced_response: T has " + std::to_string(T_free.rows()) +
+                       " rows but the DofMap has " + std::to_string(dofs.num_free()) +
+                       " free DOFs");
+  }
+  return expand_columns(dofs, expand_reduced_response(T_free, q));
+}
+
+ResponseDifference compare_responses(const Eigen::MatrixXcd& a, const Eigen::MatrixXcd& b,
+                                     std::span<const int> dofs) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) {
+    throw InvalidInput("compare_responses: the responses have different sizes");
+  }
+  for (size_t i = 0; i < dofs.size(); ++i) {
+    if (dofs[i] < 0 || dofs[i] >= a.rows()) {
+      throw InvalidInput("compare_responses: dofs[" + std::to_string(i) +
+                         "] = " + std::to_string(dofs[i]) + " out of range");
+    }
+  }
+  ResponseDifference out;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    double max_diff = 0.0, max_ref = 0.0, sum_diff = 0.0, sum_ref = 0.0;
+    for (int d : dofs) {
+      const double diff = std::abs(a(d, j) - b(d, j));
+      const double ref = std::abs(b(d, j));
+      max_diff = std::max(max_diff, diff);
+      max_ref = std::max(max_ref, ref);
+      sum_diff += diff * diff;
+      sum_ref += ref * ref;
+    }
+    if (max_ref == 0.0) {
+      out.max_relative.push_back(max_diff == 0.0 ? 0.0 : inf);
+      out.rms_relative.push_back(max_diff == 0.0 ? 0.0 : inf);
+    } else {
+      out.max_relative.push_back(max_diff / max_ref);
+      out.rms_relative.push_back(std::sqrt(sum_diff / sum_ref));
+    }
+  }
+  return out;
+}
+
+}  // namespace stickslip

@@ -1,0 +1,150 @@
+// Full-model recovery: the linear harmonic response of one full FE body to given harmonic loads
+// (DESIGN.md, "Full-model recovery"). The loads are plain complex nodal forces (excitation plus
+// the contact forces the nonlinear solve found, global axes, N); how they were obtained is not
+// this module's business.
+//
+// Convention (DESIGN.md): harmonic k of a real periodic signal has the complex amplitude
+// X_k = a_k − i b_k, x(t) = Re Σ_k X_k e^{ikΩt}, Ω in rad/s; harmonic 0 is real (the mean).
+// For harmonic k the free DOFs f (DofMap: clamped DOFs eliminated, x_c = 0) satisfy
+//
+//   D_k x_f = F_f,   D_k = K_ff − (kΩ)² M_ff + i kΩ C_ff,   C = αM + βK   (RayleighDamping),
+//
+// with K (N/m) and M (kg) as fe/assembly.h builds them (square 3 num_nodes, both triangles).
+// The reaction loads at clamped DOFs are ignored; the returned displacement (m) is full size,
+// 0 at the clamped DOFs.
+//
+// Solvers, both behind HarmonicSolver:
+//  - DirectRecovery: exact. Harmonic 0 (or kΩ = 0) is the static solve K_ff x = F with a CHOLMOD
+//    factor of K_ff computed once in the constructor; k ≥ 1 factorises the complex D_k with
+//    UMFPACK (sparse LU) per call (all columns of one call share the factorisation).
+//  - ModalRecovery: n modes of the clamped body (K_ff φ = ω² M_ff φ, φᵀM_ffφ = 1) computed once,
+//    plus, by default, the static residual correction (the "missing-mass"/residual-flexibility
+//    term; exact at kΩ = 0):
+//      x = Σ_r φ_r φ_rᵀF / (ω_r² − (kΩ)² + i kΩ c_r) + [K⁻¹F − Σ_r φ_r φ_rᵀF / ω_r²],
+//      c_r = α + β ω_r².
+//    Without the correction it is plain mode superposition (what ANSYS MSUP and CalculiX's
+//    *STEADY STATE DYNAMICS compute). The modes and the CHOLMOD factor of K_ff are computed once
+//    and reused for every load, harmonic and frequency. The body must be clamped enough to make
+//    K_ff positive definite (no rigid-body motion). Choose n at a gap of the spectrum: a
+//    truncation inside a group of repeated frequencies (symmetric bodies) depends on the
+//    arbitrary basis the eigen-solver picked for that eigenspace (and so differs between codes).
+// A failed factorisation or eigen-solve is a numerical outcome: ok() false, message() says why;
+// solve() on a failed object, and bad sizes or options, throw InvalidInput.
+#pragma once
+
+#include <complex>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/types.h"
+#include "fe/dof_map.h"
+#include "linalg/modal.h"
+
+namespace stickslip {
+
+// C = alpha M + beta K (DESIGN.md; the thesis: alpha = 5 1/s, beta = 0).
+struct RayleighDamping {
+  double alpha = 0.0;  // 1/s, >= 0
+  double beta = 0.0;   // s, >= 0
+};
+void validate(const RayleighDamping& damping);  // throws InvalidInput naming field and rule
+
+// A complex harmonic amplitude of a concentrated force at one node (global axes, N).
+struct ComplexNodalForce {
+  int node = 0;  // node index (not id)
+  Eigen::Vector3cd force = Eigen::Vector3cd::Zero();
+};
+// Global complex load vector, size 3 num_nodes (repeats add up); InvalidInput for a node out of
+// range.
+Eigen::VectorXcd complex_nodal_force_vector(int num_nodes,
+                                            std::span<const ComplexNodalForce> forces);
+
+// Solves D_k x = F for one harmonic. F: num_dofs x m complex (m load cases at the same kΩ);
+// returns num_dofs x m, clamped rows 0. harmonic >= 0, omega >= 0 (rad/s).
+class HarmonicSolver {
+ public:
+  virtual ~HarmonicSolver() = default;
+  virtual Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const = 0;
+  virtual int num_dofs() const = 0;
+  virtual bool ok() const = 0;
+  virtual const std::string& message() const = 0;
+};
+
+// Response to several harmonics: column j of `loads` is harmonic harmonics[j] (num_dofs x nh);
+// returns num_dofs x nh. Harmonic 0's load must be real (imaginary part <= 1e-12 max|F|, else
+// InvalidInput) and so is its response.
+Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::MatrixXcd& loads,
+                                   std::span<const int> harmonics, double omega);
+
+class DirectRecovery final : public HarmonicSolver {
+ public:
+  DirectRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
+                 RayleighDamping damping);
+  ~DirectRecovery() override;
+  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const override;
+  int num_dofs() const override { return dofs_.num_dofs(); }
+  // False if the static factorisation failed (then message()); a singular D_k in solve() throws
+  // InvalidInput naming the harmonic and frequency (undamped resonance).
+  bool ok() const override;
+  const std::string& message() const override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  DofMap dofs_;
+};
+
+struct ModalRecoveryOptions {
+  int num_modes = 100;              // n; 1 <= n < number of free DOFs
+  bool residual_correction = true;  // add the static residual term
+  ModalOptions modal;               // eigen-solve settings; modal.num_modes is ignored
+};
+void validate(const ModalRecoveryOptions& options);
+
+class ModalRecovery final : public HarmonicSolver {
+ public:
+  ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
+                RayleighDamping damping, const ModalRecoveryOptions& options = {});
+  ~ModalRecovery() override;
+  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const override;
+  int num_dofs() const override { return dofs_.num_dofs(); }
+  bool ok() const override;
+  const std::string& message() const override;
+
+  // The one-off work, for diagnostics and benchmarks.
+  const Eigen::VectorXd& eigenvalues() const;  // ω_r², (rad/s)², ascending
+  const Eigen::MatrixXd& modes() const;        // num_free x n, mass-normalised (free DOFs)
+  const ModalSummary& modal_summary() const;
+  double setup_seconds() const;  // modes + Cholesky factor of K_ff
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  DofMap dofs_;
+};
+
+// Expansion through a reduction basis (Craig–Bampton): x = T q per harmonic. T is dense,
+// num_dofs x n_r with rows in the full DOF numbering (as reduction/craig_bampton.h returns it;
+// constrained rows zero); q is n_r x nh (columns = harmonics). Returns num_dofs x nh.
+Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T, const Eigen::MatrixXcd& q);
+// The same with T's rows on the free DOFs only (num_free x n_r): constrained rows of the result 0.
+Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T_free, const DofMap& dofs,
+                                         const Eigen::MatrixXcd& q);
+
+// Difference of two full responses a, b (num_dofs x nh, same harmonic columns) at chosen DOFs
+// (e.g. the master DOFs), per harmonic column j, b being the reference:
+//   max_relative[j] = max_i |a_ij − b_ij| / max_i |b_ij|,
+//   rms_relative[j] = sqrt(Σ_i |a_ij − b_ij|²) / sqrt(Σ_i |b_ij|²)   (i over `dofs`).
+// A zero reference column gives 0 if a's column is also 0 there, else +infinity.
+struct ResponseDifference {
+  std::vector<double> max_relative;
+  std::vector<double> rms_relative;
+};
+ResponseDifference compare_responses(const Eigen::MatrixXcd& a, const Eigen::MatrixXcd& b,
+                                     std::span<const int> dofs);
+
+}  // namespace stickslip

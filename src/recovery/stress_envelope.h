@@ -1,0 +1,63 @@
+// Stress over one period of vibration from harmonic stress amplitudes, and its per-node envelope.
+//
+// Input: nodal stress amplitudes per harmonic, S_k (6 x num_nodes complex, Voigt order s_xx,
+// s_yy, s_zz, s_xy, s_xz, s_yz, Pa, as fe/stress.h's complex nodal_stress gives them from the
+// complex displacement of harmonic k), for the harmonics listed (each k >= 0 at most once;
+// harmonic 0 is the mean and must be real). DESIGN.md's convention: at the N samples
+// t_j = j T / N, T = 2π/Ω, j = 0..N−1,
+//     σ(t_j) = Re Σ_k S_k e^{i k 2π j / N}.
+// Per sample and node:
+//   von Mises     σ_vm = sqrt(½[(σxx−σyy)² + (σyy−σzz)² + (σzz−σxx)²] + 3(σxy² + σxz² + σyz²)),
+//   principal     σ_1 ≥ σ_2 ≥ σ_3 (eigenvalues of the symmetric 3x3 tensor),
+//   signed von Mises  σ_svm = sign(σ_p) σ_vm, σ_p the principal stress of largest magnitude
+//                 (sign +1 on an exact tie |σ_1| = |σ_3|). This is the "signed von Mises" used
+//                 for uniaxial-equivalent fatigue assessment (e.g. ANSYS/nCode): a uniaxial
+//                 stress σ(t) gives σ_svm(t) = σ(t) exactly.
+// Per node, over the N samples:
+//   von_mises_max          max_j σ_vm(t_j)
+//   max_principal_max      max_j σ_1(t_j)
+//   von_mises_alternating  σ_a = (max_j σ_svm − min_j σ_svm) / 2   (half the range)
+//   von_mises_mean         σ_m = (max_j σ_svm + min_j σ_svm) / 2   (mid-range)
+//   von_mises_static       σ_vm of the harmonic-0 tensor S_0 alone (0 if harmonic 0 absent)
+// (σ_a, σ_m) is the point to place on a Haigh (Goodman) diagram; for a uniaxial cycle
+// σ = σ_m + σ_a cos(Ωt + φ) they are exactly σ_a and σ_m. Maxima are over the samples: for one
+// harmonic, N samples miss the true peak by at most a factor 1 − cos(π/N) (N = 64: 0.12%).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "fe/stress.h"
+
+namespace stickslip {
+
+struct StressEnvelopeOptions {
+  int time_samples = 64;  // N samples per period; N >= 2 (2 H_max + 1) so harmonics are resolved
+};
+// Throws InvalidInput naming the field, its value and the rule (needs the highest harmonic).
+void validate(const StressEnvelopeOptions& options, int max_harmonic);
+
+struct StressEnvelope {
+  Eigen::VectorXd von_mises_max;          // per node, Pa
+  Eigen::VectorXd max_principal_max;      // per node, Pa
+  Eigen::VectorXd von_mises_alternating;  // per node, Pa
+  Eigen::VectorXd von_mises_mean;         // per node, Pa
+  Eigen::VectorXd von_mises_static;       // per node, Pa
+};
+
+// Time samples of the stress: N matrices 6 x num_nodes (real), σ(t_j) above.
+std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
+                                              std::span<const int> harmonics, int time_samples);
+
+StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
+                               std::span<const int> harmonics,
+                               const StressEnvelopeOptions& options = {});
+
+// Point functions on one Voigt stress vector (Pa).
+double von_mises_stress(const Eigen::Matrix<double, 6, 1>& s);
+Eigen::Vector3d principal_stresses(const Eigen::Matrix<double, 6, 1>& s);  // descending
+double signed_von_mises_stress(const Eigen::Matrix<double, 6, 1>& s);
+
+}  // namespace stickslip
