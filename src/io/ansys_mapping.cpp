@@ -12,6 +12,7 @@
 
 #include "core/errors.h"
 #include "core/types.h"
+#include "io/atomic_file.h"
 #include "io/harwell_boeing.h"
 
 namespace stickslip {
@@ -139,10 +140,7 @@ void write_ansys_mapping(std::ostream& out, const AnsysMapping& mapping) {
 }
 
 void write_ansys_mapping(const std::string& path, const AnsysMapping& mapping) {
-  std::ofstream out(path);
-  if (!out) throw InvalidInput({path, 0, ""}, "cannot open file for writing");
-  write_ansys_mapping(out, mapping);
-  if (!out) throw InvalidInput({path, 0, ""}, "write failed");
+  write_file_atomically(path, [&](std::ostream& out) { write_ansys_mapping(out, mapping); });
 }
 
 std::string ansys_mapping_path(const std::string& matrix_path) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "io/atomic_file.h"
 
 namespace stickslip {
 namespace {
@@ -646,10 +647,8 @@ void write_harwell_boeing(std::ostream& out, const SparseMatrix& A,
 
 void write_harwell_boeing(const std::string& path, const SparseMatrix& A,
                           const HarwellBoeingWriteOptions& options, const Eigen::MatrixXd* rhs) {
-  std::ofstream out(path);
-  if (!out) throw InvalidInput({path, 0, ""}, "cannot open file for writing");
-  write_harwell_boeing(out, A, options, rhs);
-  if (!out) throw InvalidInput({path, 0, ""}, "write failed");
+  write_file_atomically(path,
+                        [&](std::ostream& out) { write_harwell_boeing(out, A, options, rhs); });
 }
 
 }  // namespace stickslip

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "io/atomic_file.h"
 
 namespace stickslip {
 namespace {
@@ -307,18 +308,14 @@ void write_matrix_market_dense(std::ostream& out, const Eigen::MatrixXd& A,
 
 void write_matrix_market(const std::string& path, const SparseMatrix& A,
                          MatrixMarketSymmetry symmetry, const std::string& comment) {
-  std::ofstream out(path);
-  if (!out) throw InvalidInput({path, 0, ""}, "cannot open file for writing");
-  write_matrix_market(out, A, symmetry, comment);
-  if (!out) throw InvalidInput({path, 0, ""}, "write failed");
+  write_file_atomically(path,
+                        [&](std::ostream& out) { write_matrix_market(out, A, symmetry, comment); });
 }
 
 void write_matrix_market_dense(const std::string& path, const Eigen::MatrixXd& A,
                                const std::string& comment) {
-  std::ofstream out(path);
-  if (!out) throw InvalidInput({path, 0, ""}, "cannot open file for writing");
-  write_matrix_market_dense(out, A, comment);
-  if (!out) throw InvalidInput({path, 0, ""}, "write failed");
+  write_file_atomically(path,
+                        [&](std::ostream& out) { write_matrix_market_dense(out, A, comment); });
 }
 
 namespace {
@@ -329,14 +326,13 @@ constexpr char kDenseMagic[8] = {'S', 'S', 'D', 'E', 'N', 'S', 'E', '1'};
 
 void write_dense_binary(const std::string& path, const Eigen::MatrixXd& A) {
   static_assert(sizeof(double) == 8 && sizeof(std::int64_t) == 8);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw InvalidInput({path, 0, ""}, "cannot open file for writing");
-  const std::int64_t size[2] = {A.rows(), A.cols()};
-  out.write(kDenseMagic, sizeof kDenseMagic);
-  out.write(reinterpret_cast<const char*>(size), sizeof size);
-  out.write(reinterpret_cast<const char*>(A.data()),
-            static_cast<std::streamsize>(A.size() * sizeof(double)));
-  if (!out) throw InvalidInput({path, 0, ""}, "write failed");
+  write_file_atomically(path, [&](std::ostream& out) {
+    const std::int64_t size[2] = {A.rows(), A.cols()};
+    out.write(kDenseMagic, sizeof kDenseMagic);
+    out.write(reinterpret_cast<const char*>(size), sizeof size);
+    out.write(reinterpret_cast<const char*>(A.data()),
+              static_cast<std::streamsize>(A.size() * sizeof(double)));
+  });
 }
 
 Eigen::MatrixXd read_dense_binary(const std::string& path) {

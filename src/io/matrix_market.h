@@ -10,7 +10,8 @@
 // complex, skew-symmetric and hermitian files are rejected. Repeated coordinate entries are
 // summed (the assembly convention). A symmetric file returns full storage (both triangles).
 // Malformed files throw InvalidInput naming the file, the line and what is wrong.
-// Writing: 17 significant digits, so a write/read round trip is exact.
+// Writing: 17 significant digits, so a write/read round trip is exact. Every writer to a path
+// replaces the file atomically (io/atomic_file.h).
 #pragma once
 
 #include <iosfwd>
