@@ -214,6 +214,60 @@ TEST(HarmonicBalance, RecoveredMasterResponseReproducesContactUnknowns) {
   }
 }
 
+TEST(HarmonicBalance, HistoriesAreTheSampledCyclesOfTheReportedHarmonics) {
+  // The time history of a pair, projected on harmonics by an independent DFT, gives the reported
+  // force and displacement harmonics (X_k = a_k − i b_k).
+  const TwoNodes s = two_nodes();
+  const HarmonicBalanceSystem sys = make_two_node_system(s, s.contact, StaticCoupling::kCoupled, 2);
+  FrequencyResponseOptions o;
+  o.omegas = {105};
+  o.sweep.newton = tight_newton();
+  o.history_pairs = {0};
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  const PairResponse& p = r.points[0].pairs[0];
+  const int n = static_cast<int>(p.history.f.cols());
+  ASSERT_EQ(n, 32);
+  for (size_t h = 0; h < r.harmonics.size(); ++h) {
+    const int k = r.harmonics[h];
+    Eigen::Vector3cd fk = Eigen::Vector3cd::Zero(), uk = Eigen::Vector3cd::Zero();
+    for (int j = 0; j < n; ++j) {
+      const Complex e =
+          std::exp(Complex(0, -2 * kPi * k * j / n)) * (k == 0 ? 1.0 : 2.0) / double(n);
+      fk += p.history.f.col(j).cast<Complex>() * e;
+      uk += p.history.u.col(j).cast<Complex>() * e;
+    }
+    EXPECT_LE((fk - p.force_local.col(h)).norm(), 1e-12 * p.force_local.norm()) << k;
+    EXPECT_LE((uk - p.displacement_local.col(h)).norm(), 1e-12 * p.displacement_local.norm()) << k;
+  }
+  EXPECT_GT(p.cycle.slip_fraction, 0.0);
+  EXPECT_GT(p.cycle.dissipated_energy, 0.0);
+}
+
+TEST(HarmonicBalance, FailedPointsAreReportedNotDropped) {
+  // One Newton iteration and no step halving cannot converge the slipping points: they must be
+  // in the output, flagged, with their residual.
+  const TwoNodes s = two_nodes();
+  const HarmonicBalanceSystem sys = make_two_node_system(s, s.contact, StaticCoupling::kCoupled, 2);
+  FrequencyResponseOptions o;
+  o.omegas = {90, 100, 105, 110};
+  o.sweep.newton = tight_newton();
+  o.sweep.newton.max_iterations = 1;
+  o.sweep.max_step_halvings = 0;
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_EQ(r.points.size(), 4u);
+  EXPECT_FALSE(r.completed);
+  int failed = 0;
+  for (const FrequencyPoint& pt : r.points) {
+    if (!pt.converged) {
+      ++failed;
+      EXPECT_GT(pt.residual_norm, 0.0);
+      EXPECT_FALSE(pt.message.empty());
+    }
+  }
+  EXPECT_GT(failed, 0);
+}
+
 // ---------- 1-DOF oscillator with a Jenkins element to ground. ----------
 
 struct Oscillator {
