@@ -28,6 +28,17 @@ void validate(const ReducedDampingOptions& options) {
           "modal_damping_ratio >= 0");
 }
 
+void assign_node_ids(ReducedBody& body, const std::vector<int>& node_ids) {
+  for (ReducedDof& d : body.dofs) {
+    if (d.kind != ReducedDof::Kind::kPhysical || d.node_index < 0) continue;
+    if (d.node_index >= static_cast<int>(node_ids.size())) {
+      throw InvalidInput("assign_node_ids: node index " + std::to_string(d.node_index) +
+                         " is outside the " + std::to_string(node_ids.size()) + " node ids");
+    }
+    d.node_id = node_ids[static_cast<size_t>(d.node_index)];
+  }
+}
+
 Eigen::MatrixXd reduced_damping(const ReducedBody& body, const ReducedDampingOptions& options) {
   validate(options);
   const int n = body.size();

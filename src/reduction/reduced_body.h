@@ -58,6 +58,11 @@ struct ReducedDampingOptions {
 };
 void validate(const ReducedDampingOptions& options);  // throws InvalidInput naming the field
 
+// Sets node_id of every physical DOF that has a node_index from the mesh's external ids
+// (node_ids[node_index], e.g. Mesh::node_ids), as writers of ANSYS mapping files need.
+// Throws InvalidInput if a node_index is outside node_ids.
+void assign_node_ids(ReducedBody& body, const std::vector<int>& node_ids);
+
 // C_r (size n_r x n_r, N·s/m) for `body`; ω_j = 2π body.dofs[j].frequency_hz.
 Eigen::MatrixXd reduced_damping(const ReducedBody& body, const ReducedDampingOptions& options);
 

@@ -9,16 +9,20 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <vector>
 
 #include "core/errors.h"
 #include "fe/assembly.h"
+#include "io/ansys_mapping.h"
 #include "mesh/mesh.h"
 
 namespace stickslip {
@@ -373,6 +377,40 @@ TEST(CraigBampton, HexCantileverReproducesTheFullFrequencies) {
   EXPECT_GE(expect_resolved_below_cutoff(full, red, r.body.dofs.back().frequency_hz), 3);
   const Eigen::MatrixXd TKT = r.T.transpose() * Eigen::MatrixXd(b.K) * r.T;
   EXPECT_LE(max_abs(r.body.K - TKT), kProjectionTolerance * max_abs(TKT));
+}
+
+// The two ways a reduced body enters stickslip give the same body: reduced here, exported as
+// ANSYS HBMAT files (RSA + mapping) and read back as an imported body.
+TEST(CraigBampton, ReducedBodySurvivesHbmatExportAndImport) {
+  const Body b = default_lattice();
+  CraigBamptonResult r = reduce(b, 15);
+  std::vector<int> ids(b.K.rows() / 3);
+  for (size_t k = 0; k < ids.size(); ++k) ids[k] = 1000 + 2 * static_cast<int>(k);
+  ReducedBody short_ids = r.body;
+  EXPECT_THROW(assign_node_ids(short_ids, std::vector<int>{1, 2}), InvalidInput);
+  assign_node_ids(r.body, ids);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("stickslip_cb_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  write_ansys_reduced_body((dir / "K2.txt").string(), (dir / "M2.txt").string(), r.body);
+  const ReducedBody in =
+      read_ansys_reduced_body((dir / "K2.txt").string(), (dir / "M2.txt").string());
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(in.K, r.body.K);  // 17 significant digits: exact
+  EXPECT_EQ(in.M, r.body.M);
+  ASSERT_EQ(in.size(), r.body.size());
+  constexpr double kFrequencyTolerance = 1e-9;  // sqrt(K_jj/M_jj) vs the Lanczos ω: round-off
+  for (int k = 0; k < in.size(); ++k) {
+    const ReducedDof &a = in.dofs[k], &e = r.body.dofs[k];
+    EXPECT_EQ(a.kind, e.kind);
+    if (e.kind == ReducedDof::Kind::kPhysical) {
+      EXPECT_EQ(a.node_id, 1000 + 2 * e.node_index);
+      EXPECT_EQ(a.direction, e.direction);
+    } else {
+      EXPECT_EQ(a.mode, e.mode);
+      EXPECT_NEAR(a.frequency_hz, e.frequency_hz, kFrequencyTolerance * e.frequency_hz);
+    }
+  }
 }
 
 TEST(CraigBampton, IndefiniteStiffnessIsReportedNotThrown) {
