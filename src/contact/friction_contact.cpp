@@ -64,10 +64,13 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
   // State: τ, u_t,prev and their derivatives. Virgin state: τ = 0 at u_t = 0.
   Eigen::Vector2d tau = Eigen::Vector2d::Zero();
   Eigen::Vector2d ut_prev = Eigen::Vector2d::Zero();
+  // ∂τ/∂p as 2 x np (column q = ∂τ/∂p_q). The derivative updates below are written as plain
+  // loops over q: no temporaries in the time march.
   Eigen::MatrixXd dtau = Eigen::MatrixXd::Zero(2, np);
   int prev = -1;  // sample holding u_t,prev (−1: the virgin state, independent of p)
-  Eigen::MatrixXd dtau_pred(2, np);
-  Eigen::VectorXd dn(np);
+  const double* du = jac ? du_dp->data() : nullptr;
+  double* df = jac ? df_dp->data() : nullptr;
+  const Eigen::Index ld = 3 * n;  // leading dimension of du_dp, df_dp (column-major)
 
   CycleStatistics stats;
   stats.converged = false;
@@ -85,36 +88,54 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
         f.col(j).setZero();
         if (jac) {
           dtau.setZero();
-          df_dp->middleRows(3 * j, 3).setZero();
+          for (int q = 0; q < np; ++q) {
+            for (int r = 0; r < 3; ++r) df[3 * j + r + q * ld] = 0.0;
+          }
         }
       } else {
         const Eigen::Vector2d tau_pred = tau + kt * (ut - ut_prev);
         const double limit = mu * normal;
         const double norm_pred = tau_pred.norm();
-        if (jac) {
-          dn = kn * du_dp->row(3 * j + 2).transpose();
-          dtau_pred = dtau + kt * du_dp->middleRows(3 * j, 2);
-          if (prev >= 0) dtau_pred -= kt * du_dp->middleRows(3 * prev, 2);
-        }
-        if (norm_pred <= limit) {  // stick
+        const bool sticks = norm_pred <= limit;
+        Eigen::Vector2d e = Eigen::Vector2d::Zero();
+        if (sticks) {
           ++stick;
           tau = tau_pred;
-          if (jac) dtau = dtau_pred;
         } else {  // slip: radial return onto the circle |τ| = μN
           ++slip;
-          const Eigen::Vector2d e = tau_pred / norm_pred;
+          e = tau_pred / norm_pred;
           tau = limit * e;
-          if (jac) {
-            const Eigen::Matrix2d projector = Eigen::Matrix2d::Identity() - e * e.transpose();
-            dtau = (mu * e) * dn.transpose() + (limit / norm_pred) * projector * dtau_pred;
-          }
         }
         f(0, j) = tau[0];
         f(1, j) = tau[1];
         f(2, j) = normal;
         if (jac) {
-          df_dp->middleRows(3 * j, 2) = dtau;
-          df_dp->row(3 * j + 2) = dn.transpose();
+          // Stick:  ∂τ = ∂τ_pred = ∂τ_prev + kt (∂u_t − ∂u_t,prev).
+          // Slip:   ∂τ = μ e ∂N + (μN/|τ_pred|) (I − e eᵀ) ∂τ_pred,  ∂N = kn ∂w.
+          const double a = sticks ? 0.0 : limit / norm_pred;
+          const double p00 = 1 - e[0] * e[0], p01 = -e[0] * e[1], p11 = 1 - e[1] * e[1];
+          for (int q = 0; q < np; ++q) {
+            const double* duq = du + q * ld;
+            double* dfq = df + q * ld;
+            double d0 = dtau(0, q) + kt * duq[3 * j];
+            double d1 = dtau(1, q) + kt * duq[3 * j + 1];
+            if (prev >= 0) {
+              d0 -= kt * duq[3 * prev];
+              d1 -= kt * duq[3 * prev + 1];
+            }
+            const double dn = kn * duq[3 * j + 2];
+            if (!sticks) {
+              const double s0 = mu * e[0] * dn + a * (p00 * d0 + p01 * d1);
+              const double s1 = mu * e[1] * dn + a * (p01 * d0 + p11 * d1);
+              d0 = s0;
+              d1 = s1;
+            }
+            dtau(0, q) = d0;
+            dtau(1, q) = d1;
+            dfq[3 * j] = d0;
+            dfq[3 * j + 1] = d1;
+            dfq[3 * j + 2] = dn;
+          }
         }
       }
       ut_prev = ut;
