@@ -195,6 +195,52 @@ TEST(HarmonicBalance, ZeroFrictionGivesFreeAndHugeFrictionGivesStuckLinearFrf) {
   }
 }
 
+TEST(HarmonicBalance, FreeFloatingBodiesWithSelfEquilibratedPreload) {
+  // Two nodes joined by springs and a stuck contact, not grounded (three rigid-body modes,
+  // ω² = 0): the uncoupled static problem leaves the rigid modes out of G_0 (the preload pair is
+  // self-equilibrated), and the harmonic-1 response is the stuck linear FRF.
+  constexpr double kRoundOff = 1e-9;
+  TwoNodes s = two_nodes();
+  s.K.setZero();  // the nodes are joined by springs (different per direction), not grounded
+  for (int d = 0; d < 3; ++d) {
+    const double k = 1e4 * (1 + d);
+    s.K(d, d) = s.K(d + 3, d + 3) = k;
+    s.K(d, d + 3) = s.K(d + 3, d) = -k;
+  }
+  s.beta = 0.0;
+  FrictionContactParameters p = s.contact;
+  p.mu = 1e9;
+  const HarmonicBalanceSystem sys = make_two_node_system(s, p, StaticCoupling::kUncoupled, 1);
+  ASSERT_TRUE(sys.static_summary().converged()) << sys.static_summary().message;
+  // Static relative displacement (rigid-body invariant): (K + Bᵀ Kc B) x0 = −Bᵀ (0, 0, N0),
+  // singular (floating), solved here by a minimum-norm least-squares solve.
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3, 6);
+  B.leftCols(3) = s.R;
+  B.rightCols(3) = -s.R;
+  const Eigen::Vector3d kc(s.contact.kt, s.contact.kt, s.contact.kn);
+  const Eigen::MatrixXd Ks = s.K + B.transpose() * kc.asDiagonal() * B;
+  const Eigen::VectorXd pre = -B.transpose() * Eigen::Vector3d(0, 0, s.contact.normal_preload);
+  const Eigen::VectorXd x0 = Ks.completeOrthogonalDecomposition().solve(pre);
+  EXPECT_LE((sys.static_displacement() - B * x0).norm(), kRoundOff * (B * x0).norm());
+  FrequencyResponseOptions o;
+  o.omegas = {50, 120, 200};
+  o.sweep.newton = tight_newton();
+  const FrequencyResponse r = frequency_response(sys, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  const Eigen::Vector3d stuck_k(s.contact.kt, s.contact.kt, s.contact.kn);
+  for (const FrequencyPoint& pt : r.points) {
+    const Eigen::VectorXcd ref = linear_frf(s, stuck_k, pt.omega, s.load1);
+    EXPECT_LE((pt.master.col(1) - ref).norm(), kRoundOff * ref.norm()) << pt.omega;
+  }
+}
+
+TEST(HarmonicBalance, ModalDampingFromRatioAndRayleigh) {
+  const Eigen::Vector2d w2(4.0, 100.0);
+  EXPECT_TRUE(modal_damping_from_ratio(w2, 0.05).isApprox(Eigen::Vector2d(0.2, 1.0)));
+  EXPECT_TRUE(rayleigh_modal_damping(w2, 5.0, 0.01).isApprox(Eigen::Vector2d(5.04, 6.0)));
+  EXPECT_THROW(modal_damping_from_ratio(w2, -0.1), InvalidInput);
+}
+
 TEST(HarmonicBalance, RecoveredMasterResponseReproducesContactUnknowns) {
   // x_k recovered from the modes must satisfy B x_k = U_k (the condensed unknowns).
   const TwoNodes s = two_nodes();
