@@ -186,6 +186,11 @@ struct ModalRecovery::Impl {
   Eigen::VectorXd damping_rates;  // c_r = alpha + beta ω_r²
   bool residual = true;
   SparseCholesky static_factor;
+  // Optional attachment modes on the load DOFs (ModalRecoveryOptions::load_dofs).
+  std::vector<int> load_full;     // full DOFs of B (free ones only)
+  std::vector<char> is_load_dof;  // per full DOF
+  Eigen::MatrixXd Phi_B;          // |B| x n: rows of Φ at B
+  Eigen::MatrixXd R;              // num_free x |B| (empty without residual correction)
   std::string message;
   bool ok = false;
   double setup_seconds = 0.0;
@@ -232,6 +237,33 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
       return;
     }
   }
+  if (!options.load_dofs.empty()) {
+    impl_->is_load_dof.assign(static_cast<size_t>(dofs.num_dofs()), 0);
+    for (size_t i = 0; i < options.load_dofs.size(); ++i) {
+      const int d = options.load_dofs[i];
+      require(d >= 0 && d < dofs.num_dofs(),
+              "ModalRecoveryOptions::load_dofs[" + std::to_string(i) + "]", std::to_string(d),
+              "0 <= DOF < " + std::to_string(dofs.num_dofs()));
+      if (dofs.is_constrained(d) || impl_->is_load_dof[static_cast<size_t>(d)]) continue;
+      impl_->is_load_dof[static_cast<size_t>(d)] = 1;
+      impl_->load_full.push_back(d);
+    }
+    const Eigen::Index nb = static_cast<Eigen::Index>(impl_->load_full.size());
+    const Eigen::MatrixXd& Phi = impl_->modes.modes;
+    impl_->Phi_B.resize(nb, Phi.cols());
+    for (Eigen::Index b = 0; b < nb; ++b) {
+      impl_->Phi_B.row(b) = Phi.row(dofs.free_index(impl_->load_full[static_cast<size_t>(b)]));
+    }
+    if (impl_->residual && nb > 0) {
+      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(dofs.num_free(), nb);
+      for (Eigen::Index b = 0; b < nb; ++b) {
+        B(dofs.free_index(impl_->load_full[static_cast<size_t>(b)]), b) = 1.0;
+      }
+      impl_->R = impl_->static_factor.solve(B);
+      const Eigen::VectorXd inv_lambda = impl_->modes.eigenvalues.cwiseInverse();
+      impl_->R.noalias() -= Phi * (inv_lambda.asDiagonal() * impl_->Phi_B.transpose());
+    }
+  }
   impl_->ok = true;
   impl_->setup_seconds = seconds_since(start);
 }
@@ -250,9 +282,30 @@ Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, d
   const double w = harmonic * omega;
   const Eigen::MatrixXd& Phi = impl_->modes.modes;
   const Eigen::VectorXd& lambda = impl_->modes.eigenvalues;
-  const Eigen::MatrixXd Ff = restrict_split(dofs_, F);  // [Re, Im], num_free x 2m
   const Eigen::Index m = F.cols();
-  const Eigen::MatrixXd q_split = Phi.transpose() * Ff;  // n x 2m
+  // Loads supported on the load DOFs: the precomputed attachment modes replace the factor.
+  bool on_load_dofs = !impl_->is_load_dof.empty();
+  for (Eigen::Index d = 0; on_load_dofs && d < F.rows(); ++d) {
+    if (!impl_->is_load_dof[static_cast<size_t>(d)] && !dofs_.is_constrained(static_cast<int>(d)) &&
+        F.row(d).cwiseAbs().maxCoeff() != 0.0) {
+      on_load_dofs = false;
+    }
+  }
+  Eigen::MatrixXd Ff, FB;   // [Re, Im] on the free DOFs, or on B
+  Eigen::MatrixXd q_split;  // n x 2m
+  if (on_load_dofs) {
+    const Eigen::Index nb = static_cast<Eigen::Index>(impl_->load_full.size());
+    FB.resize(nb, 2 * m);
+    for (Eigen::Index b = 0; b < nb; ++b) {
+      const int d = impl_->load_full[static_cast<size_t>(b)];
+      FB.row(b).head(m) = F.row(d).real();
+      FB.row(b).tail(m) = F.row(d).imag();
+    }
+    q_split = impl_->Phi_B.transpose() * FB;
+  } else {
+    Ff = restrict_split(dofs_, F);
+    q_split = Phi.transpose() * Ff;
+  }
   const Eigen::MatrixXcd q = join(q_split);
   // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added.
   Eigen::MatrixXcd eta(q.rows(), m);
@@ -265,8 +318,20 @@ Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, d
   Eigen::MatrixXd eta_split(eta.rows(), 2 * m);
   eta_split.leftCols(m) = eta.real();
   eta_split.rightCols(m) = eta.imag();
+  // With the attachment modes R (which already hold −Φ Ω⁻² ΦᵀB) the modal part uses h alone.
+  const bool use_R = on_load_dofs && impl_->residual;
+  if (use_R) {
+    for (Eigen::Index r = 0; r < q.rows(); ++r) {
+      eta_split.row(r).head(m) += q_split.row(r).head(m) / lambda(r);
+      eta_split.row(r).tail(m) += q_split.row(r).tail(m) / lambda(r);
+    }
+  }
   Eigen::MatrixXd x_split = Phi * eta_split;  // num_free x 2m
-  if (impl_->residual) x_split += impl_->static_factor.solve(Ff);
+  if (use_R) {
+    x_split.noalias() += impl_->R * FB;
+  } else if (impl_->residual) {
+    x_split += impl_->static_factor.solve(Ff);
+  }
   return expand_columns(dofs_, join(x_split));
 }
 

@@ -102,6 +102,12 @@ struct ModalRecoveryOptions {
   int num_modes = 100;              // n; 1 <= n < number of free DOFs
   bool residual_correction = true;  // add the static residual term
   ModalOptions modal;               // eigen-solve settings; modal.num_modes is ignored
+  // Full DOFs that carry the loads (contact and excitation DOFs), optional. When given, the
+  // residual attachment modes R = K_ff⁻¹B − Φ Ω⁻² ΦᵀB (B selects these DOFs; num_free x |B|)
+  // are computed once, and a load supported on these DOFs costs two dense products
+  // (x = Φ (h ∘ Φ_Bᵀ F_B) + R F_B) instead of a sparse triangular solve per load case. Loads with
+  // entries elsewhere use the factor as usual. Constrained DOFs in the list are ignored.
+  std::vector<int> load_dofs;
 };
 void validate(const ModalRecoveryOptions& options);
 

@@ -1,0 +1,220 @@
+// Benchmark of full-model recovery per frequency point (issue 5), modal method.
+//
+// A box with the proportions of the reference beam (0.25 x 0.05 x 0.03 m, steel), nx x ny x nz
+// C3D8I elements, clamped at x = 0, loaded at 30 "contact" nodes of the free end face x = L (all
+// three directions, seeded random complex forces) for harmonics 0..H. One-off: assembly and
+// ModalRecovery with n modes, the static residual correction and the attachment modes of the 90
+// loaded DOFs. Per point (a new Ω each time): the displacement of every harmonic 0..H, then
+// separately the complex nodal stresses of each harmonic (fe/stress.h) and the envelope over the
+// period (recovery/stress_envelope.h, 64 samples).
+//
+// Usage: recovery_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [harmonics H] [points]
+//   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs. Defaults: medium, 100 modes, H = 1,
+//   5 points. Optional env RECOVERY_BENCH_DIRECT=1 also times one DirectRecovery point (UMFPACK).
+// A plain main rather than Google Benchmark: the one-off setup takes minutes for the large sizes
+// and peak memory is measured per process (/usr/bin/time -v); docs/performance.md has results.
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fe/assembly.h"
+#include "fe/dof_map.h"
+#include "fe/stress.h"
+#include "mesh/mesh.h"
+#include "recovery/harmonic_response.h"
+#include "recovery/stress_envelope.h"
+
+namespace {
+
+using namespace stickslip;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Fills the Mesh arrays directly (add_node is quadratic for a million nodes).
+Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped, std::vector<int>* end_face) {
+  const double a = 0.25, b = 0.05, c = 0.03;
+  Mesh mesh;
+  const int px = nx + 1, py = ny + 1, pz = nz + 1;
+  const int num_nodes = px * py * pz;
+  mesh.coordinates.resize(3, num_nodes);
+  mesh.node_ids.resize(static_cast<size_t>(num_nodes));
+  const auto node = [&](int i, int j, int k) { return i + px * (j + py * k); };
+  for (int k = 0; k < pz; ++k) {
+    for (int j = 0; j < py; ++j) {
+      for (int i = 0; i < px; ++i) {
+        const int n = node(i, j, k);
+        mesh.coordinates.col(n) << a * i / nx, b * j / ny, c * k / nz;
+        mesh.node_ids[static_cast<size_t>(n)] = n + 1;
+        if (i == 0) clamped->push_back(n);
+        if (i == nx) end_face->push_back(n);
+      }
+    }
+  }
+  const size_t num_elements = static_cast<size_t>(nx) * ny * nz;
+  mesh.element_types.assign(num_elements, ElementType::kC3D8I);
+  mesh.element_ids.resize(num_elements);
+  mesh.element_offsets.resize(num_elements + 1);
+  mesh.connectivity.resize(8 * num_elements);
+  size_t e = 0;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i, ++e) {
+        const int nodes[8] = {node(i, j, k),
+                              node(i + 1, j, k),
+                              node(i + 1, j + 1, k),
+                              node(i, j + 1, k),
+                              node(i, j, k + 1),
+                              node(i + 1, j, k + 1),
+                              node(i + 1, j + 1, k + 1),
+                              node(i, j + 1, k + 1)};
+        for (int a8 = 0; a8 < 8; ++a8) {
+          mesh.connectivity[8 * e + static_cast<size_t>(a8)] = nodes[a8];
+        }
+        mesh.element_ids[e] = static_cast<int>(e) + 1;
+        mesh.element_offsets[e + 1] = static_cast<int>(8 * (e + 1));
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int nx = 100, ny = 20, nz = 12;
+  std::string size = argc > 1 ? argv[1] : "medium";
+  int arg = 2;
+  if (size == "small") {
+    nx = 40, ny = 8, nz = 5;
+  } else if (size == "medium") {
+    nx = 100, ny = 20, nz = 12;
+  } else if (size == "large") {
+    nx = 220, ny = 44, nz = 26;
+  } else {
+    if (argc < 4) {
+      std::fprintf(stderr, "usage: %s [small|medium|large|nx ny nz] [modes] [H] [points]\n",
+                   argv[0]);
+      return 2;
+    }
+    nx = std::atoi(argv[1]), ny = std::atoi(argv[2]), nz = std::atoi(argv[3]);
+    arg = 4;
+  }
+  const int num_modes = argc > arg ? std::atoi(argv[arg]) : 100;
+  const int H = argc > arg + 1 ? std::atoi(argv[arg + 1]) : 1;
+  const int points = argc > arg + 2 ? std::atoi(argv[arg + 2]) : 5;
+  const IsotropicMaterial steel{.youngs_modulus = 2e11, .poisson_ratio = 0.3, .density = 7800};
+
+  auto start = std::chrono::steady_clock::now();
+  std::vector<int> clamped, end_face;
+  const Mesh mesh = box_mesh(nx, ny, nz, &clamped, &end_face);
+  SparseMatrix K, M;
+  assemble_stiffness_mass(mesh, steel, {}, &K, &M);
+  const DofMap dofs = DofMap::from_nodes(mesh.num_nodes(), clamped);
+  std::printf("mesh %d x %d x %d C3D8I: %d nodes, %d DOFs (%d free); assembly %.2f s\n", nx, ny, nz,
+              mesh.num_nodes(), mesh.num_dofs(), dofs.num_free(), seconds_since(start));
+
+  // 30 loaded nodes spread over the end face (like the reference case's contact pairs).
+  std::vector<int> loaded;
+  const size_t stride = std::max<size_t>(1, end_face.size() / 30);
+  for (size_t i = 0; i < end_face.size() && loaded.size() < 30; i += stride) {
+    loaded.push_back(end_face[i]);
+  }
+  std::vector<int> load_dofs;
+  for (int n : loaded) {
+    for (int d = 0; d < 3; ++d) load_dofs.push_back(3 * n + d);
+  }
+  std::vector<int> harmonics;
+  for (int k = 0; k <= H; ++k) harmonics.push_back(k);
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> u(-100.0, 100.0);
+  Eigen::MatrixXcd loads = Eigen::MatrixXcd::Zero(mesh.num_dofs(), H + 1);
+  for (int d : load_dofs) {
+    for (int k = 0; k <= H; ++k) {
+      loads(d, k) =
+          k == 0 ? std::complex<double>(u(rng), 0.0) : std::complex<double>(u(rng), u(rng));
+    }
+  }
+
+  const RayleighDamping damping{.alpha = 5.0, .beta = 0.0};
+  ModalRecoveryOptions options;
+  options.num_modes = num_modes;
+  options.load_dofs = load_dofs;
+  start = std::chrono::steady_clock::now();
+  const ModalRecovery modal(K, M, dofs, damping, options);
+  const double t_setup = seconds_since(start);
+  if (!modal.ok()) {
+    std::printf("modal setup failed: %s\n", modal.message().c_str());
+    return 1;
+  }
+  const double f1 = std::sqrt(modal.eigenvalues()(0)) / (2 * kPi);
+  std::printf(
+      "one-off: %d modes + residual attachment modes of %zu DOFs: %.2f s (eigen-solve "
+      "factorisation %.2f s, Lanczos %.2f s); f1 = %.1f Hz, f%d = %.1f Hz\n",
+      num_modes, load_dofs.size(), t_setup, modal.modal_summary().factorization_seconds,
+      modal.modal_summary().iteration_seconds, f1, num_modes,
+      std::sqrt(modal.eigenvalues()(num_modes - 1)) / (2 * kPi));
+
+  double t_disp = 0.0, t_stress = 0.0, t_env = 0.0;
+  for (int p = 0; p < points; ++p) {
+    const double omega = hz_to_rad_s(f1 * (0.9 + 0.05 * p));
+    start = std::chrono::steady_clock::now();
+    const Eigen::MatrixXcd x = harmonic_response(modal, loads, harmonics, omega);
+    t_disp += seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    std::vector<ComplexStressMatrix> S;
+    for (int k = 0; k <= H; ++k) {
+      S.push_back(nodal_stress(mesh, steel, {}, Eigen::VectorXcd(x.col(k))));
+    }
+    t_stress += seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    const StressEnvelope env = stress_envelope(S, harmonics);
+    t_env += seconds_since(start);
+    if (p == 0) {
+      std::printf("point 0: max |x| = %.3e m, max von Mises over the period = %.3e Pa\n",
+                  x.cwiseAbs().maxCoeff(), env.von_mises_max.maxCoeff());
+    }
+  }
+  std::printf(
+      "per point (H = %d, %d points): displacement %.3f s, nodal stresses %.3f s, envelope "
+      "(64 samples) %.3f s, total %.3f s\n",
+      H, points, t_disp / points, t_stress / points, t_env / points,
+      (t_disp + t_stress + t_env) / points);
+
+  // For comparison: a load off the precomputed DOFs (one sparse solve per harmonic).
+  Eigen::MatrixXcd other = loads;
+  other(3 * mesh.num_nodes() / 2, 1) = 1.0;
+  start = std::chrono::steady_clock::now();
+  (void)harmonic_response(modal, other, harmonics, hz_to_rad_s(f1));
+  std::printf("per point with a load off the attachment DOFs (factor solves): %.3f s\n",
+              seconds_since(start));
+
+  if (const char* direct_env = std::getenv("RECOVERY_BENCH_DIRECT");
+      direct_env != nullptr && std::string(direct_env) == "1") {
+    start = std::chrono::steady_clock::now();
+    const DirectRecovery direct(K, M, dofs, damping);
+    const double t_direct_setup = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    const Eigen::MatrixXcd xd = harmonic_response(direct, loads, harmonics, hz_to_rad_s(f1));
+    std::printf(
+        "direct: setup (Cholesky of K_ff) %.2f s, one point (UMFPACK LU per harmonic "
+        ">= 1) %.2f s\n",
+        t_direct_setup, seconds_since(start));
+    const Eigen::MatrixXcd xm = harmonic_response(modal, loads, harmonics, hz_to_rad_s(f1));
+    std::vector<int> all(static_cast<size_t>(mesh.num_dofs()));
+    for (int d = 0; d < mesh.num_dofs(); ++d) all[static_cast<size_t>(d)] = d;
+    const ResponseDifference diff = compare_responses(xm, xd, all);
+    for (int k = 0; k <= H; ++k) {
+      std::printf("modal vs direct, harmonic %d: max relative %.2e, rms %.2e\n", k,
+                  diff.max_relative[static_cast<size_t>(k)],
+                  diff.rms_relative[static_cast<size_t>(k)]);
+    }
+  }
+  return 0;
+}
