@@ -375,8 +375,8 @@ std::vector<double> describing_function_amplitudes(const Oscillator& o, double o
 TEST(HarmonicBalance, JenkinsOscillatorMatchesDescribingFunctionOnStickSlipAndTransition) {
   // H = 1: the AFT's first-harmonic force differs from the closed form by the rectangle rule's
   // O((2π/N)²) error at the stick/slip kinks (≤ 1.4e-6 relative at N = 4096, aft_test). At the
-  // peak the amplitude amplifies it (measured 9.6e-7 at N = 4096), so N = 8192 (4x smaller)
-  // keeps the 1e-6 target with margin. The stick part is exact to round-off.
+  // peak the amplitude amplifies it (measured 9.6e-7 at N = 4096, 1.5e-7 at N = 8192), so
+  // N = 8192 keeps the 1e-6 target with margin. The stick part is exact to round-off.
   constexpr double kDescribingFunctionTolerance = 1e-6;
   const Oscillator osc;
   const HarmonicBalanceSystem sys = make_oscillator(osc, {1}, 8192);
