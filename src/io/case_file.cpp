@@ -1,0 +1,1374 @@
+#include "io/case_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+namespace stickslip {
+
+SourceLocation CaseDefinition::where(const std::string& path) const {
+  std::string p = path;
+  while (!p.empty()) {
+    const auto it = locations.find(p);
+    if (it != locations.end()) return {it->second.file, it->second.line, path};
+    const size_t cut = p.find_last_of(".[");
+    if (cut == std::string::npos) break;
+    p.resize(cut);
+  }
+  return {file, 0, path};
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------------------------------------
+// Value rules shared by the parser and with_parameter(), by the last key of the path.
+// Returns an empty string when `value` is allowed.
+std::string numeric_rule_violation(const std::string& key, double value) {
+  if (!std::isfinite(value)) return "must be a finite number";
+  if (key == "youngs_modulus" || key == "density" || key == "kt" || key == "kn" || key == "k") {
+    if (!(value > 0)) return "must be > 0";
+  } else if (key == "poisson_ratio") {
+    if (!(value > -1 && value < 0.5)) return "must be in (-1, 0.5)";
+  } else if (key == "mu" || key == "preload" || key == "gap" || key == "k1" || key == "alpha" ||
+             key == "beta") {
+    if (!(value >= 0)) return "must be >= 0";
+  } else if (key == "modal_damping_ratio") {
+    if (!(value >= 0 && value < 1)) return "must be in [0, 1)";
+  }
+  return {};
+}
+
+// Parameter keys of each contact law.
+const std::map<std::string, std::vector<std::string>>& law_parameters() {
+  static const std::map<std::string, std::vector<std::string>> laws{
+      {"friction", {"kt", "kn", "mu", "preload"}},
+      {"jenkins", {"kt", "mu", "preload"}},
+      {"gap", {"kn", "preload"}},
+      {"cubic", {"k1", "k3"}},
+      {"linear", {"k"}},
+  };
+  return laws;
+}
+const std::map<std::string, std::vector<std::string>>& law_required() {
+  static const std::map<std::string, std::vector<std::string>> laws{
+      {"friction", {"kt", "kn", "mu"}}, {"jenkins", {"kt", "mu"}}, {"gap", {"kn"}},
+      {"cubic", {"k1", "k3"}},          {"linear", {"k"}},
+  };
+  return laws;
+}
+
+double* contact_parameter(ContactParametersDefinition& p, const std::string& key) {
+  if (key == "kt") return &p.kt;
+  if (key == "kn") return &p.kn;
+  if (key == "mu") return &p.mu;
+  if (key == "preload") return &p.preload;
+  if (key == "k") return &p.k;
+  if (key == "k1") return &p.k1;
+  if (key == "k3") return &p.k3;
+  return nullptr;
+}
+
+// Optimal string alignment distance: insertions, deletions, substitutions and transpositions of
+// adjacent characters each cost 1 ("jiont" -> "joint" is 1).
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// " (did you mean 'x'?)" for the closest candidate within a small edit distance, else "".
+std::string suggestion(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = std::string::npos;
+  for (const std::string& c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (d < best_distance) best = c, best_distance = d;
+  }
+  const size_t allowed = std::max<size_t>(1, std::min(word.size(), best.size()) / 3);
+  if (best.empty() || best_distance > allowed) return {};
+  return " (did you mean '" + best + "'?)";
+}
+
+std::string join(const std::vector<std::string>& words, const char* separator) {
+  std::string s;
+  for (size_t i = 0; i < words.size(); ++i) s += (i ? separator : "") + words[i];
+  return s;
+}
+
+std::string format_number(double v) { return fmt::format("{}", v); }
+
+int line_of(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+std::string node_text(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  if (node.IsSequence()) return "a list";
+  if (node.IsMap()) return "a map";
+  return "nothing";
+}
+
+// ---------------------------------------------------------------------------------------------
+class Parser {
+ public:
+  Parser(const std::string& file, const std::string& base_dir, CaseDefinition& out)
+      : file_(file), base_dir_(base_dir), out_(out) {}
+
+  [[noreturn]] void fail(const std::string& path, int line, const std::string& message) const {
+    throw InvalidInput(SourceLocation{file_, line, path}, message);
+  }
+  void check(bool ok, const std::string& path, int line, const std::string& message) const {
+    if (!ok) fail(path, line, message);
+  }
+  void record(const std::string& path, int line) { out_.locations[path] = {file_, line, path}; }
+  int line(const std::string& path) const {
+    const auto it = out_.locations.find(path);
+    return it == out_.locations.end() ? 0 : it->second.line;
+  }
+
+  // --- typed values (node = the value, line = where to report it) ---
+  double number(const YAML::Node& node, const std::string& path, int at) const {
+    check(node.IsScalar(), path, at, "expected a number, got " + node_text(node));
+    // A quoted scalar has the non-specific tag "!": text, even when it looks like a number.
+    check(node.Tag() != "!", path, at,
+          "expected a number, got the string \"" + node.Scalar() + "\"");
+    double v = 0;
+    check(YAML::convert<double>::decode(node, v), path, at,
+          "expected a number, got '" + node.Scalar() + "'");
+    check(std::isfinite(v), path, at, "must be a finite number");
+    return v;
+  }
+  double checked_number(const YAML::Node& node, const std::string& path, const std::string& key,
+                        int at) const {
+    const double v = number(node, path, at);
+    const std::string rule = numeric_rule_violation(key, v);
+    check(rule.empty(), path, at, rule + ", got " + format_number(v));
+    return v;
+  }
+  bool is_integer(const YAML::Node& node) const {
+    if (!node.IsScalar() || node.Tag() == "!") return false;
+    const std::string& s = node.Scalar();
+    if (s.empty()) return false;
+    size_t i = (s[0] == '-' || s[0] == '+') ? 1 : 0;
+    if (i == s.size()) return false;
+    for (; i < s.size(); ++i)
+      if (s[i] < '0' || s[i] > '9') return false;
+    return s.size() < 11;
+  }
+  int integer(const YAML::Node& node, const std::string& path, int at) const {
+    check(is_integer(node), path, at, "expected an integer, got " + describe(node));
+    return std::stoi(node.Scalar());
+  }
+  std::string text(const YAML::Node& node, const std::string& path, int at) const {
+    check(node.IsScalar(), path, at, "expected a string, got " + node_text(node));
+    return node.Scalar();
+  }
+  bool boolean(const YAML::Node& node, const std::string& path, int at) const {
+    bool v = false;
+    check(node.IsScalar() && node.Tag() != "!" && YAML::convert<bool>::decode(node, v), path, at,
+          "expected true or false, got " + describe(node));
+    return v;
+  }
+  std::string choice(const YAML::Node& node, const std::string& path, int at,
+                     const std::vector<std::string>& options) const {
+    const std::string v = text(node, path, at);
+    if (std::find(options.begin(), options.end(), v) == options.end())
+      fail(path, at,
+           "must be one of " + join(options, " | ") + ", got '" + v + "'" + suggestion(v, options));
+    return v;
+  }
+  void sequence(const YAML::Node& node, const std::string& path, int at) const {
+    check(node.IsSequence(), path, at, "expected a list, got " + describe(node));
+  }
+  std::array<double, 3> vector3(const YAML::Node& node, const std::string& path, int at) const {
+    sequence(node, path, at);
+    check(node.size() == 3, path, at,
+          "expected a list of 3 numbers, got " + std::to_string(node.size()) + " entries");
+    std::array<double, 3> v{};
+    for (size_t i = 0; i < 3; ++i) v[i] = number(node[i], path, at);
+    return v;
+  }
+  // x | y | z | -x | -y | -z, or a nonzero vector (normalised).
+  std::array<double, 3> direction(const YAML::Node& node, const std::string& path, int at) const {
+    if (node.IsScalar()) {
+      const std::vector<std::string> names{"x", "y", "z", "-x", "-y", "-z", "+x", "+y", "+z"};
+      const std::string s = choice(node, path, at, names);
+      std::array<double, 3> v{0, 0, 0};
+      v[static_cast<size_t>(s.back() - 'x')] = s[0] == '-' ? -1.0 : 1.0;
+      return v;
+    }
+    std::array<double, 3> v = vector3(node, path, at);
+    const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    check(norm > 0, path, at, "must be a nonzero vector");
+    for (double& c : v) c /= norm;
+    return v;
+  }
+  // Resolved path of an existing file.
+  std::string existing_file(const YAML::Node& node, const std::string& path, int at) const {
+    const std::string name = text(node, path, at);
+    check(!name.empty(), path, at, "expected a file name");
+    const std::string resolved = resolve(name);
+    std::error_code ec;
+    check(fs::is_regular_file(resolved, ec), path, at,
+          "file not found: " + resolved + (name != resolved ? " ('" + name + "')" : ""));
+    return resolved;
+  }
+  std::string resolve(const std::string& name) const {
+    const fs::path p(name);
+    if (p.is_absolute() || base_dir_.empty()) return p.lexically_normal().string();
+    return (fs::path(base_dir_) / p).lexically_normal().string();
+  }
+  std::string describe(const YAML::Node& node) const {
+    if (node.IsScalar()) return "'" + node.Scalar() + "'";
+    return node_text(node);
+  }
+
+  const std::string& file() const { return file_; }
+  CaseDefinition& out() { return out_; }
+
+ private:
+  std::string file_;
+  std::string base_dir_;
+  CaseDefinition& out_;
+};
+
+// A YAML map whose keys are checked against the known ones (unknown and duplicate keys rejected)
+// and whose values are read with their locations recorded under `path`.
+class MapView {
+ public:
+  MapView(Parser& p, const YAML::Node& node, std::string path, int at,
+          std::vector<std::string> known, const std::string& context = "")
+      : p_(p), path_(std::move(path)), line_(at) {
+    if (line_ <= 0) line_ = line_of(node);
+    p_.check(node.IsMap(), path_.empty() ? "(document)" : path_, line_,
+             "expected a map of keys, got " + p_.describe(node));
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const int key_line = line_of(it->first);
+      const std::string key = p_.text(it->first, path_, key_line);
+      const std::string key_path = full(key);
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        p_.fail(key_path, key_line,
+                "unknown key '" + key + "'" + context + suggestion(key, known) +
+                    "; known keys: " + join(known, ", "));
+      }
+      if (entries_.count(key))
+        p_.fail(key_path, key_line,
+                "duplicate key (first given on line " + std::to_string(entries_[key].line) + ")");
+      entries_[key] = {it->second, key_line};
+      p_.record(key_path, key_line);
+    }
+  }
+
+  bool has(const std::string& key) const { return entries_.count(key) > 0; }
+  const YAML::Node& value(const std::string& key) const { return entries_.at(key).value; }
+  int line(const std::string& key) const {
+    const auto it = entries_.find(key);
+    return it == entries_.end() ? line_ : it->second.line;
+  }
+  int line() const { return line_; }
+  std::string full(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  const std::string& path() const { return path_; }
+  std::vector<std::string> keys() const {
+    std::vector<std::string> k;
+    for (const auto& e : entries_) k.push_back(e.first);
+    return k;
+  }
+
+  void require(const std::string& key, const std::string& why = "") const {
+    if (!has(key))
+      p_.fail(full(key), line_, "required key missing" + (why.empty() ? "" : " (" + why + ")"));
+  }
+  void exclusive(const std::string& a, const std::string& b, const std::string& why = "") const {
+    if (has(a) && has(b))
+      p_.fail(full(b), line(b),
+              "give either '" + a + "' or '" + b + "', not both" + (why.empty() ? "" : ": " + why));
+  }
+  void forbid(const std::string& key, const std::string& why) const {
+    if (has(key)) p_.fail(full(key), line(key), "not allowed " + why);
+  }
+
+  // Readers: leave *dst unchanged (the default) when the key is absent.
+  void number(const std::string& key, double* dst) const {
+    if (has(key)) *dst = p_.checked_number(value(key), full(key), key, line(key));
+  }
+  void integer(const std::string& key, int* dst, int min) const {
+    if (!has(key)) return;
+    *dst = p_.integer(value(key), full(key), line(key));
+    p_.check(*dst >= min, full(key), line(key),
+             "must be >= " + std::to_string(min) + ", got " + std::to_string(*dst));
+  }
+  void text(const std::string& key, std::string* dst) const {
+    if (has(key)) *dst = p_.text(value(key), full(key), line(key));
+  }
+  void boolean(const std::string& key, bool* dst) const {
+    if (has(key)) *dst = p_.boolean(value(key), full(key), line(key));
+  }
+  void choice(const std::string& key, std::string* dst,
+              const std::vector<std::string>& options) const {
+    if (has(key)) *dst = p_.choice(value(key), full(key), line(key), options);
+  }
+  void file(const std::string& key, std::string* dst) const {
+    if (has(key)) *dst = p_.existing_file(value(key), full(key), line(key));
+  }
+
+ private:
+  struct Entry {
+    YAML::Node value;
+    int line = 0;
+  };
+  Parser& p_;
+  std::string path_;
+  int line_ = 0;
+  std::map<std::string, Entry> entries_;
+};
+
+// A node selection: a set name, a node id, or a list of them.
+NodeSelection node_selection(Parser& p, const YAML::Node& node, const std::string& path, int at) {
+  NodeSelection s;
+  auto one = [&](const YAML::Node& item) {
+    p.check(item.IsScalar(), path, at,
+            "expected a node set name or a node id, got " + p.describe(item));
+    if (p.is_integer(item)) {
+      const int id = std::stoi(item.Scalar());
+      p.check(id > 0, path, at, "node ids are positive, got " + std::to_string(id));
+      s.ids.push_back(id);
+    } else {
+      s.sets.push_back(item.Scalar());
+    }
+  };
+  if (node.IsSequence()) {
+    for (const YAML::Node& item : node) one(item);
+  } else {
+    one(node);
+  }
+  p.check(!s.empty(), path, at, "expected at least one node set or node id");
+  return s;
+}
+
+// Iterates the entries of a map whose keys are user-chosen names.
+template <typename F>
+void for_each_named(Parser& p, const MapView& parent, const std::string& key, F&& f) {
+  if (!parent.has(key)) return;
+  const YAML::Node& node = parent.value(key);
+  p.check(node.IsMap(), key, parent.line(key), "expected a map of names, got " + p.describe(node));
+  std::set<std::string> seen;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const int line = line_of(it->first);
+    const std::string name = p.text(it->first, key, line);
+    const std::string path = key + "." + name;
+    p.check(!name.empty(), path, line, "empty name");
+    p.check(seen.insert(name).second, path, line, "duplicate name");
+    p.record(path, line);
+    f(name, it->second, path, line);
+  }
+}
+
+void parse_materials(Parser& p, const MapView& top) {
+  for_each_named(
+      p, top, "materials",
+      [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
+        MapView m(p, node, path, line, {"youngs_modulus", "poisson_ratio", "density"});
+        MaterialDefinition d;
+        for (const char* key : {"youngs_modulus", "poisson_ratio", "density"}) m.require(key);
+        m.number("youngs_modulus", &d.youngs_modulus);
+        m.number("poisson_ratio", &d.poisson_ratio);
+        m.number("density", &d.density);
+        p.out().materials[name] = d;
+      });
+}
+
+void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
+  m.choice("arrangement", &d.arrangement, {"butt", "lap"});
+  if (m.has("element")) {
+    std::string e = p.text(m.value("element"), m.full("element"), m.line("element"));
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::toupper(c); });
+    const std::vector<std::string> hexahedra{"C3D8", "C3D8I", "C3D20", "C3D20R"};
+    p.check(std::find(hexahedra.begin(), hexahedra.end(), e) != hexahedra.end(), m.full("element"),
+            m.line("element"),
+            "must be a hexahedron type, one of " + join(hexahedra, " | ") + ", got '" + e + "'" +
+                suggestion(e, hexahedra));
+    d.element = e;
+  }
+  m.boolean("coarse", &d.coarse);
+  for (const char* key : {"box", "end_block"}) {
+    if (!m.has(key)) continue;
+    const YAML::Node& v = m.value(key);
+    p.sequence(v, m.full(key), m.line(key));
+    p.check(v.size() == 3, m.full(key), m.line(key),
+            "expected 3 element counts [x, y, z], got " + std::to_string(v.size()));
+    std::array<int, 3>& dst = std::string(key) == "box" ? d.box : d.end_block;
+    for (size_t i = 0; i < 3; ++i) {
+      dst[i] = p.integer(v[i], m.full(key), m.line(key));
+      p.check(dst[i] >= 1, m.full(key), m.line(key), "element counts must be >= 1");
+    }
+  }
+  for (const char* key : {"beam_length", "width", "thickness", "end_length"}) {
+    if (!m.has(key)) continue;
+    const double v = p.number(m.value(key), m.full(key), m.line(key));
+    p.check(v > 0, m.full(key), m.line(key), "must be > 0, got " + format_number(v));
+    const std::string k = key;
+    (k == "beam_length" ? d.beam_length
+     : k == "width"     ? d.width
+     : k == "thickness" ? d.thickness
+                        : d.end_length) = v;
+  }
+  if (!d.coarse) {
+    p.check(d.end_block[1] == d.box[1], m.full("end_block"), m.line("end_block"),
+            "a conforming mesh needs end_block[1] (y) = box[1], got " +
+                std::to_string(d.end_block[1]) + " and " + std::to_string(d.box[1]));
+    p.check(d.box[2] > d.end_block[2], m.full("box"), m.line("box"),
+            "a conforming mesh needs box[2] (z) > end_block[2], got " + std::to_string(d.box[2]) +
+                " and " + std::to_string(d.end_block[2]));
+  }
+}
+
+void parse_meshes(Parser& p, const MapView& top) {
+  for_each_named(
+      p, top, "meshes",
+      [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
+        const std::vector<std::string> two_beam_keys{"arrangement", "element",   "coarse",
+                                                     "box",         "end_block", "beam_length",
+                                                     "width",       "thickness", "end_length"};
+        std::vector<std::string> known{"generate", "file", "format", "hexahedron8", "hexahedron20"};
+        known.insert(known.end(), two_beam_keys.begin(), two_beam_keys.end());
+        MapView m(p, node, path, line, known);
+        MeshDefinition d;
+        m.exclusive("generate", "file");
+        if (!m.has("file")) m.require("generate", "or 'file'");
+        if (m.has("generate")) {
+          d.source = MeshDefinition::Source::kGenerate;
+          m.choice("generate", &d.generate, {"two_beam"});
+          for (const char* key : {"format", "hexahedron8", "hexahedron20"})
+            m.forbid(key, "with 'generate' (it is for mesh files)");
+          parse_two_beam(p, m, d.two_beam);
+        } else {
+          d.source = MeshDefinition::Source::kFile;
+          for (const std::string& key : two_beam_keys)
+            m.forbid(key, "with 'file' (it is for 'generate: two_beam')");
+          m.file("file", &d.file);
+          if (m.has("format")) {
+            m.choice("format", &d.format, {"inp", "msh"});
+          } else {
+            std::string ext = fs::path(d.file).extension().string();
+            std::transform(ext.begin(), ext.end(), ext.begin(),
+                           [](unsigned char c) { return std::tolower(c); });
+            p.check(ext == ".inp" || ext == ".msh", m.full("file"), m.line("file"),
+                    "cannot tell the format from the extension '" + ext +
+                        "': name it .inp or .msh, or add 'format: inp | msh'");
+            d.format = ext.substr(1);
+          }
+          if (d.format != "msh") {
+            for (const char* key : {"hexahedron8", "hexahedron20"})
+              m.forbid(key, "for a .inp file (its element types are in the file)");
+          }
+          m.choice("hexahedron8", &d.hexahedron8, {"C3D8", "C3D8I"});
+          m.choice("hexahedron20", &d.hexahedron20, {"C3D20", "C3D20R"});
+        }
+        p.out().meshes[name] = d;
+      });
+}
+
+void parse_bodies(Parser& p, const MapView& top) {
+  for_each_named(
+      p, top, "bodies",
+      [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
+        p.check(name != "ground", path, line,
+                "'ground' is reserved (the fixed ground of contacts)");
+        MapView m(p, node, path, line,
+                  {"mesh", "element_set", "material", "clamp", "masters", "modes",
+                   "modal_damping_ratio", "reduced"});
+        BodyDefinition d;
+        m.number("modal_damping_ratio", &d.modal_damping_ratio);
+        if (m.has("reduced")) {
+          d.source = BodyDefinition::Source::kReduced;
+          for (const char* key : {"mesh", "element_set", "material", "clamp", "masters", "modes"})
+            m.forbid(key, "with 'reduced' (the matrices are the body)");
+          MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
+                    {"stiffness", "mass", "mapping", "format"});
+          r.require("stiffness");
+          r.require("mass");
+          r.file("stiffness", &d.reduced.stiffness);
+          r.file("mass", &d.reduced.mass);
+          const std::string ext = fs::path(d.reduced.stiffness).extension().string();
+          d.reduced.format = ext == ".mtx" ? "matrix_market" : "harwell_boeing";
+          r.choice("format", &d.reduced.format, {"harwell_boeing", "matrix_market"});
+          if (r.has("mapping")) {
+            r.file("mapping", &d.reduced.mapping);
+          } else {
+            p.check(d.reduced.format == "harwell_boeing", r.full("mapping"), r.line(),
+                    "required key missing (only Harwell-Boeing matrices have a default mapping)");
+            d.reduced.mapping =
+                fs::path(d.reduced.stiffness).replace_extension(".mapping").string();
+            std::error_code ec;
+            p.check(fs::is_regular_file(d.reduced.mapping, ec), r.full("mapping"), r.line(),
+                    "file not found: " + d.reduced.mapping +
+                        " (the default mapping next to the stiffness matrix; or give 'mapping')");
+          }
+        } else {
+          d.source = BodyDefinition::Source::kMesh;
+          m.require("mesh", "or 'reduced'");
+          m.require("material");
+          m.text("mesh", &d.mesh);
+          if (!p.out().meshes.count(d.mesh)) {
+            std::vector<std::string> names;
+            for (const auto& [n, _] : p.out().meshes) names.push_back(n);
+            p.fail(m.full("mesh"), m.line("mesh"),
+                   "unknown mesh '" + d.mesh + "'" + suggestion(d.mesh, names) +
+                       (names.empty() ? "; no meshes defined" : "; meshes: " + join(names, ", ")));
+          }
+          m.text("material", &d.material);
+          if (!p.out().materials.count(d.material)) {
+            std::vector<std::string> names;
+            for (const auto& [n, _] : p.out().materials) names.push_back(n);
+            p.fail(m.full("material"), m.line("material"),
+                   "unknown material '" + d.material + "'" + suggestion(d.material, names) +
+                       (names.empty() ? "; no materials defined"
+                                      : "; materials: " + join(names, ", ")));
+          }
+          m.text("element_set", &d.element_set);
+          if (m.has("clamp"))
+            d.clamp = node_selection(p, m.value("clamp"), m.full("clamp"), m.line("clamp"));
+          if (m.has("masters"))
+            d.masters = node_selection(p, m.value("masters"), m.full("masters"), m.line("masters"));
+          m.integer("modes", &d.modes, 0);
+        }
+        p.out().bodies[name] = d;
+      });
+}
+
+// A body reference (optionally "ground").
+void check_body(Parser& p, const std::string& body, const std::string& path, int at,
+                bool ground_allowed) {
+  if (ground_allowed && body == "ground") return;
+  if (p.out().bodies.count(body)) return;
+  std::vector<std::string> names;
+  for (const auto& [n, _] : p.out().bodies) names.push_back(n);
+  if (ground_allowed) names.push_back("ground");
+  p.fail(path, at,
+         "unknown body '" + body + "'" + suggestion(body, names) +
+             (names.empty() ? "; no bodies defined" : "; bodies: " + join(names, ", ")));
+}
+
+void check_selection_on_body(Parser& p, const std::string& body, const NodeSelection& s,
+                             const std::string& path, int at) {
+  const auto it = p.out().bodies.find(body);
+  if (it == p.out().bodies.end() || it->second.source != BodyDefinition::Source::kReduced) return;
+  p.check(s.sets.empty(), path, at,
+          "body '" + body + "' is given by reduced matrices: it has no node sets, give node ids");
+}
+
+void parse_contacts(Parser& p, const MapView& top) {
+  if (!top.has("contacts")) return;
+  const YAML::Node& list = top.value("contacts");
+  p.sequence(list, "contacts", top.line("contacts"));
+  std::set<std::string> names;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node& node = list[i];
+    const std::string index_path = "contacts[" + std::to_string(i) + "]";
+    // The name is needed for the path, so read it first.
+    std::string name;
+    if (node.IsMap() && node["name"] && node["name"].IsScalar()) name = node["name"].Scalar();
+    const std::string path = name.empty() ? index_path : "contacts." + name;
+    MapView m(p, node, path, line_of(node),
+              {"name", "law", "between", "bodies", "pairs", "pairs_file", "tolerance", "normal",
+               "t1", "direction", "per_pair", "total", "preload_file", "gap"});
+    p.record(path, m.line());
+    ContactDefinition d;
+    m.require("name");
+    m.text("name", &d.name);
+    p.check(names.insert(d.name).second, m.full("name"), m.line("name"),
+            "duplicate contact name '" + d.name + "'");
+    m.require("law");
+    std::vector<std::string> laws;
+    for (const auto& [law, _] : law_parameters()) laws.push_back(law);
+    m.choice("law", &d.law, laws);
+
+    // Nodes: between (coincidence) or listed pairs.
+    const int given = int(m.has("between")) + int(m.has("pairs")) + int(m.has("pairs_file"));
+    p.check(given == 1, given == 0 ? m.full("between") : m.full("pairs"),
+            given == 0 ? m.line() : m.line(m.has("pairs") ? "pairs" : "pairs_file"),
+            given == 0 ? "required key missing: give 'between' (node sets), 'pairs' or 'pairs_file'"
+                       : "give only one of 'between', 'pairs', 'pairs_file'");
+    if (m.has("between")) {
+      m.forbid("bodies", "with 'between' (its keys are the bodies)");
+      const YAML::Node& b = m.value("between");
+      const std::string bpath = m.full("between");
+      p.check(b.IsMap() && (b.size() == 1 || b.size() == 2), bpath, m.line("between"),
+              "expected a map of one or two bodies to their node sets, e.g. {beam1: CONTACT1, "
+              "beam2: CONTACT2}; one body = contact with the ground");
+      int k = 0;
+      std::set<std::string> seen;
+      for (auto it = b.begin(); it != b.end(); ++it, ++k) {
+        const int at = line_of(it->first);
+        const std::string body = p.text(it->first, bpath, at);
+        check_body(p, body, bpath + "." + body, at, false);
+        p.check(seen.insert(body).second, bpath + "." + body, at, "duplicate key");
+        p.check(p.out().bodies.at(body).source == BodyDefinition::Source::kMesh, bpath + "." + body,
+                at,
+                "body '" + body +
+                    "' is given by reduced matrices (no coordinates): list the pairs instead");
+        p.record(bpath + "." + body, at);
+        (k == 0 ? d.body_a : d.body_b) = body;
+        (k == 0 ? d.nodes_a : d.nodes_b) = node_selection(p, it->second, bpath + "." + body, at);
+      }
+      if (d.body_b.empty()) d.body_b = "ground";
+      m.number("tolerance", &d.tolerance);
+      p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
+              "must be > 0, got " + format_number(d.tolerance));
+    } else {
+      m.forbid("tolerance", "with listed pairs (it is the coincidence distance of 'between')");
+      m.require("bodies", "the two bodies the pair node ids belong to, e.g. [beam1, beam2]");
+      const YAML::Node& b = m.value("bodies");
+      p.sequence(b, m.full("bodies"), m.line("bodies"));
+      p.check(b.size() == 2, m.full("bodies"), m.line("bodies"),
+              "expected two bodies [A, B] (B may be ground), got " + std::to_string(b.size()));
+      d.body_a = p.text(b[0], m.full("bodies"), m.line("bodies"));
+      d.body_b = p.text(b[1], m.full("bodies"), m.line("bodies"));
+      check_body(p, d.body_a, m.full("bodies"), m.line("bodies"), false);
+      check_body(p, d.body_b, m.full("bodies"), m.line("bodies"), true);
+      if (m.has("pairs")) {
+        const YAML::Node& pairs = m.value("pairs");
+        const std::string ppath = m.full("pairs");
+        p.sequence(pairs, ppath, m.line("pairs"));
+        p.check(pairs.size() > 0, ppath, m.line("pairs"), "expected at least one pair");
+        for (const YAML::Node& pair : pairs) {
+          const int at = line_of(pair) > 0 ? line_of(pair) : m.line("pairs");
+          std::array<int, 2> ids{0, 0};
+          if (d.body_b == "ground" && pair.IsScalar()) {
+            ids[0] = p.integer(pair, ppath, at);
+          } else {
+            p.check(pair.IsSequence() && pair.size() == 2, ppath, at,
+                    "expected a pair of node ids [node_a, node_b]" +
+                        std::string(d.body_b == "ground" ? " or one node id" : "") + ", got " +
+                        p.describe(pair));
+            ids = {p.integer(pair[0], ppath, at), p.integer(pair[1], ppath, at)};
+          }
+          p.check(ids[0] > 0 && (ids[1] > 0 || (d.body_b == "ground" && ids[1] == 0)), ppath, at,
+                  "node ids must be positive");
+          d.pairs.push_back(ids);
+        }
+      } else {
+        m.file("pairs_file", &d.pairs_file);
+      }
+    }
+
+    // Frame.
+    if (d.law == "friction") {
+      m.forbid("direction", "for law friction (it uses 'normal' and 't1')");
+      m.require("normal", "unit normal out of the first body into the second, e.g. [1, 0, 0]");
+      d.normal = p.direction(m.value("normal"), m.full("normal"), m.line("normal"));
+      if (m.has("t1")) {
+        d.t1 = p.direction(m.value("t1"), m.full("t1"), m.line("t1"));
+        const double c = d.t1[0] * d.normal[0] + d.t1[1] * d.normal[1] + d.t1[2] * d.normal[2];
+        p.check(std::abs(c) < 1 - 1e-6, m.full("t1"), m.line("t1"),
+                "must not be parallel to the normal");
+      }
+    } else {
+      m.forbid("normal", "for law " + d.law + " (a 1D law acts along 'direction')");
+      m.forbid("t1", "for law " + d.law + " (a 1D law acts along 'direction')");
+      m.require("direction", "the axis the 1D element acts along: x | y | z or a vector");
+      d.direction = p.direction(m.value("direction"), m.full("direction"), m.line("direction"));
+    }
+
+    // Parameters.
+    m.exclusive("per_pair", "total");
+    if (!m.has("total")) m.require("per_pair", "or 'total'");
+    const std::string block = m.has("per_pair") ? "per_pair" : "total";
+    d.parameters_given = block == "per_pair" ? ContactDefinition::Parameters::kPerPair
+                                             : ContactDefinition::Parameters::kTotal;
+    std::vector<std::string> known = law_parameters().at(d.law);
+    if (block == "total") known.push_back("split");
+    MapView params(p, m.value(block), m.full(block), m.line(block), known, " for law " + d.law);
+    for (const std::string& key : law_required().at(d.law)) params.require(key);
+    for (const std::string& key : law_parameters().at(d.law))
+      params.number(key, contact_parameter(d.parameters, key));
+    params.choice("split", &d.split, {"equal", "area"});
+
+    // Preload: uniform, per pair from a file, or a gap instead.
+    if (m.has("preload_file")) {
+      p.check(!params.has("preload"), params.full("preload"), params.line("preload"),
+              "give either 'preload' or 'preload_file', not both");
+      p.check(d.law == "friction" || d.law == "gap" || d.law == "jenkins", m.full("preload_file"),
+              m.line("preload_file"), "law " + d.law + " has no preload");
+      m.file("preload_file", &d.preload_file);
+    }
+    if (m.has("gap")) {
+      p.check(d.law == "friction" || d.law == "gap", m.full("gap"), m.line("gap"),
+              "law " + d.law + " has no gap");
+      p.check(!params.has("preload") && !m.has("preload_file"), m.full("gap"), m.line("gap"),
+              "give either a preload or a gap, not both");
+      m.number("gap", &d.gap);
+    }
+    p.out().contacts.push_back(d);
+  }
+}
+
+void parse_excitation(Parser& p, const MapView& top) {
+  if (!top.has("excitation")) return;
+  const YAML::Node& list = top.value("excitation");
+  p.sequence(list, "excitation", top.line("excitation"));
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "excitation[" + std::to_string(i) + "]";
+    MapView m(p, list[i], path, line_of(list[i]),
+              {"body", "node_set", "node", "direction", "amplitude", "phase_deg", "complex",
+               "force", "harmonic"});
+    p.record(path, m.line());
+    ExcitationDefinition d;
+    m.require("body");
+    m.text("body", &d.body);
+    check_body(p, d.body, m.full("body"), m.line("body"), false);
+    m.exclusive("node_set", "node");
+    if (!m.has("node")) m.require("node_set", "or 'node'");
+    const std::string where = m.has("node") ? "node" : "node_set";
+    if (where == "node") {
+      const YAML::Node& v = m.value("node");
+      if (v.IsSequence()) {
+        p.check(v.size() > 0, m.full("node"), m.line("node"), "expected at least one node id");
+        for (const YAML::Node& id : v)
+          d.nodes.ids.push_back(p.integer(id, m.full("node"), m.line("node")));
+      } else {
+        d.nodes.ids.push_back(p.integer(v, m.full("node"), m.line("node")));
+      }
+      for (int id : d.nodes.ids)
+        p.check(id > 0, m.full("node"), m.line("node"), "node ids are positive");
+    } else {
+      const YAML::Node& v = m.value("node_set");
+      if (v.IsSequence()) {
+        for (const YAML::Node& s : v)
+          d.nodes.sets.push_back(p.text(s, m.full("node_set"), m.line("node_set")));
+      } else {
+        d.nodes.sets.push_back(p.text(v, m.full("node_set"), m.line("node_set")));
+      }
+      check_selection_on_body(p, d.body, d.nodes, m.full("node_set"), m.line("node_set"));
+    }
+    m.integer("harmonic", &d.harmonic, 0);
+
+    m.exclusive("force", "direction");
+    if (!m.has("force")) m.require("direction", "or 'force: [fx, fy, fz]'");
+    if (m.has("direction")) {
+      d.by_direction = true;
+      d.direction = p.direction(m.value("direction"), m.full("direction"), m.line("direction"));
+      m.exclusive("amplitude", "complex");
+      if (!m.has("complex")) m.require("amplitude", "N, or 'complex: [re, im]'");
+      std::complex<double> a;
+      if (m.has("complex")) {
+        m.forbid("phase_deg", "with 'complex' (the phase is in the complex amplitude)");
+        const YAML::Node& c = m.value("complex");
+        p.sequence(c, m.full("complex"), m.line("complex"));
+        p.check(c.size() == 2, m.full("complex"), m.line("complex"), "expected [re, im]");
+        a = {p.number(c[0], m.full("complex"), m.line("complex")),
+             p.number(c[1], m.full("complex"), m.line("complex"))};
+        d.amplitude = std::abs(a);
+        d.phase_deg = std::arg(a) * 180.0 / kPi;
+      } else {
+        m.number("amplitude", &d.amplitude);
+        m.number("phase_deg", &d.phase_deg);
+        a = std::polar(1.0, d.phase_deg * kPi / 180.0) * d.amplitude;
+      }
+      for (size_t c = 0; c < 3; ++c) d.force[c] = a * d.direction[c];
+    } else {
+      d.by_direction = false;
+      for (const char* key : {"amplitude", "phase_deg", "complex"})
+        m.forbid(key, "with 'force' (give complex components as [re, im])");
+      const YAML::Node& f = m.value("force");
+      p.sequence(f, m.full("force"), m.line("force"));
+      p.check(f.size() == 3, m.full("force"), m.line("force"),
+              "expected [fx, fy, fz], each a number or [re, im]");
+      for (size_t c = 0; c < 3; ++c) {
+        if (f[c].IsSequence()) {
+          p.check(f[c].size() == 2, m.full("force"), m.line("force"), "expected [re, im]");
+          d.force[c] = {p.number(f[c][0], m.full("force"), m.line("force")),
+                        p.number(f[c][1], m.full("force"), m.line("force"))};
+        } else {
+          d.force[c] = p.number(f[c], m.full("force"), m.line("force"));
+        }
+      }
+    }
+    p.out().excitation.push_back(d);
+  }
+}
+
+void parse_analysis(Parser& p, const MapView& top) {
+  top.require("analysis");
+  MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
+            {"frequency", "method", "harmonics", "time_samples", "static", "tolerance",
+             "max_iterations", "max_points", "initial_guess"});
+  AnalysisDefinition& a = p.out().analysis;
+  m.choice("method", &a.method, {"stepped", "continuation"});
+  m.require("frequency");
+  MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
+            {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
+             "max_step_hz"});
+  FrequencyDefinition& fr = a.frequency;
+  auto positive = [&](const char* key, double* dst) {
+    if (!f.has(key)) return;
+    *dst = p.number(f.value(key), f.full(key), f.line(key));
+    p.check(*dst > 0, f.full(key), f.line(key), "must be > 0, got " + format_number(*dst));
+  };
+  if (f.has("around_mode")) {
+    fr.kind = FrequencyDefinition::Kind::kAroundMode;
+    for (const char* key : {"start_hz", "stop_hz"})
+      f.forbid(key, "with 'around_mode' (the window is around_mode ± half_width_hz)");
+    f.require("half_width_hz");
+    f.integer("around_mode", &fr.around_mode, 1);
+    positive("half_width_hz", &fr.half_width_hz);
+  } else {
+    fr.kind = FrequencyDefinition::Kind::kRange;
+    f.forbid("half_width_hz", "without 'around_mode'");
+    f.require("start_hz", "or 'around_mode'");
+    f.require("stop_hz");
+    positive("start_hz", &fr.start_hz);
+    fr.stop_hz = p.number(f.value("stop_hz"), f.full("stop_hz"), f.line("stop_hz"));
+    p.check(fr.stop_hz > fr.start_hz, f.full("stop_hz"), f.line("stop_hz"),
+            "the frequency range is empty or inverted: stop_hz = " + format_number(fr.stop_hz) +
+                " must be > start_hz = " + format_number(fr.start_hz));
+  }
+  f.require("step_hz");
+  fr.step_hz = p.number(f.value("step_hz"), f.full("step_hz"), f.line("step_hz"));
+  p.check(fr.step_hz > 0, f.full("step_hz"), f.line("step_hz"),
+          "must be > 0, got " + format_number(fr.step_hz));
+  if (a.method != "continuation") {
+    for (const char* key : {"min_step_hz", "max_step_hz"})
+      f.forbid(key, "with method stepped (they bound the continuation step)");
+  }
+  positive("min_step_hz", &fr.min_step_hz);
+  positive("max_step_hz", &fr.max_step_hz);
+  if (fr.min_step_hz > 0)
+    p.check(fr.min_step_hz <= fr.step_hz, f.full("min_step_hz"), f.line("min_step_hz"),
+            "must be <= step_hz = " + format_number(fr.step_hz));
+  if (fr.max_step_hz > 0)
+    p.check(fr.max_step_hz >= fr.step_hz, f.full("max_step_hz"), f.line("max_step_hz"),
+            "must be >= step_hz = " + format_number(fr.step_hz));
+
+  if (m.has("harmonics")) {
+    const YAML::Node& h = m.value("harmonics");
+    const std::string path = m.full("harmonics");
+    a.harmonics.clear();
+    if (h.IsSequence()) {
+      p.check(h.size() > 0, path, m.line("harmonics"), "expected at least one harmonic");
+      for (const YAML::Node& k : h) {
+        const int v = p.integer(k, path, m.line("harmonics"));
+        p.check(v >= 1, path, m.line("harmonics"),
+                "harmonics in a list must be >= 1 (harmonic 0 is always kept), got " +
+                    std::to_string(v));
+        p.check(a.harmonics.empty() || v > a.harmonics.back(), path, m.line("harmonics"),
+                "the list must be strictly increasing");
+        a.harmonics.push_back(v);
+      }
+    } else {
+      const int H = p.integer(h, path, m.line("harmonics"));
+      p.check(H >= 1, path, m.line("harmonics"), "must be >= 1, got " + std::to_string(H));
+      for (int k = 1; k <= H; ++k) a.harmonics.push_back(k);
+    }
+  }
+  m.integer("time_samples", &a.time_samples, 1);
+  const int needed = 2 * (2 * a.max_harmonic() + 1);
+  p.check(a.time_samples >= needed, m.full("time_samples"), m.line("time_samples"),
+          "must be >= 2(2H+1) = " + std::to_string(needed) + " for highest harmonic H = " +
+              std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
+  m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
+  if (m.has("tolerance")) {
+    a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
+    p.check(a.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
+            "must be > 0, got " + format_number(a.tolerance));
+  }
+  m.integer("max_iterations", &a.max_iterations, 1);
+  if (a.method != "continuation") m.forbid("max_points", "with method stepped");
+  m.integer("max_points", &a.max_points, 2);
+  m.choice("initial_guess", &a.initial_guess, {"stuck", "free"});
+}
+
+void parse_recovery(Parser& p, const MapView& top) {
+  if (!top.has("recovery")) return;
+  MapView m(p, top.value("recovery"), "recovery", top.line("recovery"),
+            {"points", "method", "modes", "fields", "nodes"});
+  RecoveryDefinition& r = p.out().recovery;
+  if (m.has("points")) {
+    const YAML::Node& v = m.value("points");
+    if (v.IsSequence()) {
+      r.points = "list";
+      p.check(v.size() > 0, m.full("points"), m.line("points"), "expected at least one frequency");
+      for (const YAML::Node& hz : v) {
+        const double f = p.number(hz, m.full("points"), m.line("points"));
+        p.check(f > 0, m.full("points"), m.line("points"),
+                "frequencies must be > 0 Hz, got " + format_number(f));
+        r.frequencies_hz.push_back(f);
+      }
+    } else {
+      r.points = p.choice(v, m.full("points"), m.line("points"), {"peak", "all", "none"});
+    }
+  }
+  m.choice("method", &r.method, {"direct", "modal", "expansion"});
+  if (r.method != "modal") m.forbid("modes", "unless method is modal");
+  m.integer("modes", &r.modes, 1);
+  if (m.has("fields")) {
+    const YAML::Node& v = m.value("fields");
+    p.sequence(v, m.full("fields"), m.line("fields"));
+    r.fields.clear();
+    for (const YAML::Node& f : v) {
+      const std::string s =
+          p.choice(f, m.full("fields"), m.line("fields"), {"displacement", "stress"});
+      p.check(std::find(r.fields.begin(), r.fields.end(), s) == r.fields.end(), m.full("fields"),
+              m.line("fields"), "'" + s + "' listed twice");
+      r.fields.push_back(s);
+    }
+  }
+  if (m.has("nodes")) {
+    const YAML::Node& v = m.value("nodes");
+    p.sequence(v, m.full("nodes"), m.line("nodes"));
+    for (const YAML::Node& n : v) {
+      const int id = p.integer(n, m.full("nodes"), m.line("nodes"));
+      p.check(id > 0, m.full("nodes"), m.line("nodes"), "node ids are positive");
+      r.nodes.push_back(id);
+    }
+  }
+}
+
+void parse_output(Parser& p, const MapView& top) {
+  OutputDefinition& o = p.out().output;
+  o.directory = p.resolve(o.directory);
+  if (!top.has("output")) return;
+  MapView m(
+      p, top.value("output"), "output", top.line("output"),
+      {"directory", "vtu", "plots", "apdl_macro", "calculix_deck", "histories", "frf", "quiet"});
+  if (m.has("directory")) {
+    m.text("directory", &o.directory);
+    p.check(!o.directory.empty(), m.full("directory"), m.line("directory"), "empty directory");
+    o.directory = p.resolve(o.directory);
+  }
+  m.boolean("vtu", &o.vtu);
+  m.boolean("plots", &o.plots);
+  m.boolean("apdl_macro", &o.apdl_macro);
+  m.boolean("calculix_deck", &o.calculix_deck);
+  m.boolean("quiet", &o.quiet);
+  if (m.has("histories")) {
+    MapView h(
+        p, m.value("histories"), "output.histories", m.line("histories"),
+        [&] {
+          std::vector<std::string> names;
+          for (const ContactDefinition& c : p.out().contacts) names.push_back(c.name);
+          return names;
+        }(),
+        " (histories are keyed by contact name)");
+    for (const std::string& name : h.keys()) {
+      const YAML::Node& v = h.value(name);
+      std::vector<int>& dst = o.histories[name];
+      if (v.IsSequence()) {
+        for (const YAML::Node& k : v) dst.push_back(p.integer(k, h.full(name), h.line(name)));
+      } else {
+        dst.push_back(p.integer(v, h.full(name), h.line(name)));
+      }
+      for (int k : dst)
+        p.check(k >= 0, h.full(name), h.line(name), "pair indices are 0-based, >= 0");
+    }
+  }
+  if (m.has("frf")) {
+    const YAML::Node& v = m.value("frf");
+    p.sequence(v, m.full("frf"), m.line("frf"));
+    for (size_t i = 0; i < v.size(); ++i) {
+      MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]", m.line("frf"),
+                {"body", "node", "direction"});
+      ResponseDofDefinition r;
+      for (const char* key : {"body", "node", "direction"}) d.require(key);
+      d.text("body", &r.body);
+      check_body(p, r.body, d.full("body"), d.line("body"), false);
+      d.integer("node", &r.node, 1);
+      std::string dir;
+      d.choice("direction", &dir, {"x", "y", "z"});
+      r.direction = dir[0] - 'x';
+      o.frf.push_back(r);
+    }
+  }
+}
+
+// Checks across sections that need everything parsed.
+void cross_check(Parser& p) {
+  CaseDefinition& c = p.out();
+  for (size_t i = 0; i < c.excitation.size(); ++i) {
+    const ExcitationDefinition& e = c.excitation[i];
+    const std::string path = "excitation[" + std::to_string(i) + "].harmonic";
+    const auto& hs = c.analysis.harmonics;
+    p.check(e.harmonic == 0 || std::find(hs.begin(), hs.end(), e.harmonic) != hs.end(), path,
+            c.where(path).line,
+            "harmonic " + std::to_string(e.harmonic) +
+                " is not solved: analysis.harmonics has 1.." +
+                std::to_string(c.analysis.max_harmonic()) + " (use 0 for a static force)");
+  }
+}
+
+void parse_study(Parser& p, const MapView& top) {
+  if (!top.has("study")) return;
+  MapView m(p, top.value("study"), "study", top.line("study"), {"parameter", "values"});
+  StudyDefinition& s = p.out().study;
+  m.require("parameter", "the dotted key to vary, e.g. contacts.joint.per_pair.preload");
+  m.require("values");
+  m.text("parameter", &s.parameter);
+  const YAML::Node& v = m.value("values");
+  p.sequence(v, m.full("values"), m.line("values"));
+  p.check(v.size() > 0, m.full("values"), m.line("values"), "expected at least one value");
+  for (const YAML::Node& x : v) s.values.push_back(p.number(x, m.full("values"), m.line("values")));
+  // Each value must be accepted by the key it sets.
+  // The path must name a numeric key; each value must be accepted by that key.
+  with_parameter(p.out(), s.parameter, s.values.front(),
+                 {p.file(), m.line("parameter"), "study.parameter"});
+  for (double x : s.values)
+    with_parameter(p.out(), s.parameter, x, {p.file(), m.line("values"), "study.values"});
+}
+
+}  // namespace
+
+CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
+                          const std::string& base_dir) {
+  CaseDefinition out;
+  out.file = name_for_messages;
+  out.base_dir = base_dir;
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw InvalidInput(SourceLocation{name_for_messages, e.mark.line + 1, ""},
+                       "YAML syntax error: " + e.msg);
+  }
+  Parser p(name_for_messages, base_dir, out);
+  if (!root.IsDefined() || root.IsNull())
+    throw InvalidInput(SourceLocation{name_for_messages, 0, ""}, "the case file is empty");
+  MapView top(p, root, "", 1,
+              {"stickslip", "title", "materials", "meshes", "bodies", "contacts", "excitation",
+               "damping", "analysis", "study", "recovery", "output"});
+  top.require("stickslip", "the format version: stickslip: 1");
+  top.integer("stickslip", &out.version, 1);
+  p.check(out.version == kCaseFormatVersion, "stickslip", top.line("stickslip"),
+          "unsupported format version " + std::to_string(out.version) + " (this program reads " +
+              std::to_string(kCaseFormatVersion) + ")");
+  top.text("title", &out.title);
+  parse_materials(p, top);
+  parse_meshes(p, top);
+  top.require("bodies");
+  parse_bodies(p, top);
+  p.check(!out.bodies.empty(), "bodies", top.line("bodies"), "expected at least one body");
+  parse_contacts(p, top);
+  parse_excitation(p, top);
+  if (top.has("damping")) {
+    MapView d(p, top.value("damping"), "damping", top.line("damping"), {"alpha", "beta"});
+    d.number("alpha", &out.damping.alpha);
+    d.number("beta", &out.damping.beta);
+  }
+  parse_analysis(p, top);
+  parse_recovery(p, top);
+  parse_output(p, top);
+  cross_check(p);
+  parse_study(p, top);
+  return out;
+}
+
+CaseDefinition read_case_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput(SourceLocation{path, 0, ""}, "cannot open the case file");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string base = fs::path(path).parent_path().string();
+  if (base.empty()) base = ".";
+  return parse_case(text.str(), path, base);
+}
+
+CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,
+                              double value, const SourceLocation& where) {
+  CaseDefinition c = definition;
+  auto fail = [&](const std::string& rule) {
+    throw InvalidInput(where, "'" + path + "' = " + format_number(value) + ": " + rule);
+  };
+  std::vector<std::string> parts;
+  {
+    std::string part;
+    std::stringstream ss(path);
+    while (std::getline(ss, part, '.')) parts.push_back(part);
+  }
+  const std::string key = parts.empty() ? "" : parts.back();
+  double* field = nullptr;
+  std::function<void()> after;
+  const std::string supported =
+      "supported: materials.M.{youngs_modulus,poisson_ratio,density}, "
+      "contacts.C.{per_pair,total}.<parameter>, contacts.C.gap, damping.{alpha,beta}, "
+      "bodies.B.modal_damping_ratio, excitation[i].amplitude";
+  if (parts.size() == 3 && parts[0] == "materials") {
+    auto it = c.materials.find(parts[1]);
+    if (it == c.materials.end()) fail("no material '" + parts[1] + "'");
+    if (key == "youngs_modulus") field = &it->second.youngs_modulus;
+    if (key == "poisson_ratio") field = &it->second.poisson_ratio;
+    if (key == "density") field = &it->second.density;
+  } else if ((parts.size() == 3 || parts.size() == 4) && parts[0] == "contacts") {
+    auto it = std::find_if(c.contacts.begin(), c.contacts.end(),
+                           [&](const ContactDefinition& d) { return d.name == parts[1]; });
+    if (it == c.contacts.end()) fail("no contact '" + parts[1] + "'");
+    if (parts.size() == 3 && key == "gap") {
+      if (it->law != "friction" && it->law != "gap") fail("law " + it->law + " has no gap");
+      field = &it->gap;
+    } else if (parts.size() == 4 && (parts[2] == "per_pair" || parts[2] == "total")) {
+      const bool per_pair = it->parameters_given == ContactDefinition::Parameters::kPerPair;
+      if (per_pair != (parts[2] == "per_pair"))
+        fail("contact '" + it->name + "' gives its parameters " +
+             (per_pair ? "per_pair" : "as total"));
+      const auto& allowed = law_parameters().at(it->law);
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+        fail("'" + key + "' is not a parameter of law " + it->law);
+      if (key == "preload" && !it->preload_file.empty())
+        fail("contact '" + it->name + "' takes its preload from preload_file");
+      field = contact_parameter(it->parameters, key);
+    }
+  } else if (parts.size() == 2 && parts[0] == "damping") {
+    if (key == "alpha") field = &c.damping.alpha;
+    if (key == "beta") field = &c.damping.beta;
+  } else if (parts.size() == 3 && parts[0] == "bodies" && key == "modal_damping_ratio") {
+    auto it = c.bodies.find(parts[1]);
+    if (it == c.bodies.end()) fail("no body '" + parts[1] + "'");
+    field = &it->second.modal_damping_ratio;
+  } else if (parts.size() == 2 && key == "amplitude" && parts[0].rfind("excitation[", 0) == 0 &&
+             parts[0].back() == ']') {
+    const std::string index = parts[0].substr(11, parts[0].size() - 12);
+    size_t i = c.excitation.size();
+    if (!index.empty() && index.find_first_not_of("0123456789") == std::string::npos &&
+        index.size() < 9)
+      i = static_cast<size_t>(std::stoul(index));
+    if (i >= c.excitation.size()) fail("no excitation entry " + index);
+    ExcitationDefinition& e = c.excitation[i];
+    if (!e.by_direction) fail("excitation " + index + " is a force vector, not an amplitude");
+    field = &e.amplitude;
+    after = [&e] {
+      const std::complex<double> a = std::polar(1.0, e.phase_deg * kPi / 180.0) * e.amplitude;
+      for (size_t k = 0; k < 3; ++k) e.force[k] = a * e.direction[k];
+    };
+  }
+  if (!field) fail("not a numeric key that a study can vary; " + supported);
+  const std::string rule = numeric_rule_violation(key, value);
+  if (!rule.empty()) fail(rule);
+  *field = value;
+  if (after) after();
+  return c;
+}
+
+std::string describe_case(const CaseDefinition& c) {
+  YAML::Emitter e;
+  auto vec = [&](const auto& v) {
+    e << YAML::Flow << YAML::BeginSeq;
+    for (const auto& x : v) e << x;
+    e << YAML::EndSeq;
+  };
+  auto selection = [&](const NodeSelection& s) {
+    e << YAML::Flow << YAML::BeginSeq;
+    for (const std::string& x : s.sets) e << x;
+    for (int x : s.ids) e << x;
+    e << YAML::EndSeq;
+  };
+  e << YAML::BeginMap;
+  e << YAML::Key << "stickslip" << YAML::Value << c.version;
+  e << YAML::Key << "title" << YAML::Value << c.title;
+  e << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, m] : c.materials) {
+    e << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "youngs_modulus" << YAML::Value << m.youngs_modulus;
+    e << YAML::Key << "poisson_ratio" << YAML::Value << m.poisson_ratio;
+    e << YAML::Key << "density" << YAML::Value << m.density << YAML::EndMap;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "meshes" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, m] : c.meshes) {
+    e << YAML::Key << name << YAML::Value << YAML::BeginMap;
+    if (m.source == MeshDefinition::Source::kGenerate) {
+      const TwoBeamDefinition& t = m.two_beam;
+      e << YAML::Key << "generate" << YAML::Value << m.generate;
+      e << YAML::Key << "arrangement" << YAML::Value << t.arrangement;
+      e << YAML::Key << "element" << YAML::Value << t.element;
+      e << YAML::Key << "coarse" << YAML::Value << t.coarse;
+      e << YAML::Key << "box" << YAML::Value;
+      vec(t.box);
+      e << YAML::Key << "end_block" << YAML::Value;
+      vec(t.end_block);
+      e << YAML::Key << "beam_length" << YAML::Value << t.beam_length;
+      e << YAML::Key << "width" << YAML::Value << t.width;
+      e << YAML::Key << "thickness" << YAML::Value << t.thickness;
+      e << YAML::Key << "end_length" << YAML::Value << t.end_length;
+    } else {
+      e << YAML::Key << "file" << YAML::Value << m.file;
+      e << YAML::Key << "format" << YAML::Value << m.format;
+      if (m.format == "msh") {
+        e << YAML::Key << "hexahedron8" << YAML::Value << m.hexahedron8;
+        e << YAML::Key << "hexahedron20" << YAML::Value << m.hexahedron20;
+      }
+    }
+    e << YAML::EndMap;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "bodies" << YAML::Value << YAML::BeginMap;
+  for (const auto& [name, b] : c.bodies) {
+    e << YAML::Key << name << YAML::Value << YAML::BeginMap;
+    if (b.source == BodyDefinition::Source::kMesh) {
+      e << YAML::Key << "mesh" << YAML::Value << b.mesh;
+      e << YAML::Key << "element_set" << YAML::Value << b.element_set;
+      e << YAML::Key << "material" << YAML::Value << b.material;
+      e << YAML::Key << "clamp" << YAML::Value;
+      selection(b.clamp);
+      e << YAML::Key << "masters" << YAML::Value;
+      selection(b.masters);
+      e << YAML::Key << "modes" << YAML::Value << b.modes;
+    } else {
+      e << YAML::Key << "reduced" << YAML::Value << YAML::BeginMap;
+      e << YAML::Key << "stiffness" << YAML::Value << b.reduced.stiffness;
+      e << YAML::Key << "mass" << YAML::Value << b.reduced.mass;
+      e << YAML::Key << "mapping" << YAML::Value << b.reduced.mapping;
+      e << YAML::Key << "format" << YAML::Value << b.reduced.format << YAML::EndMap;
+    }
+    e << YAML::Key << "modal_damping_ratio" << YAML::Value << b.modal_damping_ratio;
+    e << YAML::EndMap;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "contacts" << YAML::Value << YAML::BeginSeq;
+  for (const ContactDefinition& d : c.contacts) {
+    e << YAML::BeginMap;
+    e << YAML::Key << "name" << YAML::Value << d.name;
+    e << YAML::Key << "law" << YAML::Value << d.law;
+    e << YAML::Key << "bodies" << YAML::Value;
+    vec(std::vector<std::string>{d.body_a, d.body_b});
+    if (!d.nodes_a.empty()) {
+      e << YAML::Key << "between" << YAML::Value << YAML::BeginSeq;
+      selection(d.nodes_a);
+      selection(d.nodes_b);
+      e << YAML::EndSeq;
+      e << YAML::Key << "tolerance" << YAML::Value << d.tolerance;
+    } else if (!d.pairs_file.empty()) {
+      e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
+    } else {
+      e << YAML::Key << "pairs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (const auto& pr : d.pairs) vec(pr);
+      e << YAML::EndSeq;
+    }
+    e << YAML::Key << (d.law == "friction" ? "normal" : "direction") << YAML::Value;
+    vec(d.law == "friction" ? d.normal : d.direction);
+    if (d.law == "friction") {
+      e << YAML::Key << "t1" << YAML::Value;
+      vec(d.t1);
+    }
+    const bool per_pair = d.parameters_given == ContactDefinition::Parameters::kPerPair;
+    e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
+      << YAML::BeginMap;
+    ContactParametersDefinition params = d.parameters;
+    for (const std::string& key : law_parameters().at(d.law))
+      e << YAML::Key << key << YAML::Value << *contact_parameter(params, key);
+    if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
+    e << YAML::EndMap;
+    if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
+    e << YAML::Key << "gap" << YAML::Value << d.gap;
+    e << YAML::EndMap;
+  }
+  e << YAML::EndSeq;
+  e << YAML::Key << "excitation" << YAML::Value << YAML::BeginSeq;
+  for (const ExcitationDefinition& x : c.excitation) {
+    e << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "body" << YAML::Value << x.body;
+    e << YAML::Key << "nodes" << YAML::Value;
+    selection(x.nodes);
+    e << YAML::Key << "harmonic" << YAML::Value << x.harmonic;
+    e << YAML::Key << "force" << YAML::Value << YAML::BeginSeq;
+    for (const auto& f : x.force) vec(std::array<double, 2>{f.real(), f.imag()});
+    e << YAML::EndSeq << YAML::EndMap;
+  }
+  e << YAML::EndSeq;
+  e << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  e << YAML::Key << "alpha" << YAML::Value << c.damping.alpha;
+  e << YAML::Key << "beta" << YAML::Value << c.damping.beta << YAML::EndMap;
+  const AnalysisDefinition& a = c.analysis;
+  e << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "frequency" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  if (a.frequency.kind == FrequencyDefinition::Kind::kRange) {
+    e << YAML::Key << "start_hz" << YAML::Value << a.frequency.start_hz;
+    e << YAML::Key << "stop_hz" << YAML::Value << a.frequency.stop_hz;
+  } else {
+    e << YAML::Key << "around_mode" << YAML::Value << a.frequency.around_mode;
+    e << YAML::Key << "half_width_hz" << YAML::Value << a.frequency.half_width_hz;
+  }
+  e << YAML::Key << "step_hz" << YAML::Value << a.frequency.step_hz;
+  if (a.method == "continuation") {
+    e << YAML::Key << "min_step_hz" << YAML::Value << a.frequency.min_step_hz;
+    e << YAML::Key << "max_step_hz" << YAML::Value << a.frequency.max_step_hz;
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "method" << YAML::Value << a.method;
+  e << YAML::Key << "harmonics" << YAML::Value;
+  vec(a.harmonics);
+  e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
+  e << YAML::Key << "static" << YAML::Value << a.static_coupling;
+  e << YAML::Key << "tolerance" << YAML::Value << a.tolerance;
+  e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
+  if (a.method == "continuation") e << YAML::Key << "max_points" << YAML::Value << a.max_points;
+  e << YAML::Key << "initial_guess" << YAML::Value << a.initial_guess;
+  e << YAML::EndMap;
+  if (c.study.active()) {
+    e << YAML::Key << "study" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "parameter" << YAML::Value << c.study.parameter;
+    e << YAML::Key << "values" << YAML::Value;
+    vec(c.study.values);
+    e << YAML::EndMap;
+  }
+  const RecoveryDefinition& r = c.recovery;
+  e << YAML::Key << "recovery" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  e << YAML::Key << "points" << YAML::Value;
+  if (r.points == "list") {
+    vec(r.frequencies_hz);
+  } else {
+    e << r.points;
+  }
+  e << YAML::Key << "method" << YAML::Value << r.method;
+  if (r.method == "modal") e << YAML::Key << "modes" << YAML::Value << r.modes;
+  e << YAML::Key << "fields" << YAML::Value;
+  vec(r.fields);
+  e << YAML::Key << "nodes" << YAML::Value;
+  vec(r.nodes);
+  e << YAML::EndMap;
+  const OutputDefinition& o = c.output;
+  e << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
+  e << YAML::Key << "directory" << YAML::Value << o.directory;
+  e << YAML::Key << "vtu" << YAML::Value << o.vtu;
+  e << YAML::Key << "plots" << YAML::Value << o.plots;
+  e << YAML::Key << "apdl_macro" << YAML::Value << o.apdl_macro;
+  e << YAML::Key << "calculix_deck" << YAML::Value << o.calculix_deck;
+  e << YAML::Key << "histories" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  for (const auto& [name, pairs] : o.histories) {
+    e << YAML::Key << name << YAML::Value;
+    vec(pairs);
+  }
+  e << YAML::EndMap;
+  e << YAML::Key << "frf" << YAML::Value << YAML::BeginSeq;
+  for (const ResponseDofDefinition& d : o.frf) {
+    e << YAML::Flow << YAML::BeginMap << YAML::Key << "body" << YAML::Value << d.body;
+    e << YAML::Key << "node" << YAML::Value << d.node;
+    e << YAML::Key << "direction" << YAML::Value << std::string(1, char('x' + d.direction))
+      << YAML::EndMap;
+  }
+  e << YAML::EndSeq;
+  e << YAML::Key << "quiet" << YAML::Value << o.quiet;
+  e << YAML::EndMap;
+  e << YAML::EndMap;
+  return e.c_str();
+}
+
+}  // namespace stickslip

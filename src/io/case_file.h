@@ -1,0 +1,248 @@
+// The YAML case file (docs/case-file.md is the reference of every key): parsed into PLAIN DATA.
+//
+// CaseDefinition says what the user asked for, in the file's own terms and units (SI; frequencies
+// in Hz, fields named *_hz; phases in degrees): materials, meshes (generated or read), bodies
+// (a mesh part, or reduced matrices plus a mapping), contacts, excitation, damping, analysis,
+// an optional parameter study, recovery and output. Defaults are written once, in the structs
+// below. Nothing here loads meshes or matrices: the `run` pipeline (src/cli) maps the definition
+// onto the library and reports later problems (a node set missing from a mesh, ...) through
+// CaseDefinition::where().
+//
+// Checked at parse time, each throwing InvalidInput{file, line, dotted key} with the rule:
+// YAML syntax (yaml-cpp's line), unknown keys (with a suggestion when a known key is close),
+// duplicate keys, wrong types (a quoted string or text where a number is expected, a scalar
+// where a list or map is expected), missing required keys, value ranges (stiffness ≥ 0,
+// E > 0, −1 < ν < 0.5, ρ > 0, μ ≥ 0, preload ≥ 0, gap ≥ 0, frequency range not empty and
+// increasing, step > 0, time_samples ≥ 2(2H+1), ...), references (material, mesh, body, contact
+// names), mutually exclusive keys (per_pair/total, preload/gap, node/node_set, ...), and the
+// existence of every file the case references (relative paths resolved against the directory of
+// the case file; the struct holds the resolved paths).
+//
+// Locations: `locations` maps the dotted path of every key read from the file to where it was
+// read, e.g. "contacts.joint.per_pair.kt", "bodies.beam1.modes", "excitation[0].amplitude"
+// (contacts by name, excitation by 0-based position). where(path) gives the location of the
+// path or of its nearest recorded ancestor, so a default value reports the block it belongs to.
+#pragma once
+
+#include <array>
+#include <complex>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/errors.h"
+
+namespace stickslip {
+
+inline constexpr int kCaseFormatVersion = 1;  // the value of the required key `stickslip`
+
+struct MaterialDefinition {
+  double youngs_modulus = 0.0;  // E, Pa (required, > 0)
+  double poisson_ratio = 0.0;   // ν (required, −1 < ν < 0.5)
+  double density = 0.0;         // ρ, kg/m³ (required, > 0)
+};
+
+// The reference two-beam model (io/two_beam_model.h, TwoBeamOptions), in the file's terms.
+struct TwoBeamDefinition {
+  std::string arrangement = "butt";       // butt | lap
+  std::string element = "C3D8I";          // C3D8 | C3D8I | C3D20 | C3D20R (upper case)
+  bool coarse = false;                    // thesis_coarse: 7x5x1 + 4x5x4, 240 nodes per beam
+  std::array<int, 3> box{25, 5, 8};       // elements of the large box along x, y, z
+  std::array<int, 3> end_block{5, 5, 4};  // elements of the end block along x, y, z
+  double beam_length = 0.25;              // L, m
+  double width = 0.05;                    // W, m
+  double thickness = 0.03;                // T, m
+  double end_length = 0.05;               // e, m
+};
+
+struct MeshDefinition {
+  enum class Source { kGenerate, kFile };
+  Source source = Source::kGenerate;
+  std::string generate = "two_beam";   // kGenerate: the generator (only two_beam)
+  TwoBeamDefinition two_beam;          // kGenerate
+  std::string file;                    // kFile: resolved path of a .inp or .msh file
+  std::string format;                  // kFile: inp | msh (from the extension unless given)
+  std::string hexahedron8 = "C3D8I";   // msh: element of 8-node hexahedra (C3D8 | C3D8I)
+  std::string hexahedron20 = "C3D20";  // msh: element of 20-node hexahedra (C3D20 | C3D20R)
+};
+
+// A node selection: node sets by name and/or external node ids, in the order given.
+struct NodeSelection {
+  std::vector<std::string> sets;
+  std::vector<int> ids;
+  bool empty() const { return sets.empty() && ids.empty(); }
+};
+
+struct ReducedMatricesDefinition {
+  std::string stiffness;                  // resolved path (required)
+  std::string mass;                       // resolved path (required)
+  std::string mapping;                    // resolved path; HB default: stiffness with .mapping
+  std::string format = "harwell_boeing";  // harwell_boeing | matrix_market
+};
+
+struct BodyDefinition {
+  enum class Source { kMesh, kReduced };
+  Source source = Source::kMesh;
+  // kMesh: a part of a mesh, reduced by Craig–Bampton.
+  std::string mesh;         // name in CaseDefinition::meshes (required)
+  std::string element_set;  // elements of the body; empty = the whole mesh
+  std::string material;     // name in CaseDefinition::materials (required)
+  NodeSelection clamp;      // nodes fixed in x, y, z
+  NodeSelection masters;    // extra boundary (master) nodes kept by the reduction
+  int modes = 60;           // fixed-interface modes kept (≥ 0)
+  // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
+  double modal_damping_ratio = 0.0;
+  ReducedMatricesDefinition reduced;  // kReduced
+};
+
+// Contact parameters; which apply depends on the law (docs/case-file.md). Per pair, or totals
+// over all pairs of the contact (kt, kn, k, k1, k3, preload split; mu, gap not).
+struct ContactParametersDefinition {
+  double kt = 0.0;       // tangential stiffness, N/m (friction, jenkins)
+  double kn = 0.0;       // normal stiffness, N/m (friction, gap)
+  double mu = 0.0;       // friction coefficient (friction, jenkins)
+  double preload = 0.0;  // N0, N, compression positive (friction, jenkins, gap)
+  double k = 0.0;        // stiffness, N/m (linear)
+  double k1 = 0.0;       // linear part, N/m (cubic)
+  double k3 = 0.0;       // cubic coefficient, N/m³ (cubic)
+};
+
+struct ContactDefinition {
+  std::string name;  // unique (required)
+  std::string law;   // friction | jenkins | gap | cubic | linear (required)
+  // The two bodies, A then B (B may be "ground" for a node-to-ground element).
+  std::string body_a, body_b;
+  // Pairs found by coincidence between two node selections (`between`) ...
+  NodeSelection nodes_a, nodes_b;
+  double tolerance = 1.0e-6;  // m: coincidence distance
+  // ... or listed: (node id on A, node id on B; 0 for ground), from `pairs` or `pairs_file`.
+  std::vector<std::array<int, 2>> pairs;
+  std::string pairs_file;  // resolved path; CSV "node_a,node_b" per line
+  // Frame: unit normal out of A into B (friction); optional first tangent hint (0 = none).
+  // 1D laws act along `direction` instead.
+  std::array<double, 3> normal{0, 0, 0};
+  std::array<double, 3> t1{0, 0, 0};
+  std::array<double, 3> direction{0, 0, 0};
+  enum class Parameters { kPerPair, kTotal };
+  Parameters parameters_given = Parameters::kPerPair;
+  ContactParametersDefinition parameters;
+  std::string split = "equal";  // total: equal | area
+  std::string preload_file;     // resolved path; CSV "node_a,preload" per pair (N)
+  double gap = 0.0;             // g0, m (≥ 0): initial gap instead of a preload
+};
+
+struct ExcitationDefinition {
+  std::string body;     // required
+  NodeSelection nodes;  // node_set or node(s): the force acts on EACH node
+  int harmonic = 1;     // k ≥ 0 (0 = static force); 0 or an analysis harmonic
+  // Given as direction + amplitude (+ phase_deg, or complex), or as a force vector:
+  bool by_direction = true;
+  std::array<double, 3> direction{0, 0, 0};  // unit vector (by_direction)
+  double amplitude = 0.0;                    // N (by_direction; the modulus when `complex`)
+  double phase_deg = 0.0;                    // degrees (by_direction)
+  // Complex amplitude of the force vector on each node, N: f(t) = Re(F e^{ikΩt}), so
+  // amplitude A and phase φ give A cos(kΩt + φ) along the direction (DESIGN.md convention).
+  std::array<std::complex<double>, 3> force{};
+};
+
+struct DampingDefinition {
+  double alpha = 0.0;  // s⁻¹, C = α M + β K
+  double beta = 0.0;   // s
+};
+
+struct FrequencyDefinition {
+  enum class Kind { kRange, kAroundMode };
+  Kind kind = Kind::kRange;
+  double start_hz = 0.0, stop_hz = 0.0;  // kRange: start < stop
+  int around_mode = 0;                   // kAroundMode: 1-based mode of the stuck assembly
+  double half_width_hz = 0.0;            // kAroundMode: window ± half_width_hz (> 0)
+  double step_hz = 0.0;                  // stepped: the step; continuation: the initial step
+  double min_step_hz = 0.0;              // continuation; 0 = automatic
+  double max_step_hz = 0.0;              // continuation; 0 = automatic
+};
+
+struct AnalysisDefinition {
+  FrequencyDefinition frequency;   // required
+  std::string method = "stepped";  // stepped | continuation
+  std::vector<int> harmonics{1};   // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
+                                   // gives 1..H. Harmonic 0 is always kept (static part).
+  int time_samples = 64;           // N per period, ≥ 2(2 H_max + 1)
+  std::string static_coupling = "uncoupled";  // key `static`: uncoupled | coupled
+  double tolerance = 1.0e-8;                  // Newton, relative residual (> 0)
+  int max_iterations = 30;                    // Newton iterations per point (≥ 1)
+  int max_points = 10000;                     // continuation: points at most (≥ 2)
+  std::string initial_guess = "stuck";        // stuck | free
+  int max_harmonic() const { return harmonics.empty() ? 0 : harmonics.back(); }
+};
+
+struct StudyDefinition {
+  std::string parameter;       // dotted path of a numeric key, e.g. contacts.joint.per_pair.preload
+  std::vector<double> values;  // one analysis per value (empty: no study)
+  bool active() const { return !parameter.empty(); }
+};
+
+struct RecoveryDefinition {
+  std::string points = "peak";         // peak | all | none | list (then frequencies_hz)
+  std::vector<double> frequencies_hz;  // points: list
+  std::string method = "direct";       // direct | modal | expansion
+  int modes = 100;                     // modal: full-model modes (≥ 1)
+  std::vector<std::string> fields{"displacement", "stress"};  // displacement | stress
+  std::vector<int> nodes;  // node ids whose recovered response is written
+};
+
+struct ResponseDofDefinition {
+  std::string body;
+  int node = 0;       // external id
+  int direction = 0;  // 0 = x, 1 = y, 2 = z
+};
+
+struct OutputDefinition {
+  std::string directory = "results";  // resolved against the case file's directory
+  bool vtu = true;
+  bool plots = true;
+  bool apdl_macro = false;     // contact forces as an ANSYS APDL macro
+  bool calculix_deck = false;  // contact forces in a CalculiX *STEADY STATE DYNAMICS deck
+  std::map<std::string, std::vector<int>> histories;  // contact -> 0-based pair indices
+  std::vector<ResponseDofDefinition> frf;             // DOFs whose FRF is plotted
+  bool quiet = false;
+};
+
+struct CaseDefinition {
+  std::string file;      // name used in messages
+  std::string base_dir;  // directory relative paths were resolved against
+  int version = kCaseFormatVersion;
+  std::string title;
+  std::map<std::string, MaterialDefinition> materials;
+  std::map<std::string, MeshDefinition> meshes;
+  std::map<std::string, BodyDefinition> bodies;
+  std::vector<ContactDefinition> contacts;  // in file order
+  std::vector<ExcitationDefinition> excitation;
+  DampingDefinition damping;
+  AnalysisDefinition analysis;
+  StudyDefinition study;
+  RecoveryDefinition recovery;
+  OutputDefinition output;
+
+  std::map<std::string, SourceLocation> locations;  // dotted path -> where it was read
+  // Location of `path` or its nearest recorded ancestor (key = path); file only if none.
+  SourceLocation where(const std::string& path) const;
+};
+
+// Reads and checks a case file (relative paths resolved against its directory).
+CaseDefinition read_case_file(const std::string& path);
+// Same, from text: name_for_messages names it in errors, base_dir resolves relative paths.
+CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
+                          const std::string& base_dir);
+
+// Returns `definition` with the numeric key at dotted `path` set to `value` (the study
+// mechanism): materials.M.{youngs_modulus,poisson_ratio,density},
+// contacts.C.{per_pair|total}.{kt,kn,mu,preload,k,k1,k3}, contacts.C.gap, damping.{alpha,beta},
+// bodies.B.modal_damping_ratio, excitation[i].amplitude (scales the force to that magnitude).
+// Throws InvalidInput (at `where`) for an unknown path or a value that breaks the key's rule.
+CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,
+                              double value, const SourceLocation& where = {});
+
+// The definition as canonical YAML with every default filled in (for summary.json and logs).
+std::string describe_case(const CaseDefinition& definition);
+
+}  // namespace stickslip

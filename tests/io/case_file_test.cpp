@@ -1,0 +1,643 @@
+#include "io/case_file.h"
+
+#include <gtest/gtest.h>
+
+#include <complex>
+#include <string>
+
+#include "core/errors.h"
+
+namespace stickslip {
+namespace {
+
+const std::string kDir = std::string(STICKSLIP_TEST_DATA_DIR) + "/case";
+
+// Exact decimal values written in the files parse to the nearest double: compare exactly where the
+// file gives the number, with a tolerance only where the parser computes (unit vectors, polar).
+constexpr double kComputed = 1e-12;  // a few ulps of O(1) products of sin/cos/sqrt
+
+// A minimal valid case; the line numbers matter to the tests below (line 1 = "stickslip: 1").
+const std::string kMinimal = R"(stickslip: 1
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}
+contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}
+excitation:
+  - {body: beam1, node_set: FORCE1, direction: z, amplitude: 50}
+analysis:
+  frequency: {start_hz: 1852, stop_hz: 1856, step_hz: 0.01}
+)";
+
+// kMinimal with `old` (which must occur once) replaced by `replacement`.
+std::string edited(const std::string& old, const std::string& replacement) {
+  const size_t at = kMinimal.find(old);
+  EXPECT_NE(at, std::string::npos) << old;
+  EXPECT_EQ(kMinimal.find(old, at + 1), std::string::npos) << old;
+  std::string s = kMinimal;
+  if (at != std::string::npos) s.replace(at, old.size(), replacement);
+  return s;
+}
+
+CaseDefinition parse(const std::string& text) { return parse_case(text, "case.yaml", kDir); }
+
+// Parses `text` expecting InvalidInput at `line` with `key`, and `message` in its message.
+void expect_invalid(const std::string& text, int line, const std::string& key,
+                    const std::string& message) {
+  try {
+    parse(text);
+    ADD_FAILURE() << "no InvalidInput; expected line " << line << " " << key << ": " << message;
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, "case.yaml") << e.what();
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_EQ(e.where().key, key) << e.what();
+    EXPECT_NE(e.message().find(message), std::string::npos)
+        << "message '" << e.message() << "' lacks '" << message << "'";
+  }
+}
+
+void expect_invalid_file(const std::string& file, int line, const std::string& key,
+                         const std::string& message) {
+  const std::string path = kDir + "/bad/" + file;
+  try {
+    read_case_file(path);
+    ADD_FAILURE() << "no InvalidInput for " << file;
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, path) << e.what();
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_EQ(e.where().key, key) << e.what();
+    EXPECT_NE(e.message().find(message), std::string::npos)
+        << "message '" << e.message() << "' lacks '" << message << "'";
+    // The full text starts with "file:line: key: ".
+    const std::string prefix = path + ":" + std::to_string(line) + ": ";
+    EXPECT_EQ(std::string(e.what()).rfind(prefix, 0), 0u) << e.what();
+  }
+}
+
+// ----------------------------------------------------------------------------- valid files ---
+
+TEST(CaseFile, ReferenceCaseParsesIntoTheExpectedDefinition) {
+  const CaseDefinition c = read_case_file(kDir + "/reference.yaml");
+  EXPECT_EQ(c.version, 1);
+  EXPECT_EQ(c.title, "two-beam friction joint");
+  EXPECT_EQ(c.base_dir, kDir);
+
+  ASSERT_EQ(c.materials.count("steel"), 1u);
+  EXPECT_EQ(c.materials.at("steel").youngs_modulus, 2.0e11);
+  EXPECT_EQ(c.materials.at("steel").poisson_ratio, 0.3);
+  EXPECT_EQ(c.materials.at("steel").density, 7800.0);
+
+  ASSERT_EQ(c.meshes.count("joint"), 1u);
+  const MeshDefinition& mesh = c.meshes.at("joint");
+  EXPECT_EQ(mesh.source, MeshDefinition::Source::kGenerate);
+  EXPECT_EQ(mesh.two_beam.arrangement, "butt");
+  EXPECT_EQ(mesh.two_beam.element, "C3D8I");
+  EXPECT_FALSE(mesh.two_beam.coarse);
+  EXPECT_EQ(mesh.two_beam.box, (std::array<int, 3>{25, 5, 8}));
+  EXPECT_EQ(mesh.two_beam.end_block, (std::array<int, 3>{5, 5, 4}));
+  EXPECT_EQ(mesh.two_beam.beam_length, 0.25);  // default (DESIGN.md geometry)
+
+  ASSERT_EQ(c.bodies.size(), 2u);
+  const BodyDefinition& beam2 = c.bodies.at("beam2");
+  EXPECT_EQ(beam2.source, BodyDefinition::Source::kMesh);
+  EXPECT_EQ(beam2.mesh, "joint");
+  EXPECT_EQ(beam2.element_set, "BEAM2");
+  EXPECT_EQ(beam2.material, "steel");
+  EXPECT_EQ(beam2.clamp.sets, std::vector<std::string>{"CLAMP2"});
+  EXPECT_EQ(beam2.masters.sets, (std::vector<std::string>{"CONTACT2", "FORCE2"}));
+  EXPECT_TRUE(beam2.masters.ids.empty());
+  EXPECT_EQ(beam2.modes, 60);
+  EXPECT_EQ(beam2.modal_damping_ratio, 0.0);
+
+  ASSERT_EQ(c.contacts.size(), 1u);
+  const ContactDefinition& joint = c.contacts[0];
+  EXPECT_EQ(joint.name, "joint");
+  EXPECT_EQ(joint.law, "friction");
+  EXPECT_EQ(joint.body_a, "beam1");
+  EXPECT_EQ(joint.body_b, "beam2");
+  EXPECT_EQ(joint.nodes_a.sets, std::vector<std::string>{"CONTACT1"});
+  EXPECT_EQ(joint.nodes_b.sets, std::vector<std::string>{"CONTACT2"});
+  EXPECT_EQ(joint.tolerance, 1.0e-6);
+  EXPECT_EQ(joint.normal, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(joint.t1, (std::array<double, 3>{0, 0, 0}));
+  EXPECT_EQ(joint.parameters_given, ContactDefinition::Parameters::kPerPair);
+  EXPECT_EQ(joint.parameters.kt, 4.467e9);
+  EXPECT_EQ(joint.parameters.kn, 5.6309e9);
+  EXPECT_EQ(joint.parameters.mu, 0.5);
+  EXPECT_EQ(joint.parameters.preload, 150.0);
+  EXPECT_EQ(joint.gap, 0.0);
+  EXPECT_TRUE(joint.pairs.empty());
+
+  ASSERT_EQ(c.excitation.size(), 2u);
+  EXPECT_EQ(c.excitation[0].body, "beam1");
+  EXPECT_EQ(c.excitation[0].nodes.sets, std::vector<std::string>{"FORCE1"});
+  EXPECT_EQ(c.excitation[0].harmonic, 1);
+  EXPECT_EQ(c.excitation[0].force[2], std::complex<double>(50, 0));
+  EXPECT_EQ(c.excitation[0].force[0], std::complex<double>(0, 0));
+  EXPECT_EQ(c.excitation[1].force[2], std::complex<double>(-50, 0));  // direction -z
+
+  EXPECT_EQ(c.damping.alpha, 5.0);
+  EXPECT_EQ(c.damping.beta, 0.0);
+
+  const AnalysisDefinition& a = c.analysis;
+  EXPECT_EQ(a.frequency.kind, FrequencyDefinition::Kind::kAroundMode);
+  EXPECT_EQ(a.frequency.around_mode, 4);
+  EXPECT_EQ(a.frequency.half_width_hz, 2.0);
+  EXPECT_EQ(a.frequency.step_hz, 0.01);
+  EXPECT_EQ(a.method, "stepped");
+  EXPECT_EQ(a.harmonics, std::vector<int>{1});
+  EXPECT_EQ(a.time_samples, 64);
+  EXPECT_EQ(a.static_coupling, "uncoupled");
+  EXPECT_EQ(a.tolerance, 1.0e-8);
+  EXPECT_EQ(a.max_iterations, 30);
+  EXPECT_EQ(a.initial_guess, "stuck");
+
+  EXPECT_EQ(c.study.parameter, "contacts.joint.per_pair.preload");
+  EXPECT_EQ(c.study.values, (std::vector<double>{150, 80, 50}));
+
+  EXPECT_EQ(c.recovery.points, "peak");
+  EXPECT_EQ(c.recovery.method, "direct");
+  EXPECT_EQ(c.recovery.fields, (std::vector<std::string>{"displacement", "stress"}));
+
+  EXPECT_EQ(c.output.directory, kDir + "/results");  // resolved against the case file
+  EXPECT_TRUE(c.output.vtu);
+  EXPECT_TRUE(c.output.plots);
+  EXPECT_EQ(c.output.histories.at("joint"), std::vector<int>{0});
+  ASSERT_EQ(c.output.frf.size(), 2u);
+  EXPECT_EQ(c.output.frf[1].node, 239);
+  EXPECT_EQ(c.output.frf[1].direction, 1);
+
+  // Lines of the file (counted in tests/data/case/reference.yaml).
+  EXPECT_EQ(c.where("stickslip").line, 4);
+  EXPECT_EQ(c.where("materials.steel.density").line, 8);
+  EXPECT_EQ(c.where("meshes.joint.box").line, 16);
+  EXPECT_EQ(c.where("bodies.beam2.modes").line, 33);
+  EXPECT_EQ(c.where("contacts.joint.per_pair.kn").line, 41);
+  EXPECT_EQ(c.where("contacts.joint.normal").line, 40);
+  EXPECT_EQ(c.where("excitation[1].amplitude").line, 45);
+  EXPECT_EQ(c.where("analysis.frequency.step_hz").line, 50);
+  EXPECT_EQ(c.where("study.values").line, 61);
+  EXPECT_EQ(c.where("contacts.joint.per_pair.kn").key, "contacts.joint.per_pair.kn");
+}
+
+TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
+  const std::string dir = kDir + "/imported";
+  const CaseDefinition c = read_case_file(dir + "/case.yaml");
+  EXPECT_EQ(c.materials.at("aluminium").youngs_modulus, 7.0e10);  // 7.0E+10
+  EXPECT_EQ(c.materials.at("aluminium").density, 2.7e3);
+
+  const MeshDefinition& part = c.meshes.at("part");
+  EXPECT_EQ(part.source, MeshDefinition::Source::kFile);
+  EXPECT_EQ(part.file, dir + "/model.inp");
+  EXPECT_EQ(part.format, "inp");
+
+  const BodyDefinition& disk = c.bodies.at("disk");
+  EXPECT_EQ(disk.clamp.ids, (std::vector<int>{1, 2}));
+  EXPECT_EQ(disk.masters.ids, std::vector<int>{7});
+  EXPECT_EQ(disk.masters.sets, std::vector<std::string>{"NALL"});
+  EXPECT_EQ(disk.modes, 0);
+  EXPECT_TRUE(disk.element_set.empty());
+
+  const BodyDefinition& blade = c.bodies.at("blade");
+  EXPECT_EQ(blade.source, BodyDefinition::Source::kReduced);
+  EXPECT_EQ(blade.reduced.stiffness, dir + "/k.hb");
+  EXPECT_EQ(blade.reduced.mass, dir + "/m.hb");
+  EXPECT_EQ(blade.reduced.mapping, dir + "/k.mapping");
+  EXPECT_EQ(blade.reduced.format, "harwell_boeing");
+  EXPECT_EQ(blade.modal_damping_ratio, 0.002);
+
+  ASSERT_EQ(c.contacts.size(), 3u);
+  const ContactDefinition& root = c.contacts[0];
+  EXPECT_EQ(root.body_a, "disk");
+  EXPECT_EQ(root.body_b, "blade");
+  EXPECT_EQ(root.pairs_file, dir + "/pairs.csv");
+  EXPECT_EQ(root.preload_file, dir + "/preload.csv");
+  EXPECT_EQ(root.parameters_given, ContactDefinition::Parameters::kTotal);
+  EXPECT_EQ(root.split, "area");
+  EXPECT_EQ(root.parameters.kt, 1.0e8);
+  EXPECT_EQ(root.parameters.mu, 0.3);
+  EXPECT_NEAR(root.normal[2], -1.0, kComputed);  // normalised [0, 0, -2]
+  EXPECT_EQ(root.t1, (std::array<double, 3>{0, 1, 0}));
+
+  const ContactDefinition& tip = c.contacts[1];
+  EXPECT_EQ(tip.law, "gap");
+  EXPECT_EQ(tip.body_b, "ground");
+  ASSERT_EQ(tip.pairs.size(), 1u);
+  EXPECT_EQ(tip.pairs[0], (std::array<int, 2>{10, 0}));
+  EXPECT_EQ(tip.direction, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_EQ(tip.parameters.kn, 1e7);
+  EXPECT_EQ(tip.gap, 1.0e-5);
+
+  const ContactDefinition& cubic = c.contacts[2];
+  EXPECT_EQ(cubic.pairs[0], (std::array<int, 2>{7, 10}));
+  EXPECT_EQ(cubic.parameters.k3, -1.5e12);  // softening is allowed
+  EXPECT_EQ(cubic.direction, (std::array<double, 3>{1, 0, 0}));
+
+  ASSERT_EQ(c.excitation.size(), 2u);
+  EXPECT_FALSE(c.excitation[0].by_direction);
+  EXPECT_EQ(c.excitation[0].harmonic, 3);
+  EXPECT_EQ(c.excitation[0].force[0], std::complex<double>(1, -2));
+  EXPECT_EQ(c.excitation[0].force[2], std::complex<double>(3.5, 0));
+  EXPECT_EQ(c.excitation[1].nodes.ids, (std::vector<int>{7, 8}));
+  EXPECT_EQ(c.excitation[1].force[2], std::complex<double>(0, 2));
+  EXPECT_EQ(c.excitation[1].amplitude, 2.0);
+  EXPECT_NEAR(c.excitation[1].phase_deg, 90.0, kComputed * 90);
+
+  const AnalysisDefinition& a = c.analysis;
+  EXPECT_EQ(a.frequency.kind, FrequencyDefinition::Kind::kRange);
+  EXPECT_EQ(a.frequency.start_hz, 100.0);
+  EXPECT_EQ(a.frequency.stop_hz, 300.0);
+  EXPECT_EQ(a.frequency.min_step_hz, 0.01);
+  EXPECT_EQ(a.frequency.max_step_hz, 2.0);
+  EXPECT_EQ(a.method, "continuation");
+  EXPECT_EQ(a.harmonics, (std::vector<int>{1, 3}));
+  EXPECT_EQ(a.time_samples, 14);  // exactly 2(2*3+1)
+  EXPECT_EQ(a.static_coupling, "coupled");
+  EXPECT_EQ(a.max_points, 500);
+  EXPECT_EQ(a.initial_guess, "free");
+
+  EXPECT_EQ(c.recovery.points, "list");
+  EXPECT_EQ(c.recovery.frequencies_hz, (std::vector<double>{150, 250.5}));
+  EXPECT_EQ(c.recovery.method, "modal");
+  EXPECT_EQ(c.recovery.modes, 40);
+  EXPECT_EQ(c.recovery.fields, std::vector<std::string>{"stress"});
+  EXPECT_EQ(c.recovery.nodes, std::vector<int>{7});
+
+  EXPECT_EQ(c.output.directory, "/tmp/out");  // absolute: kept
+  EXPECT_FALSE(c.output.vtu);
+  EXPECT_TRUE(c.output.apdl_macro);
+  EXPECT_TRUE(c.output.calculix_deck);
+  EXPECT_TRUE(c.output.quiet);
+}
+
+TEST(CaseFile, OmittedKeysTakeTheStructDefaults) {
+  const CaseDefinition c = parse(kMinimal);
+  const AnalysisDefinition defaults;
+  EXPECT_EQ(c.analysis.method, defaults.method);
+  EXPECT_EQ(c.analysis.harmonics, defaults.harmonics);
+  EXPECT_EQ(c.analysis.time_samples, defaults.time_samples);
+  EXPECT_EQ(c.analysis.tolerance, defaults.tolerance);
+  EXPECT_EQ(c.bodies.at("beam1").modes, BodyDefinition{}.modes);
+  EXPECT_EQ(c.contacts[0].tolerance, ContactDefinition{}.tolerance);
+  EXPECT_EQ(c.recovery.points, RecoveryDefinition{}.points);
+  EXPECT_EQ(c.meshes.at("joint").two_beam.box, TwoBeamDefinition{}.box);
+  EXPECT_FALSE(c.study.active());
+  EXPECT_EQ(c.output.directory, kDir + "/results");
+  // A default reports the block it belongs to.
+  EXPECT_EQ(c.where("analysis.time_samples").line, 17);
+  EXPECT_EQ(c.where("contacts.joint.tolerance").line, 10);
+  EXPECT_EQ(c.where("damping.alpha").line, 0);
+}
+
+TEST(CaseFile, WithParameterSetsTheStudyValue) {
+  const CaseDefinition c = read_case_file(kDir + "/reference.yaml");
+  const CaseDefinition c80 = with_parameter(c, "contacts.joint.per_pair.preload", 80);
+  EXPECT_EQ(c80.contacts[0].parameters.preload, 80.0);
+  EXPECT_EQ(c.contacts[0].parameters.preload, 150.0);  // the original is unchanged
+  const CaseDefinition f = with_parameter(c, "excitation[1].amplitude", 20);
+  EXPECT_EQ(f.excitation[1].force[2], std::complex<double>(-20, 0));  // direction -z kept
+  EXPECT_EQ(with_parameter(c, "damping.alpha", 2).damping.alpha, 2.0);
+  EXPECT_EQ(with_parameter(c, "materials.steel.youngs_modulus", 7e10)
+                .materials.at("steel")
+                .youngs_modulus,
+            7e10);
+  EXPECT_THROW(with_parameter(c, "contacts.joint.per_pair.k", 1), InvalidInput);  // not friction
+  EXPECT_THROW(with_parameter(c, "contacts.joint.total.kt", 1), InvalidInput);    // given per pair
+  EXPECT_THROW(with_parameter(c, "contacts.joint.per_pair.mu", -0.1), InvalidInput);
+  EXPECT_THROW(with_parameter(c, "analysis.time_samples", 10), InvalidInput);
+  EXPECT_THROW(with_parameter(c, "excitation[7].amplitude", 1), InvalidInput);
+}
+
+TEST(CaseFile, DescribeCaseListsTheResolvedValues) {
+  const CaseDefinition c = read_case_file(kDir + "/reference.yaml");
+  const std::string text = describe_case(c);
+  for (const std::string& s :
+       {std::string("kn: 5630900000"), std::string("around_mode: 4"),
+        std::string("parameter: contacts.joint.per_pair.preload"),
+        std::string("directory: ") + kDir + "/results", std::string("time_samples: 64")}) {
+    EXPECT_NE(text.find(s), std::string::npos) << s << " not in\n" << text;
+  }
+}
+
+// ----------------------------------------------------------------------- bad input, one by one ---
+
+TEST(CaseFileErrors, UnknownTopLevelKeyIsRejectedWithASuggestion) {
+  expect_invalid_file("unknown_key.yaml", 8, "analisys", "did you mean 'analysis'?");
+}
+
+TEST(CaseFileErrors, UnknownNestedKeyIsRejectedWithItsLine) {
+  expect_invalid(edited("    normal: [1, 0, 0]\n", "    normal: [1, 0, 0]\n    tolerence: 1e-6\n"),
+                 14, "contacts.joint.tolerence", "did you mean 'tolerance'?");
+}
+
+TEST(CaseFileErrors, UnknownKeyFarFromEveryKnownKeyHasNoSuggestion) {
+  try {
+    parse(edited("analysis:\n", "colour: blue\nanalysis:\n"));
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().line, 17);
+    EXPECT_EQ(e.message().find("did you mean"), std::string::npos) << e.message();
+    EXPECT_NE(e.message().find("known keys: stickslip, title"), std::string::npos);
+  }
+}
+
+TEST(CaseFileErrors, ParameterOfAnotherLawIsRejected) {
+  expect_invalid(edited("mu: 0.5, preload: 150}", "mu: 0.5, k: 3}"), 14,
+                 "contacts.joint.per_pair.k", "unknown key 'k' for law friction");
+}
+
+TEST(CaseFileErrors, QuotedNumberIsAString) {
+  expect_invalid_file("wrong_type.yaml", 4, "materials.steel.youngs_modulus",
+                      "expected a number, got the string \"2.0e11\"");
+}
+
+TEST(CaseFileErrors, TextWhereANumberIsExpected) {
+  expect_invalid(edited("density: 7800", "density: heavy"), 3, "materials.steel.density",
+                 "expected a number, got 'heavy'");
+}
+
+TEST(CaseFileErrors, ScalarWhereAListIsExpected) {
+  expect_invalid(edited("joint: {generate: two_beam}", "joint: {generate: two_beam, box: 25}"), 5,
+                 "meshes.joint.box", "expected a list, got '25'");
+}
+
+TEST(CaseFileErrors, ListWhereAMapIsExpected) {
+  expect_invalid(edited("per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}",
+                        "per_pair: [4.467e9, 5.6309e9]"),
+                 14, "contacts.joint.per_pair", "expected a map of keys, got a list");
+}
+
+TEST(CaseFileErrors, IntegerExpected) {
+  expect_invalid(edited("  frequency:", "  harmonics: 1.5\n  frequency:"), 18, "analysis.harmonics",
+                 "expected an integer, got '1.5'");
+}
+
+TEST(CaseFileErrors, MissingRequiredKey) {
+  expect_invalid(edited("poisson_ratio: 0.3, density: 7800", "poisson_ratio: 0.3"), 3,
+                 "materials.steel.density", "required key missing");
+}
+
+TEST(CaseFileErrors, MissingAnalysis) {
+  const std::string text = kMinimal.substr(0, kMinimal.find("analysis:"));
+  expect_invalid(text, 1, "analysis", "required key missing");
+}
+
+TEST(CaseFileErrors, MissingVersionAndWrongVersion) {
+  expect_invalid(edited("stickslip: 1\n", "title: x\n"), 1, "stickslip", "required key missing");
+  expect_invalid(edited("stickslip: 1\n", "stickslip: 2\n"), 1, "stickslip",
+                 "unsupported format version 2");
+}
+
+TEST(CaseFileErrors, NegativeStiffness) {
+  expect_invalid(edited("kt: 4.467e9", "kt: -4.467e9"), 14, "contacts.joint.per_pair.kt",
+                 "must be > 0, got -4467000000");
+}
+
+TEST(CaseFileErrors, NegativeFrictionCoefficient) {
+  expect_invalid(edited("mu: 0.5", "mu: -0.1"), 14, "contacts.joint.per_pair.mu",
+                 "must be >= 0, got -0.1");
+}
+
+TEST(CaseFileErrors, NegativePreload) {
+  expect_invalid(edited("preload: 150", "preload: -1"), 14, "contacts.joint.per_pair.preload",
+                 "must be >= 0");
+}
+
+TEST(CaseFileErrors, MaterialOutOfRange) {
+  expect_invalid(edited("poisson_ratio: 0.3", "poisson_ratio: 0.5"), 3,
+                 "materials.steel.poisson_ratio", "must be in (-1, 0.5)");
+}
+
+TEST(CaseFileErrors, EmptyFrequencyRange) {
+  expect_invalid(edited("stop_hz: 1856", "stop_hz: 1852"), 18, "analysis.frequency.stop_hz",
+                 "the frequency range is empty or inverted");
+}
+
+TEST(CaseFileErrors, InvertedFrequencyRange) {
+  expect_invalid(edited("stop_hz: 1856", "stop_hz: 1800"), 18, "analysis.frequency.stop_hz",
+                 "stop_hz = 1800 must be > start_hz = 1852");
+}
+
+TEST(CaseFileErrors, StepNotPositive) {
+  expect_invalid(edited("step_hz: 0.01", "step_hz: 0"), 18, "analysis.frequency.step_hz",
+                 "must be > 0, got 0");
+  expect_invalid(edited("step_hz: 0.01", "step_hz: -0.01"), 18, "analysis.frequency.step_hz",
+                 "must be > 0");
+}
+
+TEST(CaseFileErrors, RangeAndAroundModeTogether) {
+  expect_invalid(edited("step_hz: 0.01}", "step_hz: 0.01, around_mode: 4}"), 18,
+                 "analysis.frequency.start_hz", "not allowed with 'around_mode'");
+}
+
+TEST(CaseFileErrors, TooFewTimeSamples) {
+  expect_invalid(edited("  frequency:", "  harmonics: 3\n  time_samples: 12\n  frequency:"), 19,
+                 "analysis.time_samples", "must be >= 2(2H+1) = 14 for highest harmonic H = 3");
+  expect_invalid(edited("  frequency:", "  harmonics: [1, 5]\n  time_samples: 21\n  frequency:"),
+                 19, "analysis.time_samples", "= 22");
+}
+
+TEST(CaseFileErrors, HarmonicListNotIncreasing) {
+  expect_invalid(edited("  frequency:", "  harmonics: [1, 3, 3]\n  frequency:"), 18,
+                 "analysis.harmonics", "strictly increasing");
+}
+
+TEST(CaseFileErrors, UnknownMaterial) {
+  expect_invalid(
+      edited("element_set: BEAM2, material: steel", "element_set: BEAM2, material: stel"), 8,
+      "bodies.beam2.material", "unknown material 'stel' (did you mean 'steel'?)");
+}
+
+TEST(CaseFileErrors, UnknownMesh) {
+  expect_invalid(edited("beam1: {mesh: joint", "beam1: {mesh: jont"), 7, "bodies.beam1.mesh",
+                 "unknown mesh 'jont' (did you mean 'joint'?)");
+}
+
+TEST(CaseFileErrors, UnknownBodyInContact) {
+  expect_invalid(edited("{beam1: CONTACT1, beam2: CONTACT2}", "{beam1: CONTACT1, beam3: CONTACT2}"),
+                 12, "contacts.joint.between.beam3", "unknown body 'beam3'");
+}
+
+TEST(CaseFileErrors, UnknownBodyInExcitation) {
+  expect_invalid(edited("{body: beam1, node_set: FORCE1", "{body: bean1, node_set: FORCE1"), 16,
+                 "excitation[0].body", "unknown body 'bean1' (did you mean 'beam1'?)");
+}
+
+TEST(CaseFileErrors, BothPerPairAndTotal) {
+  expect_invalid(edited("    per_pair:", "    total: {kt: 1, kn: 1, mu: 0.1}\n    per_pair:"), 14,
+                 "contacts.joint.total", "give either 'per_pair' or 'total', not both");
+}
+
+TEST(CaseFileErrors, BothPreloadAndGap) {
+  expect_invalid(edited("    normal: [1, 0, 0]\n", "    normal: [1, 0, 0]\n    gap: 1e-6\n"), 14,
+                 "contacts.joint.gap", "give either a preload or a gap, not both");
+}
+
+TEST(CaseFileErrors, BothPreloadAndPreloadFile) {
+  expect_invalid(edited("    normal: [1, 0, 0]\n",
+                        "    normal: [1, 0, 0]\n    preload_file: imported/preload.csv\n"),
+                 15, "contacts.joint.per_pair.preload",
+                 "give either 'preload' or 'preload_file', not both");
+}
+
+TEST(CaseFileErrors, NoContactNodes) {
+  expect_invalid(edited("    between: {beam1: CONTACT1, beam2: CONTACT2}\n", ""), 10,
+                 "contacts.joint.between", "give 'between' (node sets), 'pairs' or 'pairs_file'");
+}
+
+TEST(CaseFileErrors, FrictionNeedsANormal) {
+  expect_invalid(edited("    normal: [1, 0, 0]\n", ""), 10, "contacts.joint.normal",
+                 "required key missing");
+  expect_invalid(edited("normal: [1, 0, 0]", "normal: [0, 0, 0]"), 13, "contacts.joint.normal",
+                 "must be a nonzero vector");
+}
+
+TEST(CaseFileErrors, DuplicateContactName) {
+  const std::string second =
+      "  - {name: joint, law: linear, bodies: [beam1, beam2], pairs: [[1, 2]], direction: x,"
+      " per_pair: {k: 1}}\nexcitation:\n";
+  expect_invalid(edited("excitation:\n", second), 15, "contacts.joint.name",
+                 "duplicate contact name 'joint'");
+}
+
+TEST(CaseFileErrors, ExcitationHarmonicNotSolved) {
+  expect_invalid(edited("amplitude: 50}", "amplitude: 50, harmonic: 2}"), 16,
+                 "excitation[0].harmonic", "harmonic 2 is not solved");
+}
+
+TEST(CaseFileErrors, ExcitationNeedsOneNodeKey) {
+  expect_invalid(
+      edited("node_set: FORCE1, direction: z", "node_set: FORCE1, node: 239, direction: z"), 16,
+      "excitation[0].node", "give either 'node_set' or 'node', not both");
+}
+
+TEST(CaseFileErrors, ReducedBodyHasNoCoordinatesForCoincidence) {
+  const std::string reduced =
+      "  beam2: {reduced: {stiffness: imported/k.hb, mass: imported/m.hb}}\n";
+  expect_invalid(
+      edited("  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}\n",
+             reduced),
+      12, "contacts.joint.between.beam2", "list the pairs instead");
+}
+
+TEST(CaseFileErrors, MissingMeshFileNamesTheResolvedPath) {
+  expect_invalid_file("missing_mesh_file.yaml", 6, "meshes.part.file",
+                      "file not found: " + kDir + "/bad/no_such_mesh.inp");
+}
+
+TEST(CaseFileErrors, MissingMatrixFile) {
+  const std::string reduced =
+      "  beam3: {reduced: {stiffness: imported/k.hb, mass: imported/mass.hb}}\n";
+  expect_invalid(edited("contacts:\n", reduced + "contacts:\n"), 9, "bodies.beam3.reduced.mass",
+                 "file not found");
+}
+
+TEST(CaseFileErrors, MissingDefaultMapping) {
+  // m.hb has no m.mapping next to it.
+  const std::string reduced =
+      "  beam3: {reduced: {stiffness: imported/m.hb, mass: imported/m.hb}}\n";
+  expect_invalid(edited("contacts:\n", reduced + "contacts:\n"), 9, "bodies.beam3.reduced.mapping",
+                 "m.mapping");
+}
+
+TEST(CaseFileErrors, MissingPairsFile) {
+  expect_invalid(edited("    between: {beam1: CONTACT1, beam2: CONTACT2}\n",
+                        "    bodies: [beam1, beam2]\n    pairs_file: pairs.csv\n"),
+                 13, "contacts.joint.pairs_file", "file not found: " + kDir + "/pairs.csv");
+}
+
+TEST(CaseFileErrors, YamlSyntaxErrorReportsYamlCppsLine) {
+  // The unclosed flow map of line 3 is noticed at the next key, line 4.
+  expect_invalid_file("syntax_error.yaml", 4, "", "YAML syntax error");
+}
+
+TEST(CaseFileErrors, DuplicateKeyIsRejected) {
+  expect_invalid_file("duplicate_key.yaml", 12, "analysis.harmonics",
+                      "duplicate key (first given on line 10)");
+}
+
+TEST(CaseFileErrors, DuplicateNameIsRejected) {
+  expect_invalid(edited("contacts:\n",
+                        "  beam1: {reduced: {stiffness: imported/k.hb, mass: "
+                        "imported/m.hb}}\ncontacts:\n"),
+                 9, "bodies.beam1", "duplicate");
+}
+
+TEST(CaseFileErrors, StudyParameterMustBeANumericKey) {
+  expect_invalid(kMinimal + "study: {parameter: analysis.harmonics, values: [1, 3]}\n", 19,
+                 "study.parameter", "not a numeric key that a study can vary");
+}
+
+TEST(CaseFileErrors, StudyValueMustObeyTheKeysRule) {
+  expect_invalid(
+      kMinimal + "study: {parameter: contacts.joint.per_pair.preload, values: [1, -5]}\n", 19,
+      "study.values", "'contacts.joint.per_pair.preload' = -5: must be >= 0");
+}
+
+TEST(CaseFileErrors, BadChoiceListsTheOptions) {
+  expect_invalid(edited("law: friction", "law: frictoin"), 11, "contacts.joint.law",
+                 "must be one of cubic | friction | gap | jenkins | linear, got 'frictoin' (did "
+                 "you mean 'friction'?)");
+}
+
+TEST(CaseFileErrors, HistoriesNameAContact) {
+  expect_invalid(
+      kMinimal + "output:\n  histories: {jiont: [0]}\n", 20, "output.histories.jiont",
+      "unknown key 'jiont' (histories are keyed by contact name) (did you mean 'joint'?)");
+}
+
+TEST(CaseFileErrors, ReducedBodyHasNoNodeSets) {
+  const std::string text =
+      edited("  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}\n",
+             "  beam2: {reduced: {stiffness: imported/k.hb, mass: imported/m.hb}}\n");
+  const std::string contact = "    between: {beam1: CONTACT1, beam2: CONTACT2}\n";
+  std::string t = text;
+  t.replace(t.find(contact), contact.size(), "    bodies: [beam1, beam2]\n    pairs: [[1, 10]]\n");
+  t.replace(t.find("{body: beam1, node_set: FORCE1"), 30, "{body: beam2, node_set: FORCE2");
+  expect_invalid(t, 17, "excitation[0].node_set", "give node ids");
+}
+
+TEST(CaseFileErrors, FrameChecks) {
+  expect_invalid(edited("normal: [1, 0, 0]", "normal: [1, 0, 0]\n    t1: -x"), 14,
+                 "contacts.joint.t1", "must not be parallel to the normal");
+  expect_invalid(edited("law: friction", "law: jenkins"), 13, "contacts.joint.normal",
+                 "not allowed for law jenkins");
+  std::string linear = edited("normal: [1, 0, 0]", "direction: w");
+  linear.replace(linear.find("law: friction"), 13, "law: linear");
+  expect_invalid(linear, 13, "contacts.joint.direction", "must be one of x | y | z");
+}
+
+TEST(CaseFileErrors, KeysThatDoNotApply) {
+  expect_invalid(edited("    between: {beam1: CONTACT1, beam2: CONTACT2}\n",
+                        "    bodies: [beam1, beam2]\n    pairs: [[1, 2]]\n    tolerance: 1e-3\n"),
+                 14, "contacts.joint.tolerance", "not allowed with listed pairs");
+  expect_invalid(edited("joint: {generate: two_beam}", "joint: {generate: two_beam, format: inp}"),
+                 5, "meshes.joint.format", "not allowed with 'generate'");
+  expect_invalid(edited("clamp: CLAMP2}", "clamp: CLAMP2, reduced: {stiffness: x, mass: y}}"), 8,
+                 "bodies.beam2.mesh", "not allowed with 'reduced'");
+  expect_invalid(kMinimal + "recovery: {method: direct, modes: 20}\n", 19, "recovery.modes",
+                 "not allowed unless method is modal");
+}
+
+TEST(CaseFileErrors, NonConformingTwoBeamMesh) {
+  expect_invalid(
+      edited("joint: {generate: two_beam}", "joint: {generate: two_beam, box: [25, 5, 4]}"), 5,
+      "meshes.joint.box", "box[2] (z) > end_block[2]");
+}
+
+TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
+  expect_invalid("", 0, "", "the case file is empty");
+  expect_invalid("- 1\n- 2\n", 1, "(document)", "expected a map of keys");
+  EXPECT_THROW(read_case_file(kDir + "/no_such_case.yaml"), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
