@@ -1,10 +1,12 @@
 #include "io/case_file.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -174,11 +176,18 @@ class Parser {
     if (i == s.size()) return false;
     for (; i < s.size(); ++i)
       if (s[i] < '0' || s[i] > '9') return false;
-    return s.size() < 11;
+    return true;
   }
   int integer(const YAML::Node& node, const std::string& path, int at) const {
     check(is_integer(node), path, at, "expected an integer, got " + describe(node));
-    return std::stoi(node.Scalar());
+    const std::string& s = node.Scalar();
+    long long v = 0;
+    const char* begin = s.data() + (s[0] == '+' ? 1 : 0);
+    const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), v);
+    check(ec == std::errc() && end == s.data() + s.size() && v >= std::numeric_limits<int>::min() &&
+              v <= std::numeric_limits<int>::max(),
+          path, at, "integer out of range: " + s);
+    return static_cast<int>(v);
   }
   std::string text(const YAML::Node& node, const std::string& path, int at) const {
     check(node.IsScalar(), path, at, "expected a string, got " + node_text(node));
@@ -350,7 +359,7 @@ NodeSelection node_selection(Parser& p, const YAML::Node& node, const std::strin
     p.check(item.IsScalar(), path, at,
             "expected a node set name or a node id, got " + p.describe(item));
     if (p.is_integer(item)) {
-      const int id = std::stoi(item.Scalar());
+      const int id = p.integer(item, path, at);
       p.check(id > 0, path, at, "node ids are positive, got " + std::to_string(id));
       s.ids.push_back(id);
     } else {
@@ -366,6 +375,13 @@ NodeSelection node_selection(Parser& p, const YAML::Node& node, const std::strin
   return s;
 }
 
+// Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'.
+void check_name(const Parser& p, const std::string& name, const std::string& path, int line) {
+  p.check(!name.empty(), path, line, "empty name");
+  p.check(name.find_first_of(".[]") == std::string::npos, path, line,
+          "names may not contain '.', '[' or ']', got '" + name + "'");
+}
+
 // Iterates the entries of a map whose keys are user-chosen names.
 template <typename F>
 void for_each_named(Parser& p, const MapView& parent, const std::string& key, F&& f) {
@@ -377,7 +393,7 @@ void for_each_named(Parser& p, const MapView& parent, const std::string& key, F&
     const int line = line_of(it->first);
     const std::string name = p.text(it->first, key, line);
     const std::string path = key + "." + name;
-    p.check(!name.empty(), path, line, "empty name");
+    check_name(p, name, path, line);
     p.check(seen.insert(name).second, path, line, "duplicate name");
     p.record(path, line);
     f(name, it->second, path, line);
@@ -597,6 +613,7 @@ void parse_contacts(Parser& p, const MapView& top) {
     ContactDefinition d;
     m.require("name");
     m.text("name", &d.name);
+    check_name(p, d.name, m.full("name"), m.line("name"));
     p.check(names.insert(d.name).second, m.full("name"), m.line("name"),
             "duplicate contact name '" + d.name + "'");
     m.require("law");
@@ -1036,10 +1053,9 @@ void parse_study(Parser& p, const MapView& top) {
     with_parameter(p.out(), s.parameter, x, {p.file(), m.line("values"), "study.values"});
 }
 
-}  // namespace
-
-CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
-                          const std::string& base_dir) {
+CaseDefinition parse_case_unguarded(const std::string& yaml_text,
+                                    const std::string& name_for_messages,
+                                    const std::string& base_dir) {
   CaseDefinition out;
   out.file = name_for_messages;
   out.base_dir = base_dir;
@@ -1080,6 +1096,20 @@ CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_
   cross_check(p);
   parse_study(p, top);
   return out;
+}
+
+}  // namespace
+
+CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
+                          const std::string& base_dir) {
+  try {
+    return parse_case_unguarded(yaml_text, name_for_messages, base_dir);
+  } catch (const YAML::Exception& e) {
+    // Anything yaml-cpp throws besides syntax errors (e.g. its nesting-depth guard).
+    throw InvalidInput(
+        SourceLocation{name_for_messages, e.mark.is_null() ? 0 : e.mark.line + 1, ""},
+        "YAML error: " + e.msg);
+  }
 }
 
 CaseDefinition read_case_file(const std::string& path) {

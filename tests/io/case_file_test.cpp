@@ -633,6 +633,22 @@ TEST(CaseFileErrors, NonConformingTwoBeamMesh) {
       "meshes.joint.box", "box[2] (z) > end_block[2]");
 }
 
+TEST(CaseFileErrors, IntegerOutOfRange) {
+  expect_invalid(edited("amplitude: 50}", "amplitude: 50, harmonic: 99999999999}"), 16,
+                 "excitation[0].harmonic", "integer out of range");
+}
+
+TEST(CaseFileErrors, NamesCannotBreakDottedPaths) {
+  expect_invalid(edited("  - name: joint", "  - name: a.b"), 10, "contacts.a.b.name",
+                 "names may not contain '.'");
+}
+
+TEST(CaseFileErrors, DeeplyNestedInputIsAnError) {
+  // yaml-cpp's depth guard (or the type check) stops it; never a crash.
+  const std::string deep = std::string(5000, '[') + std::string(5000, ']');
+  EXPECT_THROW(parse(kMinimal + "title: " + deep + "\n"), InvalidInput);
+}
+
 TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
   expect_invalid("", 0, "", "the case file is empty");
   expect_invalid("- 1\n- 2\n", 1, "(document)", "expected a map of keys");
