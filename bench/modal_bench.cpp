@@ -153,8 +153,21 @@ int main(int argc, char** argv) {
     start = std::chrono::steady_clock::now();
     constexpr int kSolves = 5;
     for (int i = 0; i < kSolves; ++i) factor.solve(x.data(), y.data());
-    std::printf("factorisation alone %.2f s (%.1f GFlop/s), one solve %.3f s\n", t_factor,
-                estimate.flops / t_factor / 1e9, seconds_since(start) / kSolves);
+    const double t_solve = seconds_since(start) / kSolves;
+    Eigen::VectorXd t(Kff.rows()), u(Kff.rows());
+    start = std::chrono::steady_clock::now();
+    for (int i = 0; i < kSolves; ++i) u.noalias() = Mff * x;
+    const double t_product = seconds_since(start) / kSolves;
+    start = std::chrono::steady_clock::now();
+    for (int i = 0; i < kSolves; ++i) {
+      factor.solve_upper(x.data(), t.data());
+      factor.solve_lower(t.data(), y.data());
+    }
+    const double t_halves = seconds_since(start) / kSolves;
+    std::printf(
+        "factorisation alone %.2f s (%.1f GFlop/s); one solve %.3f s, two half solves "
+        "%.3f s, one M product %.3f s\n",
+        t_factor, estimate.flops / t_factor / 1e9, t_solve, t_halves, t_product);
   }
 
   stickslip::ModalOptions modal;

@@ -1,6 +1,7 @@
 // Lowest eigenpairs of the generalised symmetric problem K φ = ω² M φ (K symmetric positive
 // semi-definite, M symmetric positive definite), by shift-invert Lanczos (Spectra) over a sparse
-// CHOLMOD factorisation of K − σM. Modes are mass-normalised: φᵀ M φ = 1.
+// CHOLMOD factorisation of K − σM = G Gᵀ, in symmetric form: Lanczos on C = G⁻¹ M G⁻ᵀ, whose
+// eigenvalues are ν = 1/(ω² − σ), with φ = G⁻ᵀ y. Modes are mass-normalised: φᵀ M φ = 1.
 // K and M are stored with both triangles (full symmetric storage), as fe/ assembles them.
 //
 // The shift σ must lie below the lowest eigenvalue: K − σM is factorised by a sparse Cholesky
@@ -37,7 +38,7 @@ struct ModalSummary {
   ModalTermination termination = ModalTermination::kNotConverged;
   int iterations = 0;
   int converged_modes = 0;
-  int operations = 0;                // applications of (K − σM)⁻¹ M
+  int operations = 0;  // applications of G⁻¹ M G⁻ᵀ (one M product, two half solves)
   double factorization_seconds = 0;  // wall time of the CHOLMOD factorisation of K − σM
   double iteration_seconds = 0;      // wall time of the Lanczos iteration
   std::string message;

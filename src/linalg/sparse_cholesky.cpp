@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <utility>
 
@@ -205,22 +206,48 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   return X;
 }
 
-void SparseCholesky::solve(const double* x, double* y) const {
-  Impl& p = *impl_;
-  require(p.ok, "SparseCholesky", "not factorised", "solve() needs a successful factorize()");
+namespace {
+
+// y = op(x) for the CHOLMOD solve systems in `systems`, applied in order, with the workspace of
+// cholmod_solve2 kept in the factor's Impl.
+template <typename Impl>
+void apply_systems(Impl& p, std::initializer_list<int> systems, const double* x, double* y) {
   cholmod_dense view;
   std::memset(&view, 0, sizeof(view));
   view.nrow = static_cast<size_t>(p.n);
   view.ncol = 1;
   view.nzmax = view.nrow;
   view.d = view.nrow;
-  view.x = const_cast<double*>(x);  // read only
   view.xtype = CHOLMOD_REAL;
   view.dtype = CHOLMOD_DOUBLE;
-  const int done =
-      cholmod_solve2(CHOLMOD_A, p.factor, &view, nullptr, &p.x, nullptr, &p.y, &p.e, &p.common);
-  STICKSLIP_VERIFY(done != 0, "cholmod_solve2 failed: " + status_text(p.common.status));
-  std::memcpy(y, p.x->x, sizeof(double) * view.nrow);
+  const double* input = x;
+  for (int system : systems) {
+    view.x = const_cast<double*>(input);  // read only
+    const int done =
+        cholmod_solve2(system, p.factor, &view, nullptr, &p.x, nullptr, &p.y, &p.e, &p.common);
+    STICKSLIP_VERIFY(done != 0, "cholmod_solve2 failed: " + status_text(p.common.status));
+    std::memcpy(y, p.x->x, sizeof(double) * view.nrow);
+    input = y;
+  }
+}
+
+}  // namespace
+
+void SparseCholesky::solve(const double* x, double* y) const {
+  require(impl_->ok, "SparseCholesky", "not factorised", "solve() needs a successful factorize()");
+  apply_systems(*impl_, {CHOLMOD_A}, x, y);
+}
+
+void SparseCholesky::solve_lower(const double* x, double* y) const {
+  require(impl_->ok, "SparseCholesky", "not factorised", "solve() needs a successful factorize()");
+  // CHOLMOD factorises P A Pᵀ = L Lᵀ: G⁻¹ x = L⁻¹ (P x).
+  apply_systems(*impl_, {CHOLMOD_P, CHOLMOD_L}, x, y);
+}
+
+void SparseCholesky::solve_upper(const double* x, double* y) const {
+  require(impl_->ok, "SparseCholesky", "not factorised", "solve() needs a successful factorize()");
+  // G⁻ᵀ x = Pᵀ (L⁻ᵀ x).
+  apply_systems(*impl_, {CHOLMOD_Lt, CHOLMOD_Pt}, x, y);
 }
 
 }  // namespace stickslip

@@ -56,6 +56,11 @@ class SparseCholesky {
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   // y = A⁻¹ x for raw arrays of length n (x and y may not alias). Used in inner loops.
   void solve(const double* x, double* y) const;
+  // Half solves with the factor G = Pᵀ L of A = G Gᵀ (P the fill-reducing permutation):
+  //   solve_lower: y = G⁻¹ x = L⁻¹ P x,   solve_upper: y = G⁻ᵀ x = Pᵀ L⁻ᵀ x,
+  // so that A⁻¹ = G⁻ᵀ G⁻¹ and G⁻¹ B G⁻ᵀ is symmetric for symmetric B. Arrays of length n.
+  void solve_lower(const double* x, double* y) const;
+  void solve_upper(const double* x, double* y) const;
 
  private:
   struct Impl;

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cstdio>
 #include <random>
 #include <vector>
 
 #include "core/errors.h"
+#include "linalg/blas_threads.h"
 
 namespace stickslip {
 namespace {
@@ -58,6 +61,23 @@ TEST(SparseCholesky, SolvesManyRightHandSides) {
   EXPECT_LT((y - reference.col(3)).norm() / reference.col(3).norm(), kSolveTolerance);
 }
 
+TEST(SparseCholesky, HalfSolvesComposeToTheInverseAndWhitenA) {
+  const int n = 50;
+  const SparseMatrix A = random_spd(n, 8);
+  const SparseCholesky cholesky(A);
+  ASSERT_TRUE(cholesky.ok()) << cholesky.message();
+  const Eigen::MatrixXd Ad = Eigen::MatrixXd(A);
+  Eigen::MatrixXd Ginv(n, n), GinvT(n, n);  // G⁻¹ and G⁻ᵀ column by column
+  for (int j = 0; j < n; ++j) {
+    const Eigen::VectorXd e = Eigen::VectorXd::Unit(n, j);
+    cholesky.solve_lower(e.data(), Ginv.col(j).data());
+    cholesky.solve_upper(e.data(), GinvT.col(j).data());
+  }
+  EXPECT_LT((GinvT - Ginv.transpose()).norm(), kSolveTolerance * Ginv.norm());
+  EXPECT_LT((GinvT * Ginv - Ad.inverse()).norm(), kSolveTolerance * Ad.inverse().norm());
+  EXPECT_LT((Ginv * Ad * GinvT - Eigen::MatrixXd::Identity(n, n)).norm(), kSolveTolerance * n);
+}
+
 TEST(SparseCholesky, EstimateMatchesTheActualFactor) {
   const SparseMatrix A = random_spd(80, 9);
   const CholeskyEstimate estimate = SparseCholesky::estimate(A);
@@ -103,6 +123,23 @@ TEST(SparseCholesky, SizeMismatchThrows) {
   ASSERT_TRUE(cholesky.ok());
   EXPECT_THROW(cholesky.solve(Eigen::MatrixXd::Ones(9, 1)), InvalidInput);
   EXPECT_THROW(SparseCholesky(SparseMatrix(3, 4)), InvalidInput);
+}
+
+TEST(ScopedBlasThreads, NestsAndRestores) {
+  // A no-op without OpenBLAS; with it, solves still work inside the scope.
+  const SparseMatrix A = random_spd(40, 12);
+  const SparseCholesky cholesky(A);
+  ASSERT_TRUE(cholesky.ok());
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(40);
+  Eigen::VectorXd x(40);
+  {
+    const ScopedBlasThreads one(1);
+    const ScopedBlasThreads nested(1);
+    cholesky.solve(b.data(), x.data());
+  }
+  EXPECT_LT((A * x - b).norm() / b.norm(), kSolveTolerance);
+  std::printf("BLAS thread control %s\n",
+              ScopedBlasThreads::supported() ? "available (OpenBLAS)" : "not available");
 }
 
 }  // namespace
