@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <complex>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "core/errors.h"
@@ -653,6 +655,75 @@ TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
   expect_invalid("", 0, "", "the case file is empty");
   expect_invalid("- 1\n- 2\n", 1, "(document)", "expected a map of keys");
   EXPECT_THROW(read_case_file(kDir + "/no_such_case.yaml"), InvalidInput);
+}
+
+// ------------------------------------------------------------------------ docs/case-file.md ---
+
+std::string read_docs() {
+  const std::string path = std::string(STICKSLIP_TEST_DATA_DIR) + "/../../docs/case-file.md";
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(CaseFileDocs, TheAnnotatedExampleIsTheReferenceCase) {
+  const std::string docs = read_docs();
+  const size_t begin = docs.find("```yaml\n");
+  ASSERT_NE(begin, std::string::npos);
+  const size_t end = docs.find("```\n", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  const CaseDefinition from_docs =
+      parse_case(docs.substr(begin + 8, end - begin - 8), "case-file.md", kDir);
+  EXPECT_EQ(describe_case(from_docs), describe_case(read_case_file(kDir + "/reference.yaml")));
+}
+
+// Every key the parser knows (as listed by its unknown-key message) is documented.
+TEST(CaseFileDocs, EveryKnownKeyIsDocumented) {
+  const std::string docs = read_docs();
+  const std::string reduced =
+      "  beam2: {reduced: {stiffness: imported/k.hb, mass: imported/m.hb, "
+      "zzzz: 1}}\n";
+  const std::vector<std::string> cases{
+      kMinimal + "zzzz: 1\n",
+      edited("density: 7800}", "density: 7800, zzzz: 1}"),
+      edited("{generate: two_beam}", "{generate: two_beam, zzzz: 1}"),
+      edited("clamp: CLAMP1}", "clamp: CLAMP1, zzzz: 1}"),
+      edited("  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}\n",
+             reduced),
+      edited("    normal: [1, 0, 0]\n", "    normal: [1, 0, 0]\n    zzzz: 1\n"),
+      edited("preload: 150}", "preload: 150, zzzz: 1}"),
+      edited("per_pair: {kt: 4.467e9", "total: {zzzz: 1, kt: 4.467e9"),
+      edited("amplitude: 50}", "amplitude: 50, zzzz: 1}"),
+      kMinimal + "damping: {zzzz: 1}\n",
+      edited("  frequency:", "  zzzz: 1\n  frequency:"),
+      edited("step_hz: 0.01}", "step_hz: 0.01, zzzz: 1}"),
+      kMinimal + "study: {zzzz: 1}\n",
+      kMinimal + "recovery: {zzzz: 1}\n",
+      kMinimal + "output: {zzzz: 1}\n",
+      kMinimal + "output: {frf: [{zzzz: 1}]}\n",
+  };
+  int keys = 0;
+  for (const std::string& text : cases) {
+    try {
+      parse(text);
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InvalidInput& e) {
+      const std::string marker = "known keys: ";
+      const size_t at = e.message().find(marker);
+      ASSERT_NE(at, std::string::npos) << e.what();
+      std::stringstream list(e.message().substr(at + marker.size()));
+      std::string key;
+      while (std::getline(list, key, ',')) {
+        if (!key.empty() && key[0] == ' ') key.erase(0, 1);
+        EXPECT_NE(docs.find("`" + key + "`"), std::string::npos)
+            << "'" << key << "' (" << e.where().key << ") is not in docs/case-file.md";
+        ++keys;
+      }
+    }
+  }
+  EXPECT_GT(keys, 80);  // the sections above hold about a hundred keys
 }
 
 }  // namespace
