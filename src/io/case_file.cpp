@@ -149,8 +149,13 @@ class Parser {
     return it == out_.locations.end() ? 0 : it->second.line;
   }
 
-  // --- typed values (node = the value, line = where to report it) ---
+  // --- typed values (node = the value, at = the line of its key) ---
+  // A scalar is reported on its own line (an item of a block list may be below its key).
+  static int here(const YAML::Node& node, int at) {
+    return node.IsScalar() && line_of(node) > 0 ? line_of(node) : at;
+  }
   double number(const YAML::Node& node, const std::string& path, int at) const {
+    at = here(node, at);
     check(node.IsScalar(), path, at, "expected a number, got " + node_text(node));
     // A quoted scalar has the non-specific tag "!": text, even when it looks like a number.
     check(node.Tag() != "!", path, at,
@@ -163,6 +168,7 @@ class Parser {
   }
   double checked_number(const YAML::Node& node, const std::string& path, const std::string& key,
                         int at) const {
+    at = here(node, at);
     const double v = number(node, path, at);
     const std::string rule = numeric_rule_violation(key, v);
     check(rule.empty(), path, at, rule + ", got " + format_number(v));
@@ -179,6 +185,7 @@ class Parser {
     return true;
   }
   int integer(const YAML::Node& node, const std::string& path, int at) const {
+    at = here(node, at);
     check(is_integer(node), path, at, "expected an integer, got " + describe(node));
     const std::string& s = node.Scalar();
     long long v = 0;
@@ -190,10 +197,12 @@ class Parser {
     return static_cast<int>(v);
   }
   std::string text(const YAML::Node& node, const std::string& path, int at) const {
+    at = here(node, at);
     check(node.IsScalar(), path, at, "expected a string, got " + node_text(node));
     return node.Scalar();
   }
   bool boolean(const YAML::Node& node, const std::string& path, int at) const {
+    at = here(node, at);
     bool v = false;
     check(node.IsScalar() && node.Tag() != "!" && YAML::convert<bool>::decode(node, v), path, at,
           "expected true or false, got " + describe(node));
@@ -201,6 +210,7 @@ class Parser {
   }
   std::string choice(const YAML::Node& node, const std::string& path, int at,
                      const std::vector<std::string>& options) const {
+    at = here(node, at);
     const std::string v = text(node, path, at);
     if (std::find(options.begin(), options.end(), v) == options.end())
       fail(path, at,
@@ -249,6 +259,7 @@ class Parser {
     return (fs::path(base_dir_) / p).lexically_normal().string();
   }
   std::string describe(const YAML::Node& node) const {
+    if (node.IsScalar() && node.Tag() == "!") return "the string \"" + node.Scalar() + "\"";
     if (node.IsScalar()) return "'" + node.Scalar() + "'";
     return node_text(node);
   }
@@ -683,6 +694,7 @@ void parse_contacts(Parser& p, const MapView& top) {
           }
           p.check(ids[0] > 0 && (ids[1] > 0 || (d.body_b == "ground" && ids[1] == 0)), ppath, at,
                   "node ids must be positive");
+          p.record(ppath + "[" + std::to_string(d.pairs.size()) + "]", at);
           d.pairs.push_back(ids);
         }
       } else {
@@ -1153,6 +1165,10 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
     if (it == c.contacts.end()) fail("no contact '" + parts[1] + "'");
     if (parts.size() == 3 && key == "gap") {
       if (it->law != "friction" && it->law != "gap") fail("law " + it->law + " has no gap");
+      const std::string base = "contacts." + it->name + ".";
+      if (c.locations.count(base + "per_pair.preload") ||
+          c.locations.count(base + "total.preload") || !it->preload_file.empty())
+        fail("contact '" + it->name + "' gives a preload; give either a preload or a gap");
       field = &it->gap;
     } else if (parts.size() == 4 && (parts[2] == "per_pair" || parts[2] == "total")) {
       const bool per_pair = it->parameters_given == ContactDefinition::Parameters::kPerPair;
@@ -1164,6 +1180,8 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
         fail("'" + key + "' is not a parameter of law " + it->law);
       if (key == "preload" && !it->preload_file.empty())
         fail("contact '" + it->name + "' takes its preload from preload_file");
+      if (key == "preload" && c.locations.count("contacts." + it->name + ".gap"))
+        fail("contact '" + it->name + "' gives a gap; give either a preload or a gap");
       field = contact_parameter(it->parameters, key);
     }
   } else if (parts.size() == 2 && parts[0] == "damping") {

@@ -234,6 +234,7 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(tip.body_b, "ground");
   ASSERT_EQ(tip.pairs.size(), 1u);
   EXPECT_EQ(tip.pairs[0], (std::array<int, 2>{10, 0}));
+  EXPECT_EQ(c.where("contacts.tip.pairs[0]").line, 25);
   EXPECT_EQ(tip.direction, (std::array<double, 3>{0, 1, 0}));
   EXPECT_EQ(tip.parameters.kn, 1e7);
   EXPECT_EQ(tip.gap, 1.0e-5);
@@ -649,6 +650,24 @@ TEST(CaseFileErrors, DeeplyNestedInputIsAnError) {
   // yaml-cpp's depth guard (or the type check) stops it; never a crash.
   const std::string deep = std::string(5000, '[') + std::string(5000, ']');
   EXPECT_THROW(parse(kMinimal + "title: " + deep + "\n"), InvalidInput);
+}
+
+TEST(CaseFileErrors, ItemsOfBlockListsAreReportedOnTheirOwnLine) {
+  expect_invalid(edited("  frequency:", "  harmonics:\n    - 1\n    - 3\n    - x\n  frequency:"),
+                 21, "analysis.harmonics", "expected an integer, got 'x'");
+  expect_invalid(edited("    between: {beam1: CONTACT1, beam2: CONTACT2}\n",
+                        "    bodies: [beam1, beam2]\n    pairs:\n      - [1, 2]\n      - [3]\n"),
+                 15, "contacts.joint.pairs", "expected a pair of node ids");
+}
+
+TEST(CaseFileErrors, QuotedIntegerIsAString) {
+  expect_invalid(edited("stickslip: 1\n", "stickslip: \"1\"\n"), 1, "stickslip",
+                 "expected an integer, got the string \"1\"");
+}
+
+TEST(CaseFileErrors, StudyCannotAddAGapToAPreloadedContact) {
+  expect_invalid(kMinimal + "study: {parameter: contacts.joint.gap, values: [1e-6]}\n", 19,
+                 "study.parameter", "give either a preload or a gap");
 }
 
 TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
