@@ -1,16 +1,19 @@
 // Benchmark of full-model recovery per frequency point (issue 5), modal method.
 //
-// A box with the proportions of the reference beam (0.25 x 0.05 x 0.03 m, steel), nx x ny x nz
-// C3D8I elements, clamped at x = 0, loaded at 30 "contact" nodes of the free end face x = L (all
-// three directions, seeded random complex forces) for harmonics 0..H. One-off: assembly and
-// ModalRecovery with n modes, the static residual correction and the attachment modes of the 90
-// loaded DOFs. Per point (a new Ω each time): the displacement of every harmonic 0..H, then
-// separately the complex nodal stresses of each harmonic (fe/stress.h) and the envelope over the
-// period (recovery/stress_envelope.h, 64 samples).
+// A steel box of nx x ny x nz cubic C3D8I elements of 2.5 mm (medium = the reference beam's
+// 0.25 x 0.05 x 0.03 m; large = a 2.75 m rod of 40 x 40 mm section, whose slender shape keeps the
+// Cholesky factor of a million DOFs in a few GB), clamped at x = 0, loaded at 30 "contact" nodes of
+// the free end face x = L (all three directions, seeded random complex forces) for harmonics 0..H.
+// One-off: assembly and ModalRecovery with n modes, the static residual correction and the
+// attachment modes of the 90 loaded DOFs. Per point (a new Ω each time): the displacement of every
+// harmonic 0..H, then separately the complex nodal stresses of each harmonic (fe/stress.h) and the
+// envelope over the period (recovery/stress_envelope.h, 64 samples).
 //
 // Usage: recovery_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [harmonics H] [points]
-//   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs. Defaults: medium, 100 modes, H = 1,
-//   5 points. Optional env RECOVERY_BENCH_DIRECT=1 also times one DirectRecovery point (UMFPACK).
+//   reference (beam 1 of the two-beam reference model, default mesh, 4.7k DOFs),
+//   small 40x8x5 (6.6k DOFs), medium 100x20x12 (83k DOFs), large 1100x16x16 (954k DOFs). Defaults:
+//   medium, 100 modes, H = 1, 5 points. Optional env RECOVERY_BENCH_DIRECT=1 also times one
+//   DirectRecovery point (UMFPACK).
 // A plain main rather than Google Benchmark: the one-off setup takes minutes for the large sizes
 // and peak memory is measured per process (/usr/bin/time -v); docs/performance.md has results.
 #include <chrono>
@@ -25,7 +28,9 @@
 #include "fe/assembly.h"
 #include "fe/dof_map.h"
 #include "fe/stress.h"
+#include "io/two_beam_model.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_tools.h"
 #include "recovery/harmonic_response.h"
 #include "recovery/stress_envelope.h"
 
@@ -39,7 +44,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Fills the Mesh arrays directly (add_node is quadratic for a million nodes).
 Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped, std::vector<int>* end_face) {
-  const double a = 0.25, b = 0.05, c = 0.03;
+  // Cubic elements of 2.5 mm: medium (100 x 20 x 12) is the reference beam's 0.25 x 0.05 x 0.03 m.
+  const double h = 0.0025, a = h * nx, b = h * ny, c = h * nz;
   Mesh mesh;
   const int px = nx + 1, py = ny + 1, pz = nz + 1;
   const int num_nodes = px * py * pz;
@@ -91,12 +97,14 @@ int main(int argc, char** argv) {
   int nx = 100, ny = 20, nz = 12;
   std::string size = argc > 1 ? argv[1] : "medium";
   int arg = 2;
-  if (size == "small") {
+  if (size == "reference") {
+    // the two-beam reference model's beam 1, below
+  } else if (size == "small") {
     nx = 40, ny = 8, nz = 5;
   } else if (size == "medium") {
     nx = 100, ny = 20, nz = 12;
   } else if (size == "large") {
-    nx = 220, ny = 44, nz = 26;
+    nx = 1100, ny = 16, nz = 16;
   } else {
     if (argc < 4) {
       std::fprintf(stderr, "usage: %s [small|medium|large|nx ny nz] [modes] [H] [points]\n",
@@ -113,19 +121,32 @@ int main(int argc, char** argv) {
 
   auto start = std::chrono::steady_clock::now();
   std::vector<int> clamped, end_face;
-  const Mesh mesh = box_mesh(nx, ny, nz, &clamped, &end_face);
+  Mesh mesh;
+  std::vector<int> loaded;
+  if (size == "reference") {
+    // Beam 1 of the reference model (DESIGN.md, default butt mesh): clamped end, the contact
+    // face nodes and the forced node carry the loads.
+    const TwoBeamModel model = make_two_beam_model();
+    const SubMesh beam = extract_element_set(model.mesh, "BEAM1");
+    mesh = beam.mesh;
+    clamped = find_node_set(mesh, "CLAMP1");
+    loaded = find_node_set(mesh, "CONTACT1");
+    loaded.push_back(find_node_set(mesh, "FORCE1")[0]);
+    nx = ny = nz = 0;
+  } else {
+    mesh = box_mesh(nx, ny, nz, &clamped, &end_face);
+    // 30 loaded nodes spread over the end face (like the reference case's contact pairs).
+    const size_t stride = std::max<size_t>(1, end_face.size() / 30);
+    for (size_t i = 0; i < end_face.size() && loaded.size() < 30; i += stride) {
+      loaded.push_back(end_face[i]);
+    }
+  }
   SparseMatrix K, M;
   assemble_stiffness_mass(mesh, steel, {}, &K, &M);
   const DofMap dofs = DofMap::from_nodes(mesh.num_nodes(), clamped);
-  std::printf("mesh %d x %d x %d C3D8I: %d nodes, %d DOFs (%d free); assembly %.2f s\n", nx, ny, nz,
-              mesh.num_nodes(), mesh.num_dofs(), dofs.num_free(), seconds_since(start));
-
-  // 30 loaded nodes spread over the end face (like the reference case's contact pairs).
-  std::vector<int> loaded;
-  const size_t stride = std::max<size_t>(1, end_face.size() / 30);
-  for (size_t i = 0; i < end_face.size() && loaded.size() < 30; i += stride) {
-    loaded.push_back(end_face[i]);
-  }
+  std::printf("mesh %s (%d x %d x %d): %d nodes, %d DOFs (%d free); assembly %.2f s\n",
+              size.c_str(), nx, ny, nz, mesh.num_nodes(), mesh.num_dofs(), dofs.num_free(),
+              seconds_since(start));
   std::vector<int> load_dofs;
   for (int n : loaded) {
     for (int d = 0; d < 3; ++d) load_dofs.push_back(3 * n + d);

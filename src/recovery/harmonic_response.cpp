@@ -165,14 +165,21 @@ Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic,
   using Complex = std::complex<double>;
   const Complex a(1.0, w * impl_->damping.beta);
   const Complex b(-w * w, w * impl_->damping.alpha);
-  ComplexSparseMatrix D = impl_->K_ff.cast<Complex>() * a + impl_->M_ff.cast<Complex>() * b;
+  // 64-bit indices (umfpack_zl_*): the LU of a 3D body soon outgrows 32-bit workspace sizes.
+  using LongComplexSparse = Eigen::SparseMatrix<Complex, Eigen::ColMajor, SuiteSparse_long>;
+  LongComplexSparse D = impl_->K_ff.cast<Complex>() * a + impl_->M_ff.cast<Complex>() * b;
   D.makeCompressed();
-  Eigen::UmfPackLU<ComplexSparseMatrix> lu;
+  Eigen::UmfPackLU<LongComplexSparse> lu;
   lu.compute(D);
   if (lu.info() != Eigen::Success) {
-    throw InvalidInput("DirectRecovery::solve: D_k is singular for harmonic " +
-                       std::to_string(harmonic) + " at omega = " + to_text(omega) +
-                       " rad/s (undamped resonance?)");
+    const long status = lu.info() == Eigen::InvalidInput ? -999 : lu.umfpackFactorizeReturncode();
+    const std::string what = status == UMFPACK_WARNING_singular_matrix
+                                 ? "D_k is singular (undamped resonance?)"
+                             : status == UMFPACK_ERROR_out_of_memory
+                                 ? "UMFPACK ran out of memory"
+                                 : "UMFPACK failed (status " + std::to_string(status) + ")";
+    throw InvalidInput("DirectRecovery::solve: " + what + " for harmonic " +
+                       std::to_string(harmonic) + " at omega = " + to_text(omega) + " rad/s");
   }
   const Eigen::MatrixXcd x_free = lu.solve(join(Ff));
   return expand_columns(dofs_, x_free);
