@@ -103,20 +103,29 @@ Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::Ma
     throw InvalidInput("harmonic_response: loads has " + std::to_string(loads.cols()) +
                        " columns but " + std::to_string(harmonics.size()) + " harmonics");
   }
-  Eigen::MatrixXcd x(solver.num_dofs(), loads.cols());
   for (Eigen::Index j = 0; j < loads.cols(); ++j) {
-    const int k = harmonics[static_cast<size_t>(j)];
-    if (k == 0) {
-      const double scale = loads.col(j).cwiseAbs().maxCoeff();
-      // Harmonic 0 is the mean of a real signal: its amplitude must be real.
-      constexpr double kRealTolerance = 1e-12;
-      if (loads.col(j).imag().cwiseAbs().maxCoeff() > kRealTolerance * scale) {
-        throw InvalidInput("harmonic_response: the load of harmonic 0 (column " +
-                           std::to_string(j) + ") has an imaginary part; the mean must be real");
-      }
+    if (harmonics[static_cast<size_t>(j)] != 0) continue;
+    const double scale = loads.col(j).cwiseAbs().maxCoeff();
+    // Harmonic 0 is the mean of a real signal: its amplitude must be real.
+    constexpr double kRealTolerance = 1e-12;
+    if (loads.col(j).imag().cwiseAbs().maxCoeff() > kRealTolerance * scale) {
+      throw InvalidInput("harmonic_response: the load of harmonic 0 (column " + std::to_string(j) +
+                         ") has an imaginary part; the mean must be real");
     }
-    x.col(j) = solver.solve(loads.col(j), k, omega);
-    if (k == 0) x.col(j).imag().setZero();
+  }
+  Eigen::MatrixXcd x = solver.solve_harmonics(loads, harmonics, omega);
+  for (Eigen::Index j = 0; j < loads.cols(); ++j) {
+    if (harmonics[static_cast<size_t>(j)] == 0) x.col(j).imag().setZero();
+  }
+  return x;
+}
+
+Eigen::MatrixXcd HarmonicSolver::solve_harmonics(const Eigen::MatrixXcd& loads,
+                                                 std::span<const int> harmonics,
+                                                 double omega) const {
+  Eigen::MatrixXcd x(num_dofs(), loads.cols());
+  for (Eigen::Index j = 0; j < loads.cols(); ++j) {
+    x.col(j) = solve(loads.col(j), harmonics[static_cast<size_t>(j)], omega);
   }
   return x;
 }
@@ -286,7 +295,25 @@ double ModalRecovery::setup_seconds() const { return impl_->setup_seconds; }
 Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const {
   check_loads(F, dofs_.num_dofs(), harmonic, omega, "ModalRecovery::solve");
   if (!ok()) throw InvalidInput("ModalRecovery::solve: setup failed: " + impl_->message);
-  const double w = harmonic * omega;
+  return solve_columns(F, Eigen::VectorXd::Constant(F.cols(), harmonic * omega));
+}
+
+Eigen::MatrixXcd ModalRecovery::solve_harmonics(const Eigen::MatrixXcd& loads,
+                                                std::span<const int> harmonics,
+                                                double omega) const {
+  Eigen::VectorXd w(loads.cols());
+  for (Eigen::Index j = 0; j < loads.cols(); ++j) {
+    const int k = harmonics[static_cast<size_t>(j)];
+    check_loads(loads.col(j), dofs_.num_dofs(), k, omega, "ModalRecovery::solve");
+    w(j) = k * omega;
+  }
+  if (!ok()) throw InvalidInput("ModalRecovery::solve: setup failed: " + impl_->message);
+  return solve_columns(loads, w);
+}
+
+// One pass over Φ (and R) for all columns: column j at angular frequency w(j).
+Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F,
+                                              const Eigen::VectorXd& w) const {
   const Eigen::MatrixXd& Phi = impl_->modes.modes;
   const Eigen::VectorXd& lambda = impl_->modes.eigenvalues;
   const Eigen::Index m = F.cols();
@@ -316,11 +343,13 @@ Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, d
   const Eigen::MatrixXcd q = join(q_split);
   // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added.
   Eigen::MatrixXcd eta(q.rows(), m);
-  for (Eigen::Index r = 0; r < q.rows(); ++r) {
-    const std::complex<double> h =
-        1.0 / std::complex<double>(lambda(r) - w * w, w * impl_->damping_rates(r));
-    const std::complex<double> g = impl_->residual ? h - 1.0 / lambda(r) : h;
-    eta.row(r) = g * q.row(r);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    for (Eigen::Index r = 0; r < q.rows(); ++r) {
+      const std::complex<double> h =
+          1.0 / std::complex<double>(lambda(r) - w(j) * w(j), w(j) * impl_->damping_rates(r));
+      const std::complex<double> g = impl_->residual ? h - 1.0 / lambda(r) : h;
+      eta(r, j) = g * q(r, j);
+    }
   }
   Eigen::MatrixXd eta_split(eta.rows(), 2 * m);
   eta_split.leftCols(m) = eta.real();

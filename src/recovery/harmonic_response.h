@@ -69,6 +69,10 @@ class HarmonicSolver {
  public:
   virtual ~HarmonicSolver() = default;
   virtual Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const = 0;
+  // Column j of `loads` at harmonic harmonics[j] (sizes checked by harmonic_response). The
+  // default calls solve() per column; ModalRecovery does all columns in one pass.
+  virtual Eigen::MatrixXcd solve_harmonics(const Eigen::MatrixXcd& loads,
+                                           std::span<const int> harmonics, double omega) const;
   virtual int num_dofs() const = 0;
   virtual bool ok() const = 0;
   virtual const std::string& message() const = 0;
@@ -117,6 +121,8 @@ class ModalRecovery final : public HarmonicSolver {
                 RayleighDamping damping, const ModalRecoveryOptions& options = {});
   ~ModalRecovery() override;
   Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const override;
+  Eigen::MatrixXcd solve_harmonics(const Eigen::MatrixXcd& loads, std::span<const int> harmonics,
+                                   double omega) const override;
   int num_dofs() const override { return dofs_.num_dofs(); }
   bool ok() const override;
   const std::string& message() const override;
@@ -128,6 +134,7 @@ class ModalRecovery final : public HarmonicSolver {
   double setup_seconds() const;  // modes + Cholesky factor of K_ff
 
  private:
+  Eigen::MatrixXcd solve_columns(const Eigen::MatrixXcd& F, const Eigen::VectorXd& w) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   DofMap dofs_;
