@@ -4,6 +4,7 @@
 
 #include <complex>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -674,6 +675,69 @@ TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
   expect_invalid("", 0, "", "the case file is empty");
   expect_invalid("- 1\n- 2\n", 1, "(document)", "expected a map of keys");
   EXPECT_THROW(read_case_file(kDir + "/no_such_case.yaml"), InvalidInput);
+}
+
+// Seeded random edits of the reference case (characters inserted, deleted, replaced; lines deleted
+// or repeated): every result either parses or throws InvalidInput with a location in the file,
+// never another exception.
+void random_edits(const std::string& dir, const std::string& file, unsigned seed) {
+  std::ifstream in(dir + "/" + file);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string original = buffer.str();
+  ASSERT_FALSE(original.empty());
+  const std::string alphabet = ":{}[],-#'\"\n \t0123456789.eE+abxyz!&*|>~@";
+  std::mt19937 rng(seed);
+  constexpr int kEdits = 1500;  // about 0.7 s in a -O2 build
+  int valid = 0, invalid = 0;
+  for (int trial = 0; trial < kEdits; ++trial) {
+    std::string text = original;
+    const int edits = 1 + static_cast<int>(rng() % 3);
+    for (int e = 0; e < edits && !text.empty(); ++e) {
+      const size_t at = rng() % text.size();
+      const char c = alphabet[rng() % alphabet.size()];
+      switch (rng() % 5) {
+        case 0:
+          text.insert(at, 1, c);
+          break;
+        case 1:
+          text.erase(at, 1);
+          break;
+        case 2:
+          text[at] = c;
+          break;
+        case 3: {  // delete the line holding `at`
+          const size_t begin = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at);
+          const size_t end = text.find('\n', at + 1);
+          text.erase(begin, end == std::string::npos ? std::string::npos : end - begin);
+          break;
+        }
+        default: {  // repeat the line holding `at`
+          const size_t begin = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at);
+          const size_t end = text.find('\n', at + 1);
+          if (end != std::string::npos) text.insert(end, text.substr(begin, end - begin));
+          break;
+        }
+      }
+    }
+    try {
+      parse_case(text, "case.yaml", dir);
+      ++valid;
+    } catch (const InvalidInput& e) {
+      ++invalid;
+      EXPECT_EQ(e.where().file, "case.yaml") << e.what();
+      EXPECT_FALSE(e.message().empty());
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "not InvalidInput: " << e.what() << "\nfor:\n" << text;
+    }
+  }
+  EXPECT_GT(invalid, kEdits / 4);  // most edits break something
+  EXPECT_GT(valid, 0);             // and some (comments, spaces) do not
+}
+
+TEST(CaseFileErrors, RandomEditsGiveInvalidInputOrAValidCase) {
+  random_edits(kDir, "reference.yaml", 20261121);
+  random_edits(kDir + "/imported", "case.yaml", 6);
 }
 
 // ------------------------------------------------------------------------ docs/case-file.md ---
