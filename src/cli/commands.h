@@ -18,4 +18,12 @@ struct ModesCommand {
 };
 int run_modes(const ModesCommand& command);
 
+struct RunCommand {
+  std::string case_file;
+  std::string output_dir;  // empty: the case file's output.directory
+  bool quiet = false;
+};
+// Exit code 1 when some frequency points did not converge (they are still written).
+int run_case(const RunCommand& command);
+
 }  // namespace stickslip

@@ -1,4 +1,5 @@
 // stickslip: the command-line program. Subcommands:
+//   run     a case file through the whole pipeline (cli/pipeline.h).
 //   modes   modal analysis of the reference two-beam joint with stuck contact (issue 2).
 #include <cstdio>
 #include <exception>
@@ -43,9 +44,20 @@ int main(int argc, char** argv) {
   modes_cmd->add_option("-o,--output", modes.output_dir, "output folder")->capture_default_str();
   modes_cmd->add_flag("-q,--quiet", modes.quiet, "print nothing but errors");
 
+  RunCommand run;
+  CLI::App* run_cmd =
+      app.add_subcommand("run", "Run a case file: reduction, harmonic balance, results");
+  run_cmd->add_option("case", run.case_file, "case file (YAML, docs/case-file.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run_cmd->add_option("-o,--output", run.output_dir,
+                      "output folder (default: the case file's output.directory)");
+  run_cmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*modes_cmd) return run_modes(modes);
+    if (*run_cmd) return run_case(run);
   } catch (const InvalidInput& e) {
     std::fprintf(stderr, "stickslip: error: %s\n", e.what());
     return 2;
