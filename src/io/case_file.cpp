@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -386,6 +387,81 @@ NodeSelection node_selection(Parser& p, const YAML::Node& node, const std::strin
   return s;
 }
 
+// ------------------------------------------------------------------------------ CSV files ---
+struct CsvRecord {
+  std::vector<std::string> fields;
+  int line = 0;
+};
+
+bool parse_int(const std::string& s, long long* v) {
+  const char* begin = s.data() + (!s.empty() && s[0] == '+' ? 1 : 0);
+  const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), *v);
+  return ec == std::errc() && end == s.data() + s.size() && !s.empty();
+}
+
+bool parse_double(const std::string& s, double* v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  *v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size();
+}
+
+std::vector<CsvRecord> read_csv_records(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput(SourceLocation{path, 0, ""}, "cannot open the file");
+  std::vector<CsvRecord> records;
+  std::string text;
+  int line = 0;
+  bool first = true;
+  while (std::getline(in, text)) {
+    ++line;
+    CsvRecord r;
+    r.line = line;
+    std::string field;
+    for (const char c : text + "\n") {
+      if (c == ',' || c == ';' || c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+        if (!field.empty()) r.fields.push_back(field);
+        field.clear();
+      } else {
+        field += c;
+      }
+    }
+    if (r.fields.empty() || r.fields[0][0] == '#') continue;
+    double ignored = 0;
+    if (first && !parse_double(r.fields[0], &ignored)) {  // a header line
+      first = false;
+      continue;
+    }
+    first = false;
+    records.push_back(std::move(r));
+  }
+  if (records.empty()) throw InvalidInput(SourceLocation{path, 0, ""}, "no records in the file");
+  return records;
+}
+
+int csv_id(const std::string& path, const CsvRecord& r, size_t i, bool zero_allowed) {
+  long long v = 0;
+  const std::string& s = r.fields[i];
+  if (!parse_int(s, &v) || v < (zero_allowed ? 0 : 1) || v > std::numeric_limits<int>::max())
+    throw InvalidInput(SourceLocation{path, r.line, ""},
+                       "field " + std::to_string(i + 1) + ": expected a " +
+                           (zero_allowed ? "node id or 0 (ground)" : "positive node id") +
+                           ", got '" + s + "'");
+  return static_cast<int>(v);
+}
+
+// Re-throws an error of a referenced file with the case key that referenced it.
+template <typename F>
+auto with_key(const std::string& key, F&& f) {
+  try {
+    return f();
+  } catch (const InvalidInput& e) {
+    SourceLocation where = e.where();
+    where.key = key;
+    throw InvalidInput(where, e.message());
+  }
+}
+
 // Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'.
 void check_name(const Parser& p, const std::string& name, const std::string& path, int line) {
   p.check(!name.empty(), path, line, "empty name");
@@ -699,6 +775,14 @@ void parse_contacts(Parser& p, const MapView& top) {
         }
       } else {
         m.file("pairs_file", &d.pairs_file);
+        std::vector<int> lines;
+        d.pairs = with_key(m.full("pairs_file"), [&] {
+          return read_pairs_file(d.pairs_file, d.body_b == "ground", &lines);
+        });
+        for (size_t k = 0; k < lines.size(); ++k) {
+          const std::string key = m.full("pairs") + "[" + std::to_string(k) + "]";
+          p.out().locations[key] = {d.pairs_file, lines[k], key};
+        }
       }
     }
 
@@ -741,6 +825,13 @@ void parse_contacts(Parser& p, const MapView& top) {
       p.check(d.law == "friction" || d.law == "gap" || d.law == "jenkins", m.full("preload_file"),
               m.line("preload_file"), "law " + d.law + " has no preload");
       m.file("preload_file", &d.preload_file);
+      std::vector<int> lines;
+      d.preloads = with_key(m.full("preload_file"),
+                            [&] { return read_preload_file(d.preload_file, &lines); });
+      for (size_t k = 0; k < lines.size(); ++k) {
+        const std::string key = m.full("preloads") + "[" + std::to_string(k) + "]";
+        p.out().locations[key] = {d.preload_file, lines[k], key};
+      }
     }
     if (m.has("gap")) {
       p.check(d.law == "friction" || d.law == "gap", m.full("gap"), m.line("gap"),
@@ -1132,6 +1223,55 @@ CaseDefinition read_case_file(const std::string& path) {
   std::string base = fs::path(path).parent_path().string();
   if (base.empty()) base = ".";
   return parse_case(text.str(), path, base);
+}
+
+std::vector<std::array<int, 2>> read_pairs_file(const std::string& path, bool allow_ground,
+                                                std::vector<int>* lines) {
+  std::vector<std::array<int, 2>> pairs;
+  std::set<std::array<int, 2>> seen;
+  if (lines) lines->clear();
+  for (const CsvRecord& r : read_csv_records(path)) {
+    const size_t n = r.fields.size();
+    if (n != 2 && !(allow_ground && n == 1))
+      throw InvalidInput(SourceLocation{path, r.line, ""},
+                         "expected node_a,node_b" +
+                             std::string(allow_ground ? " (or node_a alone for the ground)" : "") +
+                             ", got " + std::to_string(n) + " fields");
+    const std::array<int, 2> pair{csv_id(path, r, 0, false),
+                                  n == 2 ? csv_id(path, r, 1, allow_ground) : 0};
+    if (!seen.insert(pair).second)
+      throw InvalidInput(
+          SourceLocation{path, r.line, ""},
+          "pair " + std::to_string(pair[0]) + "," + std::to_string(pair[1]) + " listed twice");
+    pairs.push_back(pair);
+    if (lines) lines->push_back(r.line);
+  }
+  return pairs;
+}
+
+std::vector<std::pair<int, double>> read_preload_file(const std::string& path,
+                                                      std::vector<int>* lines) {
+  std::vector<std::pair<int, double>> preloads;
+  std::set<int> seen;
+  if (lines) lines->clear();
+  for (const CsvRecord& r : read_csv_records(path)) {
+    if (r.fields.size() != 2)
+      throw InvalidInput(
+          SourceLocation{path, r.line, ""},
+          "expected node_a,preload, got " + std::to_string(r.fields.size()) + " fields");
+    const int node = csv_id(path, r, 0, false);
+    double preload = 0;
+    if (!parse_double(r.fields[1], &preload) || !std::isfinite(preload) || preload < 0)
+      throw InvalidInput(
+          SourceLocation{path, r.line, ""},
+          "field 2: the preload must be a number >= 0 (N), got '" + r.fields[1] + "'");
+    if (!seen.insert(node).second)
+      throw InvalidInput(SourceLocation{path, r.line, ""},
+                         "node " + std::to_string(node) + " listed twice");
+    preloads.emplace_back(node, preload);
+    if (lines) lines->push_back(r.line);
+  }
+  return preloads;
 }
 
 CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,

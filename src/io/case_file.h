@@ -28,6 +28,7 @@
 #include <complex>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/errors.h"
@@ -88,7 +89,7 @@ struct BodyDefinition {
   std::string element_set;  // elements of the body; empty = the whole mesh
   std::string material;     // name in CaseDefinition::materials (required)
   NodeSelection clamp;      // nodes fixed in x, y, z
-  NodeSelection masters;    // extra boundary (master) nodes kept by the reduction
+  NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction
   int modes = 60;           // fixed-interface modes kept (≥ 0)
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
   double modal_damping_ratio = 0.0;
@@ -115,9 +116,10 @@ struct ContactDefinition {
   // Pairs found by coincidence between two node selections (`between`) ...
   NodeSelection nodes_a, nodes_b;
   double tolerance = 1.0e-6;  // m: coincidence distance
-  // ... or listed: (node id on A, node id on B; 0 for ground), from `pairs` or `pairs_file`.
+  // ... or listed: (node id on A, node id on B; 0 for ground), from `pairs` or read from
+  // `pairs_file` at parse time (locations "contacts.C.pairs[i]" then point into that file).
   std::vector<std::array<int, 2>> pairs;
-  std::string pairs_file;  // resolved path; CSV "node_a,node_b" per line
+  std::string pairs_file;  // resolved path (read_pairs_file format)
   // Frame: unit normal out of A into B (friction); optional first tangent hint (0 = none).
   // 1D laws act along `direction` instead.
   std::array<double, 3> normal{0, 0, 0};
@@ -127,8 +129,10 @@ struct ContactDefinition {
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
   std::string split = "equal";  // total: equal | area
-  std::string preload_file;     // resolved path; CSV "node_a,preload" per pair (N)
-  double gap = 0.0;             // g0, m (≥ 0): initial gap instead of a preload
+  std::string preload_file;     // resolved path (read_preload_file format), read at parse time:
+  std::vector<std::pair<int, double>>
+      preloads;      // (node id on A, N0 in N), "contacts.C.preloads[i]"
+  double gap = 0.0;  // g0, m (≥ 0): initial gap instead of a preload
 };
 
 struct ExcitationDefinition {
@@ -233,6 +237,18 @@ CaseDefinition read_case_file(const std::string& path);
 // Same, from text: name_for_messages names it in errors, base_dir resolves relative paths.
 CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
                           const std::string& base_dir);
+
+// Small CSV files a case may reference. One record per line; fields separated by commas,
+// semicolons or blanks; blank lines and lines starting with '#' are ignored; a first record that
+// is not numeric is a header and skipped. Errors name the file and line.
+//   pairs file:   node_a,node_b   (positive node ids; with allow_ground, node_b may be omitted
+//                                  or 0 for a node-to-ground element). No pair twice.
+//   preload file: node_a,preload  (node id of the pair's A node, N0 ≥ 0 in N). No node twice.
+// `lines` (optional) receives the line of each record.
+std::vector<std::array<int, 2>> read_pairs_file(const std::string& path, bool allow_ground,
+                                                std::vector<int>* lines = nullptr);
+std::vector<std::pair<int, double>> read_preload_file(const std::string& path,
+                                                      std::vector<int>* lines = nullptr);
 
 // Returns `definition` with the numeric key at dotted `path` set to `value` (the study
 // mechanism): materials.M.{youngs_modulus,poisson_ratio,density},

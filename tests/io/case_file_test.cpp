@@ -223,6 +223,13 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(root.body_b, "blade");
   EXPECT_EQ(root.pairs_file, dir + "/pairs.csv");
   EXPECT_EQ(root.preload_file, dir + "/preload.csv");
+  // The CSV files are read at parse time; their records keep their own lines.
+  EXPECT_EQ(root.pairs, (std::vector<std::array<int, 2>>{{1, 101}, {2, 102}}));
+  EXPECT_EQ(root.preloads, (std::vector<std::pair<int, double>>{{1, 120.0}, {2, 80.0}}));
+  EXPECT_EQ(c.where("contacts.root.pairs[1]").file, dir + "/pairs.csv");
+  EXPECT_EQ(c.where("contacts.root.pairs[1]").line, 2);
+  EXPECT_EQ(c.where("contacts.root.preloads[1]").file, dir + "/preload.csv");
+  EXPECT_EQ(c.where("contacts.root.preloads[1]").line, 4);  // after a comment and a header
   EXPECT_EQ(root.parameters_given, ContactDefinition::Parameters::kTotal);
   EXPECT_EQ(root.split, "area");
   EXPECT_EQ(root.parameters.kt, 1.0e8);
@@ -669,6 +676,47 @@ TEST(CaseFileErrors, QuotedIntegerIsAString) {
 TEST(CaseFileErrors, StudyCannotAddAGapToAPreloadedContact) {
   expect_invalid(kMinimal + "study: {parameter: contacts.joint.gap, values: [1e-6]}\n", 19,
                  "study.parameter", "give either a preload or a gap");
+}
+
+// A malformed CSV file referenced by the case: its own file and line, the case key.
+void expect_invalid_csv(const std::string& key_line, const std::string& csv, int line,
+                        const std::string& key, const std::string& message) {
+  std::string text = kMinimal;
+  const std::string between = "    between: {beam1: CONTACT1, beam2: CONTACT2}\n";
+  text.replace(text.find(between), between.size(), key_line);
+  try {
+    parse(text);
+    ADD_FAILURE() << "no InvalidInput for " << csv;
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, kDir + "/bad/" + csv) << e.what();
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_EQ(e.where().key, key) << e.what();
+    EXPECT_NE(e.message().find(message), std::string::npos) << e.what();
+  }
+}
+
+TEST(CaseFileErrors, MalformedPairsFile) {
+  const std::string bodies = "    bodies: [beam1, beam2]\n";
+  expect_invalid_csv(bodies + "    pairs_file: bad/pairs_bad_id.csv\n", "pairs_bad_id.csv", 3,
+                     "contacts.joint.pairs_file", "field 2: expected a positive node id, got 'x7'");
+  expect_invalid_csv(bodies + "    pairs_file: bad/pairs_twice.csv\n", "pairs_twice.csv", 3,
+                     "contacts.joint.pairs_file", "pair 1,101 listed twice");
+}
+
+TEST(CaseFileErrors, NegativePreloadInPreloadFile) {
+  std::string text = edited("mu: 0.5, preload: 150}", "mu: 0.5}");
+  text.replace(text.find("    normal:"), 0, "    preload_file: bad/preload_negative.csv\n");
+  try {
+    parse(text);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, kDir + "/bad/preload_negative.csv");
+    EXPECT_EQ(e.where().line, 3);
+    EXPECT_EQ(e.where().key, "contacts.joint.preload_file");
+    EXPECT_NE(e.message().find("the preload must be a number >= 0 (N), got '-3'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(CaseFileErrors, EmptyAndUnreadableFiles) {
