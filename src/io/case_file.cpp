@@ -10,6 +10,7 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -1107,8 +1108,8 @@ void parse_output(Parser& p, const MapView& top) {
     const YAML::Node& v = m.value("frf");
     p.sequence(v, m.full("frf"), m.line("frf"));
     for (size_t i = 0; i < v.size(); ++i) {
-      MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]", m.line("frf"),
-                {"body", "node", "direction"});
+      MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]",
+                line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), {"body", "node", "direction"});
       ResponseDofDefinition r;
       for (const char* key : {"body", "node", "direction"}) d.require(key);
       d.text("body", &r.body);
@@ -1357,9 +1358,17 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
 
 std::string describe_case(const CaseDefinition& c) {
   YAML::Emitter e;
+  // Numbers in their shortest round-trip form (yaml-cpp would print 17 digits).
+  auto num = [](double v) { return format_number(v); };
   auto vec = [&](const auto& v) {
     e << YAML::Flow << YAML::BeginSeq;
-    for (const auto& x : v) e << x;
+    for (const auto& x : v) {
+      if constexpr (std::is_floating_point_v<std::decay_t<decltype(x)>>) {
+        e << num(x);
+      } else {
+        e << x;
+      }
+    }
     e << YAML::EndSeq;
   };
   auto selection = [&](const NodeSelection& s) {
@@ -1374,9 +1383,9 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
   for (const auto& [name, m] : c.materials) {
     e << YAML::Key << name << YAML::Value << YAML::Flow << YAML::BeginMap;
-    e << YAML::Key << "youngs_modulus" << YAML::Value << m.youngs_modulus;
-    e << YAML::Key << "poisson_ratio" << YAML::Value << m.poisson_ratio;
-    e << YAML::Key << "density" << YAML::Value << m.density << YAML::EndMap;
+    e << YAML::Key << "youngs_modulus" << YAML::Value << num(m.youngs_modulus);
+    e << YAML::Key << "poisson_ratio" << YAML::Value << num(m.poisson_ratio);
+    e << YAML::Key << "density" << YAML::Value << num(m.density) << YAML::EndMap;
   }
   e << YAML::EndMap;
   e << YAML::Key << "meshes" << YAML::Value << YAML::BeginMap;
@@ -1392,10 +1401,10 @@ std::string describe_case(const CaseDefinition& c) {
       vec(t.box);
       e << YAML::Key << "end_block" << YAML::Value;
       vec(t.end_block);
-      e << YAML::Key << "beam_length" << YAML::Value << t.beam_length;
-      e << YAML::Key << "width" << YAML::Value << t.width;
-      e << YAML::Key << "thickness" << YAML::Value << t.thickness;
-      e << YAML::Key << "end_length" << YAML::Value << t.end_length;
+      e << YAML::Key << "beam_length" << YAML::Value << num(t.beam_length);
+      e << YAML::Key << "width" << YAML::Value << num(t.width);
+      e << YAML::Key << "thickness" << YAML::Value << num(t.thickness);
+      e << YAML::Key << "end_length" << YAML::Value << num(t.end_length);
     } else {
       e << YAML::Key << "file" << YAML::Value << m.file;
       e << YAML::Key << "format" << YAML::Value << m.format;
@@ -1426,7 +1435,7 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "mapping" << YAML::Value << b.reduced.mapping;
       e << YAML::Key << "format" << YAML::Value << b.reduced.format << YAML::EndMap;
     }
-    e << YAML::Key << "modal_damping_ratio" << YAML::Value << b.modal_damping_ratio;
+    e << YAML::Key << "modal_damping_ratio" << YAML::Value << num(b.modal_damping_ratio);
     e << YAML::EndMap;
   }
   e << YAML::EndMap;
@@ -1442,7 +1451,7 @@ std::string describe_case(const CaseDefinition& c) {
       selection(d.nodes_a);
       selection(d.nodes_b);
       e << YAML::EndSeq;
-      e << YAML::Key << "tolerance" << YAML::Value << d.tolerance;
+      e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
     } else if (!d.pairs_file.empty()) {
       e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
     } else {
@@ -1461,11 +1470,11 @@ std::string describe_case(const CaseDefinition& c) {
       << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
     for (const std::string& key : law_parameters().at(d.law))
-      e << YAML::Key << key << YAML::Value << *contact_parameter(params, key);
+      e << YAML::Key << key << YAML::Value << num(*contact_parameter(params, key));
     if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
-    e << YAML::Key << "gap" << YAML::Value << d.gap;
+    e << YAML::Key << "gap" << YAML::Value << num(d.gap);
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
@@ -1482,22 +1491,22 @@ std::string describe_case(const CaseDefinition& c) {
   }
   e << YAML::EndSeq;
   e << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  e << YAML::Key << "alpha" << YAML::Value << c.damping.alpha;
-  e << YAML::Key << "beta" << YAML::Value << c.damping.beta << YAML::EndMap;
+  e << YAML::Key << "alpha" << YAML::Value << num(c.damping.alpha);
+  e << YAML::Key << "beta" << YAML::Value << num(c.damping.beta) << YAML::EndMap;
   const AnalysisDefinition& a = c.analysis;
   e << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
   e << YAML::Key << "frequency" << YAML::Value << YAML::Flow << YAML::BeginMap;
   if (a.frequency.kind == FrequencyDefinition::Kind::kRange) {
-    e << YAML::Key << "start_hz" << YAML::Value << a.frequency.start_hz;
-    e << YAML::Key << "stop_hz" << YAML::Value << a.frequency.stop_hz;
+    e << YAML::Key << "start_hz" << YAML::Value << num(a.frequency.start_hz);
+    e << YAML::Key << "stop_hz" << YAML::Value << num(a.frequency.stop_hz);
   } else {
     e << YAML::Key << "around_mode" << YAML::Value << a.frequency.around_mode;
-    e << YAML::Key << "half_width_hz" << YAML::Value << a.frequency.half_width_hz;
+    e << YAML::Key << "half_width_hz" << YAML::Value << num(a.frequency.half_width_hz);
   }
-  e << YAML::Key << "step_hz" << YAML::Value << a.frequency.step_hz;
+  e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
   if (a.method == "continuation") {
-    e << YAML::Key << "min_step_hz" << YAML::Value << a.frequency.min_step_hz;
-    e << YAML::Key << "max_step_hz" << YAML::Value << a.frequency.max_step_hz;
+    e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
+    e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
   e << YAML::Key << "method" << YAML::Value << a.method;
@@ -1505,7 +1514,7 @@ std::string describe_case(const CaseDefinition& c) {
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
   e << YAML::Key << "static" << YAML::Value << a.static_coupling;
-  e << YAML::Key << "tolerance" << YAML::Value << a.tolerance;
+  e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
   if (a.method == "continuation") e << YAML::Key << "max_points" << YAML::Value << a.max_points;
   e << YAML::Key << "initial_guess" << YAML::Value << a.initial_guess;

@@ -1,6 +1,7 @@
 #include "io/case_file.h"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <complex>
 #include <fstream>
@@ -336,6 +337,19 @@ TEST(CaseFile, DescribeCaseListsTheResolvedValues) {
         std::string("directory: ") + kDir + "/results", std::string("time_samples: 64")}) {
     EXPECT_NE(text.find(s), std::string::npos) << s << " not in\n" << text;
   }
+}
+
+TEST(CaseFile, DescribeCaseIsYamlWithExactNumbers) {
+  const CaseDefinition c = read_case_file(kDir + "/imported/case.yaml");
+  const YAML::Node d = YAML::Load(describe_case(c));
+  EXPECT_EQ(d["materials"]["aluminium"]["poisson_ratio"].as<double>(), 0.33);
+  EXPECT_EQ(d["contacts"][1]["gap"].as<double>(), 1.0e-5);
+  EXPECT_EQ(d["contacts"][1]["bodies"][1].as<std::string>(), "ground");
+  EXPECT_EQ(d["contacts"][0]["total"]["split"].as<std::string>(), "area");
+  EXPECT_EQ(d["excitation"][0]["force"][0][1].as<double>(), -2.0);
+  EXPECT_EQ(d["analysis"]["harmonics"][1].as<int>(), 3);
+  EXPECT_EQ(d["analysis"]["frequency"]["min_step_hz"].as<double>(), 0.01);
+  EXPECT_EQ(d["recovery"]["points"][1].as<double>(), 250.5);
 }
 
 // ----------------------------------------------------------------------- bad input, one by one ---
