@@ -778,7 +778,7 @@ void parse_contacts(Parser& p, const MapView& top) {
         m.file("pairs_file", &d.pairs_file);
         std::vector<int> lines;
         d.pairs = with_key(m.full("pairs_file"), [&] {
-          return read_pairs_file(d.pairs_file, d.body_b == "ground", &lines);
+          return read_pairs_csv(d.pairs_file, d.body_b == "ground", &lines);
         });
         for (size_t k = 0; k < lines.size(); ++k) {
           const std::string key = m.full("pairs") + "[" + std::to_string(k) + "]";
@@ -828,7 +828,7 @@ void parse_contacts(Parser& p, const MapView& top) {
       m.file("preload_file", &d.preload_file);
       std::vector<int> lines;
       d.preloads = with_key(m.full("preload_file"),
-                            [&] { return read_preload_file(d.preload_file, &lines); });
+                            [&] { return read_preloads_csv(d.preload_file, &lines); });
       for (size_t k = 0; k < lines.size(); ++k) {
         const std::string key = m.full("preloads") + "[" + std::to_string(k) + "]";
         p.out().locations[key] = {d.preload_file, lines[k], key};
@@ -1226,8 +1226,8 @@ CaseDefinition read_case_file(const std::string& path) {
   return parse_case(text.str(), path, base);
 }
 
-std::vector<std::array<int, 2>> read_pairs_file(const std::string& path, bool allow_ground,
-                                                std::vector<int>* lines) {
+std::vector<std::array<int, 2>> read_pairs_csv(const std::string& path, bool allow_ground,
+                                               std::vector<int>* lines) {
   std::vector<std::array<int, 2>> pairs;
   std::set<std::array<int, 2>> seen;
   if (lines) lines->clear();
@@ -1250,7 +1250,7 @@ std::vector<std::array<int, 2>> read_pairs_file(const std::string& path, bool al
   return pairs;
 }
 
-std::vector<std::pair<int, double>> read_preload_file(const std::string& path,
+std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
                                                       std::vector<int>* lines) {
   std::vector<std::pair<int, double>> preloads;
   std::set<int> seen;

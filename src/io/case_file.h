@@ -119,7 +119,7 @@ struct ContactDefinition {
   // ... or listed: (node id on A, node id on B; 0 for ground), from `pairs` or read from
   // `pairs_file` at parse time (locations "contacts.C.pairs[i]" then point into that file).
   std::vector<std::array<int, 2>> pairs;
-  std::string pairs_file;  // resolved path (read_pairs_file format)
+  std::string pairs_file;  // resolved path (read_pairs_csv format)
   // Frame: unit normal out of A into B (friction); optional first tangent hint (0 = none).
   // 1D laws act along `direction` instead.
   std::array<double, 3> normal{0, 0, 0};
@@ -129,7 +129,7 @@ struct ContactDefinition {
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
   std::string split = "equal";  // total: equal | area
-  std::string preload_file;     // resolved path (read_preload_file format), read at parse time:
+  std::string preload_file;     // resolved path (read_preloads_csv format), read at parse time:
   std::vector<std::pair<int, double>>
       preloads;      // (node id on A, N0 in N), "contacts.C.preloads[i]"
   double gap = 0.0;  // g0, m (≥ 0): initial gap instead of a preload
@@ -245,9 +245,9 @@ CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_
 //                                  or 0 for a node-to-ground element). No pair twice.
 //   preload file: node_a,preload  (node id of the pair's A node, N0 ≥ 0 in N). No node twice.
 // `lines` (optional) receives the line of each record.
-std::vector<std::array<int, 2>> read_pairs_file(const std::string& path, bool allow_ground,
-                                                std::vector<int>* lines = nullptr);
-std::vector<std::pair<int, double>> read_preload_file(const std::string& path,
+std::vector<std::array<int, 2>> read_pairs_csv(const std::string& path, bool allow_ground,
+                                               std::vector<int>* lines = nullptr);
+std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
                                                       std::vector<int>* lines = nullptr);
 
 // Returns `definition` with the numeric key at dotted `path` set to `value` (the study
