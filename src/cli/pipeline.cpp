@@ -279,6 +279,8 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   assign_node_ids(cb.body, body.mesh.node_ids);
   body.reduced = std::move(cb.body);
   body.T = std::move(cb.T);
+  body.K = std::move(K);
+  body.M = std::move(M);
   body.seconds_reduction = seconds_since(t0);
 }
 

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "core/types.h"
 #include "fe/dof_map.h"
 #include "fe/material.h"
 #include "hbm/frequency_response.h"
@@ -36,6 +37,7 @@ struct PreparedBody {
   Mesh mesh;                   // the body's own mesh (from_mesh)
   IsotropicMaterial material;  // from_mesh
   DofMap constraints;          // clamped DOFs of `mesh` (from_mesh)
+  SparseMatrix K, M;           // full stiffness and mass of `mesh` (from_mesh)
   ReducedBody reduced;         // K_r, M_r and what each reduced DOF is
   Eigen::MatrixXd T;           // expansion basis, full DOFs x reduced (from_mesh)
   int offset = 0;              // first DOF of this body in the assembled reduced model

@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/recovery_stage.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -235,6 +236,7 @@ int run_case(const RunCommand& command) {
     const fs::path dir = folder.empty() ? out_dir : out_dir / folder;
     write_results(dir, def, model, solved,
                   std::chrono::duration<double>(Clock::now() - t_run).count());
+    run_recovery(dir, def, model, solved, progress);
     int bad = 0;
     for (const FrequencyPoint& p : solved.response.points) bad += p.converged ? 0 : 1;
     failed_points += bad;

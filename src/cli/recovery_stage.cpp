@@ -1,0 +1,236 @@
+#include "cli/recovery_stage.h"
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <fmt/core.h>
+#include <fmt/ostream.h>
+
+#include "core/errors.h"
+#include "core/types.h"
+#include "fe/stress.h"
+#include "io/atomic_file.h"
+#include "io/vtu_writer.h"
+#include "recovery/harmonic_response.h"
+#include "recovery/stress_envelope.h"
+
+namespace stickslip {
+namespace {
+
+const char* kAxes[3] = {"x", "y", "z"};
+
+// Response measure of a point for "peak": the norm of harmonic-1 (first dynamic harmonic)
+// amplitudes of the FRF DOFs, or of every physical master DOF when none is listed.
+double peak_measure(const CaseDefinition& def, const PreparedModel& model,
+                    const FrequencyPoint& p) {
+  const int h = p.master.cols() > 1 ? 1 : 0;
+  double s = 0;
+  if (!def.output.frf.empty()) {
+    for (const ResponseDofDefinition& r : def.output.frf) {
+      const int b = model.body_index(r.body);
+      const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
+      if (g >= 0) s += std::norm(p.master(g, h));
+    }
+    return s;
+  }
+  for (const PreparedBody& body : model.bodies) {
+    for (const auto& [key, g] : body.master_dof) s += std::norm(p.master(g, h));
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
+                                 const SolvedCase& solved) {
+  const auto& points = solved.response.points;
+  std::vector<int> out;
+  const std::string& mode = def.recovery.points;
+  if (mode == "none" || points.empty()) return out;
+  if (mode == "all") {
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (points[i].converged) out.push_back(static_cast<int>(i));
+    }
+    return out;
+  }
+  if (mode == "peak") {
+    int best = -1;
+    double best_value = -1;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!points[i].converged) continue;
+      const double v = peak_measure(def, model, points[i]);
+      if (v > best_value) best_value = v, best = static_cast<int>(i);
+    }
+    if (best >= 0) out.push_back(best);
+    return out;
+  }
+  // A list of frequencies: the nearest converged point to each.
+  for (double hz : def.recovery.frequencies_hz) {
+    int best = -1;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double d = std::abs(rad_s_to_hz(points[i].omega) - hz);
+      if (points[i].converged && d < best_distance) best_distance = d, best = static_cast<int>(i);
+    }
+    if (best >= 0 && (out.empty() || out.back() != best)) out.push_back(best);
+  }
+  return out;
+}
+
+void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
+                  const PreparedModel& model, const SolvedCase& solved,
+                  const std::function<void(const std::string&)>& progress) {
+  const std::vector<int> points = recovery_points(def, model, solved);
+  if (points.empty()) return;
+  const std::vector<int>& harmonics = solved.response.harmonics;
+  const int nh = static_cast<int>(harmonics.size());
+  const std::string& method = def.recovery.method;
+  const RayleighDamping damping{def.damping.alpha, def.damping.beta};
+  const bool want_stress = std::find(def.recovery.fields.begin(), def.recovery.fields.end(),
+                                     "stress") != def.recovery.fields.end();
+
+  struct Row {
+    int point, body, harmonic;
+    double max_rel, rms_rel, reference_max;
+  };
+  std::vector<Row> check;
+  std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
+
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    const PreparedBody& body = model.bodies[b];
+    if (!body.from_mesh) continue;
+    progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(), method));
+    std::unique_ptr<HarmonicSolver> solver;
+    if (method == "direct") {
+      solver = std::make_unique<DirectRecovery>(body.K, body.M, body.constraints, damping);
+    } else if (method == "modal") {
+      ModalRecoveryOptions o;
+      o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
+      solver = std::make_unique<ModalRecovery>(body.K, body.M, body.constraints, damping, o);
+    }
+    if (solver && !solver->ok()) {
+      throw InvalidInput(def.where("recovery.method"),
+                         "recovery of body " + body.name + " failed: " + solver->message());
+    }
+    // Master DOFs of this body in the full numbering, and their reduced (global) index.
+    std::vector<int> full_dofs, reduced_dofs;
+    for (int j = 0; j < body.reduced.size(); ++j) {
+      const ReducedDof& d = body.reduced.dofs[j];
+      if (d.kind == ReducedDof::Kind::kPhysical) {
+        full_dofs.push_back(d.full_dof);
+        reduced_dofs.push_back(body.offset + j);
+      }
+    }
+    const int n = body.mesh.num_dofs();
+    for (int pi : points) {
+      const FrequencyPoint& p = solved.response.points[pi];
+      Eigen::MatrixXcd x;
+      if (method == "expansion") {
+        x = expand_reduced_response(body.T, p.master.middleRows(body.offset, body.reduced.size()));
+      } else {
+        // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
+        Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
+        for (int h = 0; h < nh; ++h) {
+          const auto it = model.excitation.harmonics.find(harmonics[h]);
+          if (it == model.excitation.harmonics.end()) continue;
+          for (size_t i = 0; i < full_dofs.size(); ++i)
+            F(full_dofs[i], h) += it->second(reduced_dofs[i]);
+        }
+        for (size_t q = 0; q < model.pairs.size(); ++q) {
+          const ContactPair& pair = model.pairs[q];
+          const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
+          for (int d = 0; d < 3; ++d) {
+            for (int side = 0; side < 2; ++side) {
+              const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
+              if (dofs.empty() || dofs[d] < body.offset ||
+                  dofs[d] >= body.offset + body.reduced.size()) {
+                continue;
+              }
+              const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
+              const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
+              F.row(full) += sign * fg.row(d);
+            }
+          }
+        }
+        // Harmonic 0 is real by construction; drop round-off in its imaginary part.
+        for (int h = 0; h < nh; ++h) {
+          if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
+        }
+        x = harmonic_response(*solver, F, harmonics, p.omega);
+      }
+      // Check against the reduced nonlinear response at the master DOFs.
+      Eigen::MatrixXcd reduced = Eigen::MatrixXcd::Zero(n, nh);
+      for (size_t i = 0; i < full_dofs.size(); ++i)
+        reduced.row(full_dofs[i]) = p.master.row(reduced_dofs[i]);
+      const ResponseDifference diff = compare_responses(x, reduced, full_dofs);
+      for (int h = 0; h < nh; ++h) {
+        double ref = 0;
+        for (int dof : full_dofs) ref = std::max(ref, std::abs(reduced(dof, h)));
+        check.push_back({pi, static_cast<int>(b), harmonics[h], diff.max_relative[h],
+                         diff.rms_relative[h], ref});
+      }
+      // Listed nodes.
+      for (int id : def.recovery.nodes) {
+        const auto it = std::find(body.mesh.node_ids.begin(), body.mesh.node_ids.end(), id);
+        if (it == body.mesh.node_ids.end()) continue;
+        const int node = static_cast<int>(it - body.mesh.node_ids.begin());
+        for (int d = 0; d < 3; ++d) {
+          for (int h = 0; h < nh; ++h) {
+            const std::complex<double> v = x(dof_of(node, d), h);
+            nodes_csv += fmt::format("{},{},{},{},{},{:.10e},{:.10e}\n", pi, body.name, id,
+                                     kAxes[d], harmonics[h], v.real(), v.imag());
+          }
+        }
+      }
+      if (!def.output.vtu) continue;
+      VtuData data;
+      for (int h = 0; h < nh; ++h) {
+        const Eigen::VectorXcd xh = x.col(h);
+        const Eigen::MatrixXd re = Eigen::Map<const Eigen::MatrixXd>(
+            Eigen::VectorXd(xh.real()).data(), 3, body.mesh.num_nodes());
+        const Eigen::MatrixXd im = Eigen::Map<const Eigen::MatrixXd>(
+            Eigen::VectorXd(xh.imag()).data(), 3, body.mesh.num_nodes());
+        data.point_data.push_back({fmt::format("displacement_h{}_real", harmonics[h]), re});
+        data.point_data.push_back({fmt::format("displacement_h{}_imag", harmonics[h]), im});
+      }
+      if (want_stress) {
+        std::vector<ComplexStressMatrix> S;
+        for (int h = 0; h < nh; ++h) {
+          S.push_back(nodal_stress(body.mesh, body.material, AssemblyOptions{},
+                                   Eigen::VectorXcd(x.col(h))));
+          // VTU tensors are in ParaView order xx, yy, zz, xy, yz, xz; ours xx, yy, zz, xy, xz, yz.
+          Eigen::MatrixXd re = S.back().real(), im = S.back().imag();
+          re.row(4).swap(re.row(5));
+          im.row(4).swap(im.row(5));
+          data.point_data.push_back({fmt::format("stress_h{}_real", harmonics[h]), re});
+          data.point_data.push_back({fmt::format("stress_h{}_imag", harmonics[h]), im});
+        }
+        StressEnvelopeOptions eo;
+        eo.time_samples = std::max(64, 4 * (2 * harmonics.back() + 1));
+        const StressEnvelope env = stress_envelope(S, harmonics, eo);
+        data.point_data.push_back({"von_mises_max", env.von_mises_max.transpose()});
+        data.point_data.push_back({"von_mises_alternating", env.von_mises_alternating.transpose()});
+        data.point_data.push_back({"von_mises_mean", env.von_mises_mean.transpose()});
+        data.point_data.push_back({"max_principal_max", env.max_principal_max.transpose()});
+      }
+      data.field_data.emplace_back("frequency_hz", rad_s_to_hz(p.omega));
+      write_vtu((dir / fmt::format("recovery_p{}_{}.vtu", pi, body.name)).string(), body.mesh,
+                data);
+    }
+  }
+  write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
+    out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative\n";
+    for (const Row& r : check) {
+      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e}\n", r.point,
+                 rad_s_to_hz(solved.response.points[r.point].omega), model.bodies[r.body].name,
+                 r.harmonic, r.reference_max, r.max_rel, r.rms_rel);
+    }
+  });
+  if (!def.recovery.nodes.empty()) {
+    write_file_atomically((dir / "recovered_nodes.csv").string(),
+                          [&](std::ostream& out) { out << nodes_csv; });
+  }
+}
+
+}  // namespace stickslip

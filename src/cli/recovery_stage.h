@@ -1,0 +1,35 @@
+// The recovery stage of `stickslip run` (DESIGN.md, "Full-model recovery"): for the chosen
+// frequency points, every body given by a mesh is loaded with the excitation, the static preload
+// loads and the harmonic contact forces the nonlinear solve found (global axes, at the contact
+// nodes), and solved as a linear harmonic problem on its FULL model (recovery.method: direct =
+// sparse complex factorisation, modal = full-body modes + static residual correction,
+// expansion = x = T q through the Craig–Bampton basis). Writes:
+//   recovery_check.csv   point, frequency_hz, body, harmonic, reduced_max_m (largest reduced
+//                        amplitude at the body's master DOFs, m), max_relative, rms_relative:
+//                        full-model response at the master DOFs against the reduced
+//                        nonlinear response (relative to the reduced one)
+//   recovered_nodes.csv  point, body, node, dof, harmonic, real, imag (recovery.nodes)
+//   recovery_p<point>_<body>.vtu  displacement and stress amplitudes per harmonic and the
+//                        stress envelope over the period (von Mises max / alternating / mean,
+//                        max principal) when output.vtu is true
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cli/pipeline.h"
+#include "io/case_file.h"
+
+namespace stickslip {
+
+// Indices of the points to recover (recovery.points: peak | all | none | frequencies).
+std::vector<int> recovery_points(const CaseDefinition& definition, const PreparedModel& model,
+                                 const SolvedCase& solved);
+
+void run_recovery(const std::filesystem::path& dir, const CaseDefinition& definition,
+                  const PreparedModel& model, const SolvedCase& solved,
+                  const std::function<void(const std::string&)>& progress);
+
+}  // namespace stickslip
