@@ -11,12 +11,13 @@
 // Checked at parse time, each throwing InvalidInput{file, line, dotted key} with the rule:
 // YAML syntax (yaml-cpp's line), unknown keys (with a suggestion when a known key is close),
 // duplicate keys, wrong types (a quoted string or text where a number is expected, a scalar
-// where a list or map is expected), missing required keys, value ranges (stiffness ≥ 0,
+// where a list or map is expected), missing required keys, value ranges (kt, kn, k > 0,
 // E > 0, −1 < ν < 0.5, ρ > 0, μ ≥ 0, preload ≥ 0, gap ≥ 0, frequency range not empty and
 // increasing, step > 0, time_samples ≥ 2(2H+1), ...), references (material, mesh, body, contact
 // names), mutually exclusive keys (per_pair/total, preload/gap, node/node_set, ...), and the
 // existence of every file the case references (relative paths resolved against the directory of
-// the case file; the struct holds the resolved paths).
+// the case file; the struct holds the resolved paths). The small CSV files (pairs_file,
+// preload_file) are read and checked too; meshes and matrices are not loaded.
 //
 // Locations: `locations` maps the dotted path of every key read from the file to where it was
 // read, e.g. "contacts.joint.per_pair.kt", "bodies.beam1.modes", "excitation[0].amplitude"
