@@ -11,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/plots.h"
 #include "cli/recovery_stage.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -204,6 +205,61 @@ std::string study_folder(const std::string& parameter, double value) {
   return fmt::format("{}_{:g}", name, value);
 }
 
+// Amplitude of harmonic 1 (the first dynamic harmonic) of each FRF DOF over the converged points.
+std::vector<PlotSeries> frf_series(const CaseDefinition& def, const PreparedModel& model,
+                                   const SolvedCase& solved, const std::string& prefix) {
+  std::vector<PlotSeries> out;
+  const auto& fr = solved.response;
+  const int h = fr.harmonics.size() > 1 ? 1 : 0;
+  for (const ResponseDofDefinition& r : def.output.frf) {
+    const int b = model.body_index(r.body);
+    const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
+    if (g < 0) continue;
+    PlotSeries s;
+    s.label = fmt::format("{}{} node {} {}", prefix, r.body, r.node, kGlobalAxes[r.direction]);
+    for (const FrequencyPoint& p : fr.points) {
+      if (!p.converged) continue;
+      s.x.push_back(rad_s_to_hz(p.omega));
+      s.y.push_back(std::abs(p.master(g, h)));
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+void plot_run(const fs::path& dir, const CaseDefinition& def, const SolvedCase& solved,
+              const std::vector<PlotSeries>& frf,
+              const std::function<void(const std::string&)>& warn) {
+  std::string warning;
+  const std::string title = def.title.empty() ? "stickslip" : def.title;
+  if (!frf.empty() && !plot_curves(dir, "frf", title, "frequency (Hz)",
+                                   "amplitude of harmonic 1 (m)", frf, &warning)) {
+    warn(warning);
+    return;
+  }
+  // Contact state along the sweep: mean fractions over all pairs.
+  PlotSeries stick{"stick", {}, {}}, slip{"slip", {}, {}}, separation{"separation", {}, {}};
+  for (const FrequencyPoint& p : solved.response.points) {
+    if (!p.converged || p.pairs.empty()) continue;
+    double a = 0, b = 0, c = 0;
+    for (const PairResponse& r : p.pairs) {
+      a += r.cycle.stick_fraction;
+      b += r.cycle.slip_fraction;
+      c += r.cycle.separation_fraction;
+    }
+    const double n = static_cast<double>(p.pairs.size());
+    const double f = rad_s_to_hz(p.omega);
+    stick.x.push_back(f), stick.y.push_back(a / n);
+    slip.x.push_back(f), slip.y.push_back(b / n);
+    separation.x.push_back(f), separation.y.push_back(c / n);
+  }
+  if (!stick.x.empty() && !plot_curves(dir, "contact_state", title, "frequency (Hz)",
+                                       "fraction of the cycle (mean over pairs)",
+                                       {stick, slip, separation}, &warning)) {
+    warn(warning);
+  }
+}
+
 }  // namespace
 
 int run_case(const RunCommand& command) {
@@ -228,6 +284,10 @@ int run_case(const RunCommand& command) {
     runs.emplace_back("", base);
   }
   int failed_points = 0;
+  std::vector<PlotSeries> overlay;
+  const auto warn = [](const std::string& w) {
+    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
+  };
   for (const auto& [folder, def] : runs) {
     if (!folder.empty()) progress("study: " + folder);
     const auto t_run = Clock::now();
@@ -237,11 +297,23 @@ int run_case(const RunCommand& command) {
     write_results(dir, def, model, solved,
                   std::chrono::duration<double>(Clock::now() - t_run).count());
     run_recovery(dir, def, model, solved, progress);
+    if (def.output.plots) {
+      const auto frf = frf_series(def, model, solved, folder.empty() ? "" : folder + ": ");
+      plot_run(dir, def, solved, frf, warn);
+      overlay.insert(overlay.end(), frf.begin(), frf.end());
+    }
     int bad = 0;
     for (const FrequencyPoint& p : solved.response.points) bad += p.converged ? 0 : 1;
     failed_points += bad;
     progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
                          solved.response.points.size(), bad, solved.seconds_solve, dir.string()));
+  }
+  if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
+    std::string warning;
+    if (!plot_curves(out_dir, "frf_study", base.title + ": " + base.study.parameter,
+                     "frequency (Hz)", "amplitude of harmonic 1 (m)", overlay, &warning)) {
+      warn(warning);
+    }
   }
   progress(
       fmt::format("done in {:.1f} s", std::chrono::duration<double>(Clock::now() - t0).count()));
