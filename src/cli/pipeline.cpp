@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 #include <unordered_map>
 
 #include <fmt/core.h>
@@ -115,54 +113,6 @@ int node_id_of(const PreparedBody& body, int node) {
   return body.from_mesh ? body.mesh.node_ids[node] : node;
 }
 
-std::vector<std::array<int, 2>> read_pairs_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInput({path, 0, ""}, "cannot open the pairs file");
-  std::vector<std::array<int, 2>> pairs;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream ss(line);
-    std::array<int, 2> p{};
-    std::string rest;
-    if (!(ss >> p[0] >> p[1]) || (ss >> rest)) {
-      if (line_no == 1 && line.find_first_of("0123456789") == std::string::npos) continue;
-      throw InvalidInput({path, line_no, ""}, "expected two node ids \"node_a,node_b\"");
-    }
-    pairs.push_back(p);
-  }
-  return pairs;
-}
-
-std::map<int, double> read_preload_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInput({path, 0, ""}, "cannot open the preload file");
-  std::map<int, double> preload;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream ss(line);
-    int node = 0;
-    double value = 0;
-    std::string rest;
-    if (!(ss >> node >> value) || (ss >> rest)) {
-      if (line_no == 1 && line.find_first_of("0123456789") == std::string::npos) continue;
-      throw InvalidInput({path, line_no, ""}, "expected \"node_a,preload\"");
-    }
-    if (!(value >= 0) || !std::isfinite(value)) {
-      throw InvalidInput({path, line_no, ""}, "preload must be >= 0 N");
-    }
-    preload[node] = value;
-  }
-  return preload;
-}
-
 struct ResolvedContact {
   int body_a = -1, body_b = -1;                 // -1 = ground
   std::vector<std::pair<int, int>> node_pairs;  // node indices (ids for reduced bodies), -1 ground
@@ -186,7 +136,7 @@ ResolvedContact resolve_contact(const CaseDefinition& def, int c,
     throw InvalidInput(def.where(key), "the first body of a contact cannot be ground");
   const PreparedBody& A = bodies[rc.body_a];
   if (!cd.pairs.empty() || !cd.pairs_file.empty()) {
-    const auto listed = cd.pairs.empty() ? read_pairs_file(cd.pairs_file) : cd.pairs;
+    const auto& listed = cd.pairs;  // pairs_file was read into `pairs` by the parser
     for (const auto& p : listed) {
       NodeSelection sa{{}, {p[0]}};
       const int a = resolve_nodes(def, key + ".pairs", A, sa)[0];
@@ -432,8 +382,7 @@ PreparedModel prepare_model(const CaseDefinition& def,
     const ResolvedContact& rc = contacts[c];
     const int np = static_cast<int>(rc.node_pairs.size());
     const ContactParametersDefinition p = per_pair_parameters(def, cd, np);
-    std::map<int, double> preload_by_node;
-    if (!cd.preload_file.empty()) preload_by_node = read_preload_file(cd.preload_file);
+    const std::map<int, double> preload_by_node(cd.preloads.begin(), cd.preloads.end());
     const PreparedBody& A = model.bodies[rc.body_a];
     Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
     Eigen::MatrixXd row_frame;  // m x 3
@@ -474,7 +423,8 @@ PreparedModel prepare_model(const CaseDefinition& def,
         const auto it = preload_by_node.find(info.node_a_id);
         if (it == preload_by_node.end()) {
           throw InvalidInput({cd.preload_file, 0, ""},
-                             "no preload for node " + std::to_string(info.node_a_id));
+                             "no preload for node " + std::to_string(info.node_a_id) +
+                                 " (the A node of a pair of contact " + cd.name + ")");
         }
         preload = it->second;
       }
