@@ -82,6 +82,19 @@ double signed_von_mises_stress(const Voigt& s) {
   return sign * von_mises_stress(s);
 }
 
+std::vector<ComplexStressMatrix> harmonic_stresses(const Mesh& mesh,
+                                                   const IsotropicMaterial& material,
+                                                   const AssemblyOptions& options,
+                                                   const Eigen::MatrixXcd& x,
+                                                   std::span<const int> elements) {
+  std::vector<ComplexStressMatrix> out;
+  out.reserve(static_cast<size_t>(x.cols()));
+  for (Eigen::Index j = 0; j < x.cols(); ++j) {
+    out.push_back(nodal_stress(mesh, material, options, Eigen::VectorXcd(x.col(j)), elements));
+  }
+  return out;
+}
+
 std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
                                               std::span<const int> harmonics, int time_samples) {
   check_amplitudes(amplitudes, harmonics);

@@ -47,6 +47,15 @@ struct StressEnvelope {
   Eigen::VectorXd von_mises_static;       // per node, Pa
 };
 
+// Complex nodal stresses S_k of every column of a full displacement response x (num_dofs x nh,
+// as harmonic_response returns it): fe/stress.h's nodal_stress per column (extrapolated from
+// the integration points and averaged over `elements`, empty = all).
+std::vector<ComplexStressMatrix> harmonic_stresses(const Mesh& mesh,
+                                                   const IsotropicMaterial& material,
+                                                   const AssemblyOptions& options,
+                                                   const Eigen::MatrixXcd& x,
+                                                   std::span<const int> elements = {});
+
 // Time samples of the stress: N matrices 6 x num_nodes (real), σ(t_j) above.
 std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
                                               std::span<const int> harmonics, int time_samples);
