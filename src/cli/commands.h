@@ -27,3 +27,16 @@ struct RunCommand {
 int run_case(const RunCommand& command);
 
 }  // namespace stickslip
+
+namespace stickslip {
+
+struct ReduceCommand {
+  std::string case_file;
+  std::string output_dir = ".";
+  bool quiet = false;
+};
+// Reduces every mesh body of the case (Craig–Bampton onto its master nodes, as `run` would) and
+// writes <body>_K.hb, <body>_M.hb (Harwell–Boeing RSA, as ANSYS HBMAT) with their .mapping files.
+int run_reduce(const ReduceCommand& command);
+
+}  // namespace stickslip

@@ -1,5 +1,6 @@
 // stickslip: the command-line program. Subcommands:
 //   run     a case file through the whole pipeline (cli/pipeline.h).
+//   reduce  Craig-Bampton reduction of the bodies of a case, to Harwell-Boeing files.
 //   modes   modal analysis of the reference two-beam joint with stuck contact (issue 2).
 #include <cstdio>
 #include <exception>
@@ -54,10 +55,20 @@ int main(int argc, char** argv) {
                       "output folder (default: the case file's output.directory)");
   run_cmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
 
+  ReduceCommand reduce;
+  CLI::App* reduce_cmd = app.add_subcommand(
+      "reduce", "Craig-Bampton reduction of a case's mesh bodies, written as HBMAT-style files");
+  reduce_cmd->add_option("case", reduce.case_file, "case file (YAML, docs/case-file.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  reduce_cmd->add_option("-o,--output", reduce.output_dir, "output folder")->capture_default_str();
+  reduce_cmd->add_flag("-q,--quiet", reduce.quiet, "print nothing but errors");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*modes_cmd) return run_modes(modes);
     if (*run_cmd) return run_case(run);
+    if (*reduce_cmd) return run_reduce(reduce);
   } catch (const InvalidInput& e) {
     std::fprintf(stderr, "stickslip: error: %s\n", e.what());
     return 2;

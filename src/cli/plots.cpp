@@ -44,8 +44,8 @@ bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
                quoted(title), quoted(xlabel), quoted(ylabel));
     fmt::print(out, "set terminal pngcairo size 1000,600 noenhanced\nset output {}\n{}\n",
                quoted(stem + ".png"), plot);
-    fmt::print(out, "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\n", quoted(stem + ".svg"),
-               plot);
+    fmt::print(out, "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\n",
+               quoted(stem + ".svg"), plot);
   });
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
     *warning = "gnuplot not found: " + stem +
