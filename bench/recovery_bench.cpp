@@ -208,6 +208,26 @@ int main(int argc, char** argv) {
       H, points, t_disp / points, t_stress / points, t_env / points,
       (t_disp + t_stress + t_env) / points);
 
+  // Modal stress recovery: the stresses of the 190 basis vectors once, then one dense product per
+  // point. Skipped above 300k DOFs (one-off ≈ 190 nodal_stress calls) unless
+  // RECOVERY_BENCH_STRESS_BASIS=1.
+  const char* basis_env = std::getenv("RECOVERY_BENCH_STRESS_BASIS");
+  if (mesh.num_dofs() < 300000 || (basis_env != nullptr && std::string(basis_env) == "1")) {
+    start = std::chrono::steady_clock::now();
+    const ModalStressBasis basis(modal, mesh, steel, {});
+    const double t_basis = seconds_since(start);
+    double t_point = 0.0;
+    for (int p = 0; p < points; ++p) {
+      const double omega = hz_to_rad_s(f1 * (0.9 + 0.05 * p));
+      start = std::chrono::steady_clock::now();
+      const std::vector<ComplexStressMatrix> S = basis.stresses(modal, loads, harmonics, omega);
+      t_point += seconds_since(start);
+    }
+    std::printf("modal stress basis: one-off %.2f s (%d columns, %.2f GB); per point %.3f s\n",
+                t_basis, modal.num_basis_columns(), 8.0 * basis.matrix().size() / 1e9,
+                t_point / points);
+  }
+
   // For comparison: a load off the precomputed DOFs (one sparse solve per harmonic).
   Eigen::MatrixXcd other = loads;
   other(3 * mesh.num_nodes() / 2, 1) = 1.0;

@@ -371,6 +371,59 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F,
   return expand_columns(dofs_, join(x_split));
 }
 
+int ModalRecovery::num_basis_columns() const {
+  return static_cast<int>(impl_->modes.modes.cols() + impl_->R.cols());
+}
+
+Eigen::MatrixXcd ModalRecovery::coordinates(const Eigen::MatrixXcd& loads,
+                                            std::span<const int> harmonics, double omega) const {
+  if (!ok()) throw InvalidInput("ModalRecovery::coordinates: setup failed: " + impl_->message);
+  if (impl_->is_load_dof.empty()) {
+    throw InvalidInput("ModalRecovery::coordinates: needs ModalRecoveryOptions::load_dofs");
+  }
+  if (loads.rows() != dofs_.num_dofs() ||
+      loads.cols() != static_cast<Eigen::Index>(harmonics.size())) {
+    throw InvalidInput("ModalRecovery::coordinates: loads must be num_dofs x harmonics");
+  }
+  for (Eigen::Index d = 0; d < loads.rows(); ++d) {
+    if (!impl_->is_load_dof[static_cast<size_t>(d)] && !dofs_.is_constrained(static_cast<int>(d)) &&
+        loads.row(d).cwiseAbs().maxCoeff() != 0.0) {
+      throw InvalidInput("ModalRecovery::coordinates: a load on DOF " + std::to_string(d) +
+                         ", which is not in ModalRecoveryOptions::load_dofs");
+    }
+  }
+  const Eigen::Index n = impl_->modes.modes.cols(), nb = impl_->R.cols();
+  const Eigen::Index nh = loads.cols();
+  Eigen::MatrixXcd FB(static_cast<Eigen::Index>(impl_->load_full.size()), nh);
+  for (Eigen::Index b = 0; b < FB.rows(); ++b) {
+    FB.row(b) = loads.row(impl_->load_full[static_cast<size_t>(b)]);
+  }
+  Eigen::MatrixXcd q(n, nh);
+  q.real() = impl_->Phi_B.transpose() * FB.real();
+  q.imag() = impl_->Phi_B.transpose() * FB.imag();
+  Eigen::MatrixXcd c(n + nb, nh);
+  for (Eigen::Index j = 0; j < nh; ++j) {
+    const int k = harmonics[static_cast<size_t>(j)];
+    require(k >= 0, "harmonics[" + std::to_string(j) + "]", std::to_string(k), "harmonic >= 0");
+    const double w = k * omega;
+    for (Eigen::Index r = 0; r < n; ++r) {
+      c(r, j) = q(r, j) / std::complex<double>(impl_->modes.eigenvalues(r) - w * w,
+                                               w * impl_->damping_rates(r));
+    }
+  }
+  if (nb > 0) c.bottomRows(nb) = FB;
+  return c;
+}
+
+Eigen::VectorXd ModalRecovery::basis_column(int c) const {
+  const Eigen::Index n = impl_->modes.modes.cols();
+  if (c < 0 || c >= num_basis_columns()) {
+    throw InvalidInput("ModalRecovery::basis_column: column " + std::to_string(c) +
+                       " out of range");
+  }
+  return dofs_.expand(Eigen::VectorXd(c < n ? impl_->modes.modes.col(c) : impl_->R.col(c - n)));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Expansion and comparison
 

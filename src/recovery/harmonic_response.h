@@ -127,6 +127,16 @@ class ModalRecovery final : public HarmonicSolver {
   bool ok() const override;
   const std::string& message() const override;
 
+  // Modal form of the response, for fields linear in x (stresses, strains): with the loads
+  // supported on options.load_dofs B (InvalidInput otherwise, or if load_dofs was not given),
+  //   x_k = Σ_c basis_column(c) · coordinates(c, k),
+  // c over the n modes (coordinate h_r(kΩ) φ_rᵀF_k) and then, with the residual correction,
+  // the |B| attachment modes (coordinate F_k at that DOF). Columns k as in `harmonics`.
+  int num_basis_columns() const;
+  Eigen::MatrixXcd coordinates(const Eigen::MatrixXcd& loads, std::span<const int> harmonics,
+                               double omega) const;
+  Eigen::VectorXd basis_column(int c) const;  // full size (num_dofs), clamped entries 0
+
   // The one-off work, for diagnostics and benchmarks.
   const Eigen::VectorXd& eigenvalues() const;  // ω_r², (rad/s)², ascending
   const Eigen::MatrixXd& modes() const;        // num_free x n, mass-normalised (free DOFs)

@@ -95,6 +95,42 @@ std::vector<ComplexStressMatrix> harmonic_stresses(const Mesh& mesh,
   return out;
 }
 
+ModalStressBasis::ModalStressBasis(const ModalRecovery& modal, const Mesh& mesh,
+                                   const IsotropicMaterial& material,
+                                   const AssemblyOptions& options, std::span<const int> elements)
+    : num_nodes_(mesh.num_nodes()) {
+  if (!modal.ok()) throw InvalidInput("ModalStressBasis: the modal recovery failed");
+  if (modal.num_dofs() != mesh.num_dofs()) {
+    throw InvalidInput("ModalStressBasis: the modal recovery and the mesh have different DOFs");
+  }
+  S_.resize(6 * num_nodes_, modal.num_basis_columns());
+  for (int c = 0; c < modal.num_basis_columns(); ++c) {
+    const StressMatrix s = nodal_stress(mesh, material, options, modal.basis_column(c), elements);
+    S_.col(c) = Eigen::Map<const Eigen::VectorXd>(s.data(), s.size());
+  }
+}
+
+std::vector<ComplexStressMatrix> ModalStressBasis::stresses(const ModalRecovery& modal,
+                                                            const Eigen::MatrixXcd& loads,
+                                                            std::span<const int> harmonics,
+                                                            double omega) const {
+  const Eigen::MatrixXcd c = modal.coordinates(loads, harmonics, omega);
+  if (c.rows() != S_.cols()) {
+    throw InvalidInput("ModalStressBasis::stresses: built for another modal recovery");
+  }
+  Eigen::MatrixXd re = S_ * c.real(), im = S_ * c.imag();
+  std::vector<ComplexStressMatrix> out;
+  for (Eigen::Index j = 0; j < c.cols(); ++j) {
+    ComplexStressMatrix s(6, num_nodes_);
+    s.real() = Eigen::Map<const StressMatrix>(re.col(j).data(), 6, num_nodes_);
+    s.imag() = harmonics[static_cast<size_t>(j)] == 0
+                   ? StressMatrix::Zero(6, num_nodes_)
+                   : StressMatrix(Eigen::Map<const StressMatrix>(im.col(j).data(), 6, num_nodes_));
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
                                               std::span<const int> harmonics, int time_samples) {
   check_amplitudes(amplitudes, harmonics);

@@ -30,6 +30,7 @@
 #include <Eigen/Core>
 
 #include "fe/stress.h"
+#include "recovery/harmonic_response.h"
 
 namespace stickslip {
 
@@ -55,6 +56,26 @@ std::vector<ComplexStressMatrix> harmonic_stresses(const Mesh& mesh,
                                                    const AssemblyOptions& options,
                                                    const Eigen::MatrixXcd& x,
                                                    std::span<const int> elements = {});
+
+// Modal stress recovery: the nodal stresses of every basis column of a ModalRecovery (its modes
+// and attachment modes; needs ModalRecoveryOptions::load_dofs) computed once, so that a point's
+// stresses cost one dense product, S_k = Σ_c S(basis_c) coordinates(c, k) — identical to
+// harmonic_stresses of the modal displacement (stress is linear in x), without the per-element
+// work per point. Memory: 6 num_nodes x num_basis_columns doubles.
+class ModalStressBasis {
+ public:
+  ModalStressBasis(const ModalRecovery& modal, const Mesh& mesh, const IsotropicMaterial& material,
+                   const AssemblyOptions& options, std::span<const int> elements = {});
+  // Same loads, harmonics and Ω as ModalRecovery::coordinates.
+  std::vector<ComplexStressMatrix> stresses(const ModalRecovery& modal,
+                                            const Eigen::MatrixXcd& loads,
+                                            std::span<const int> harmonics, double omega) const;
+  const Eigen::MatrixXd& matrix() const { return S_; }  // 6 num_nodes x num_basis_columns
+
+ private:
+  Eigen::MatrixXd S_;
+  Eigen::Index num_nodes_ = 0;
+};
 
 // Time samples of the stress: N matrices 6 x num_nodes (real), σ(t_j) above.
 std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
