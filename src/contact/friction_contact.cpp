@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
@@ -49,109 +50,185 @@ FrictionContact3D::FrictionContact3D(FrictionContactParameters parameters, March
   validate(march_);
 }
 
+namespace {
+
+// One period of the 3D friction law (header contract) from the start state τ (in/out: the end
+// state on return). wrap: u_t,prev = u_t(t_{N−1}) (the periodic wrap), else the virgin u_t,prev =
+// 0. M (optional): ∂τ_end/∂τ_start (2 x 2). dtau (optional, 2 x np, in/out) with du/df: the
+// derivative of τ with respect to the parameters p on entry (of τ_start) and on exit (of τ_end);
+// df receives ∂f(t_j)/∂p (column-major, leading dimension ld = 3N).
+struct PeriodCounts {
+  int stick = 0, slip = 0, separation = 0;
+  double force_scale = 0.0;  // max_j |τ_i(t_j)|
+};
+
+PeriodCounts march_period(const FrictionContactParameters& prm, const Eigen::MatrixXd& u, bool wrap,
+                          Eigen::Vector2d& tau, Eigen::Matrix2d* M, Eigen::MatrixXd* dtau,
+                          const double* du, double* df, Eigen::Index ld, Eigen::MatrixXd& f) {
+  const int n = static_cast<int>(u.cols());
+  const int np = dtau ? static_cast<int>(dtau->cols()) : 0;
+  const double kt = prm.kt, kn = prm.kn, mu = prm.mu;
+  PeriodCounts counts;
+  Eigen::Vector2d ut_prev =
+      wrap ? Eigen::Vector2d(u.col(n - 1).head<2>()) : Eigen::Vector2d::Zero();
+  int prev = wrap ? n - 1 : -1;  // sample holding u_t,prev (−1: virgin, independent of p)
+  if (M) M->setIdentity();
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector2d ut = u.col(j).head<2>();
+    const double normal = prm.normal_preload + kn * (u(2, j) - prm.gap);
+    if (normal <= 0.0) {  // separation: no force, the tangential spring is released
+      ++counts.separation;
+      tau.setZero();
+      f.col(j).setZero();
+      if (M) M->setZero();
+      if (dtau) {
+        dtau->setZero();
+        for (int q = 0; q < np; ++q) {
+          for (int r = 0; r < 3; ++r) df[3 * j + r + q * ld] = 0.0;
+        }
+      }
+    } else {
+      const Eigen::Vector2d tau_pred = tau + kt * (ut - ut_prev);
+      const double limit = mu * normal;
+      const double norm_pred = tau_pred.norm();
+      const bool sticks = norm_pred <= limit;
+      Eigen::Vector2d e = Eigen::Vector2d::Zero();
+      if (sticks) {
+        ++counts.stick;
+        tau = tau_pred;
+      } else {  // slip: radial return onto the circle |τ| = μN
+        ++counts.slip;
+        e = tau_pred / norm_pred;
+        tau = limit * e;
+      }
+      f(0, j) = tau[0];
+      f(1, j) = tau[1];
+      f(2, j) = normal;
+      // Stick:  ∂τ = ∂τ_pred = ∂τ_prev + kt (∂u_t − ∂u_t,prev).
+      // Slip:   ∂τ = μ e ∂N + (μN/|τ_pred|) (I − e eᵀ) ∂τ_pred,  ∂N = kn ∂w.
+      const double a = sticks ? 0.0 : limit / norm_pred;
+      const double p00 = 1 - e[0] * e[0], p01 = -e[0] * e[1], p11 = 1 - e[1] * e[1];
+      if (M && !sticks) {
+        Eigen::Matrix2d P;
+        P << p00, p01, p01, p11;
+        *M = (a * P) * (*M);
+      }
+      if (dtau) {
+        Eigen::MatrixXd& dt = *dtau;
+        for (int q = 0; q < np; ++q) {
+          const double* duq = du + q * ld;
+          double* dfq = df + q * ld;
+          double d0 = dt(0, q) + kt * duq[3 * j];
+          double d1 = dt(1, q) + kt * duq[3 * j + 1];
+          if (prev >= 0) {
+            d0 -= kt * duq[3 * prev];
+            d1 -= kt * duq[3 * prev + 1];
+          }
+          const double dn = kn * duq[3 * j + 2];
+          if (!sticks) {
+            const double s0 = mu * e[0] * dn + a * (p00 * d0 + p01 * d1);
+            const double s1 = mu * e[1] * dn + a * (p01 * d0 + p11 * d1);
+            d0 = s0;
+            d1 = s1;
+          }
+          dt(0, q) = d0;
+          dt(1, q) = d1;
+          dfq[3 * j] = d0;
+          dfq[3 * j + 1] = d1;
+          dfq[3 * j + 2] = dn;
+        }
+      }
+    }
+    ut_prev = ut;
+    prev = j;
+    counts.force_scale = std::max(counts.force_scale, f.col(j).head<2>().cwiseAbs().maxCoeff());
+  }
+  return counts;
+}
+
+}  // namespace
+
 CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp,
                                          Eigen::MatrixXd& f, Eigen::MatrixXd* df_dp) const {
   check_inputs(u, du_dp, df_dp, 3);
   const int n = static_cast<int>(u.cols());
   const bool jac = du_dp != nullptr;
   const int np = jac ? static_cast<int>(du_dp->cols()) : 0;
-  const double kt = parameters_.kt, kn = parameters_.kn, mu = parameters_.mu;
-  const double n0 = parameters_.normal_preload, g0 = parameters_.gap;
-
   f.resize(3, n);
   if (jac) df_dp->resize(3 * n, np);
-
-  // State: τ, u_t,prev and their derivatives. Virgin state: τ = 0 at u_t = 0.
-  Eigen::Vector2d tau = Eigen::Vector2d::Zero();
-  Eigen::Vector2d ut_prev = Eigen::Vector2d::Zero();
-  // ∂τ/∂p as 2 x np (column q = ∂τ/∂p_q). The derivative updates below are written as plain
-  // loops over q: no temporaries in the time march.
-  Eigen::MatrixXd dtau = Eigen::MatrixXd::Zero(2, np);
-  int prev = -1;  // sample holding u_t,prev (−1: the virgin state, independent of p)
   const double* du = jac ? du_dp->data() : nullptr;
   double* df = jac ? df_dp->data() : nullptr;
   const Eigen::Index ld = 3 * n;  // leading dimension of du_dp, df_dp (column-major)
+  auto closed = [&](const Eigen::Vector2d& end, const Eigen::Vector2d& start, double scale) {
+    return (end - start).cwiseAbs().maxCoeff() <= march_.tolerance * scale;
+  };
 
+  // Periods 1 and 2 from the virgin state (τ = 0 at u_t = 0), derivatives carried along. A cycle
+  // that sticks throughout (or separates once) repeats after period 2; its mean tangential force
+  // is the one reached from the virgin state (a stuck cycle is neutrally stable: any offset of τ
+  // repeats, so the history fixes it).
+  Eigen::Vector2d tau = Eigen::Vector2d::Zero();
+  Eigen::MatrixXd dtau;
+  if (jac) dtau.setZero(2, np);
+  march_period(parameters_, u, false, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
+  Eigen::Vector2d tau_start = tau;
+  PeriodCounts counts =
+      march_period(parameters_, u, true, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
   CycleStatistics stats;
-  stats.converged = false;
-  int stick = 0, slip = 0, separation = 0;
-  for (int period = 1; period <= march_.max_periods; ++period) {
-    const Eigen::Vector2d tau_start = tau;
-    stick = slip = separation = 0;
-    double force_scale = 0.0;
-    for (int j = 0; j < n; ++j) {
-      const Eigen::Vector2d ut = u.col(j).head<2>();
-      const double normal = n0 + kn * (u(2, j) - g0);
-      if (normal <= 0.0) {  // separation: no force, the tangential spring is released
-        ++separation;
-        tau.setZero();
-        f.col(j).setZero();
-        if (jac) {
-          dtau.setZero();
-          for (int q = 0; q < np; ++q) {
-            for (int r = 0; r < 3; ++r) df[3 * j + r + q * ld] = 0.0;
-          }
-        }
-      } else {
-        const Eigen::Vector2d tau_pred = tau + kt * (ut - ut_prev);
-        const double limit = mu * normal;
-        const double norm_pred = tau_pred.norm();
-        const bool sticks = norm_pred <= limit;
-        Eigen::Vector2d e = Eigen::Vector2d::Zero();
-        if (sticks) {
-          ++stick;
-          tau = tau_pred;
-        } else {  // slip: radial return onto the circle |τ| = μN
-          ++slip;
-          e = tau_pred / norm_pred;
-          tau = limit * e;
-        }
-        f(0, j) = tau[0];
-        f(1, j) = tau[1];
-        f(2, j) = normal;
-        if (jac) {
-          // Stick:  ∂τ = ∂τ_pred = ∂τ_prev + kt (∂u_t − ∂u_t,prev).
-          // Slip:   ∂τ = μ e ∂N + (μN/|τ_pred|) (I − e eᵀ) ∂τ_pred,  ∂N = kn ∂w.
-          const double a = sticks ? 0.0 : limit / norm_pred;
-          const double p00 = 1 - e[0] * e[0], p01 = -e[0] * e[1], p11 = 1 - e[1] * e[1];
-          for (int q = 0; q < np; ++q) {
-            const double* duq = du + q * ld;
-            double* dfq = df + q * ld;
-            double d0 = dtau(0, q) + kt * duq[3 * j];
-            double d1 = dtau(1, q) + kt * duq[3 * j + 1];
-            if (prev >= 0) {
-              d0 -= kt * duq[3 * prev];
-              d1 -= kt * duq[3 * prev + 1];
-            }
-            const double dn = kn * duq[3 * j + 2];
-            if (!sticks) {
-              const double s0 = mu * e[0] * dn + a * (p00 * d0 + p01 * d1);
-              const double s1 = mu * e[1] * dn + a * (p01 * d0 + p11 * d1);
-              d0 = s0;
-              d1 = s1;
-            }
-            dtau(0, q) = d0;
-            dtau(1, q) = d1;
-            dfq[3 * j] = d0;
-            dfq[3 * j + 1] = d1;
-            dfq[3 * j + 2] = dn;
-          }
-        }
+  stats.periods = 2;
+  stats.converged = closed(tau, tau_start, counts.force_scale);
+
+  if (!stats.converged) {
+    // Partial slip in 2D: plain marching contracts the start state τ_s only by the radial returns
+    // (slowly when the slip is small against the stick range). Solve the periodicity condition
+    // P(τ_s) = τ_s directly by Newton on the two components of τ_s, with M = ∂P/∂τ_s marched
+    // alongside; a step that does not reduce |P(τ_s) − τ_s| is replaced by one plain period.
+    // With slip in the cycle P is a contraction (products of a (I − e eᵀ), a < 1), so the fixed
+    // point is unique and the same one marching converges to.
+    Eigen::Vector2d ts = tau, best_start = tau_start, best_end = tau;
+    double best = (tau - tau_start).norm();
+    Eigen::Matrix2d M;
+    bool newton = true;
+    ts = tau;  // first trial: one plain period from the end of period 2
+    while (stats.periods < march_.max_periods) {
+      Eigen::Vector2d te = ts;
+      counts = march_period(parameters_, u, true, te, &M, nullptr, nullptr, nullptr, ld, f);
+      ++stats.periods;
+      const double res = (te - ts).norm();
+      if (closed(te, ts, counts.force_scale)) {
+        best_start = ts;
+        best_end = te;
+        stats.converged = true;
+        break;
       }
-      ut_prev = ut;
-      prev = j;
-      force_scale = std::max(force_scale, f.col(j).head<2>().cwiseAbs().maxCoeff());
+      if (res < best) {
+        best = res;
+        best_start = ts;
+        best_end = te;
+        const Eigen::Matrix2d A = Eigen::Matrix2d::Identity() - M;
+        newton = std::abs(A.determinant()) > 1e-14;
+        ts = newton ? Eigen::Vector2d(ts + A.inverse() * (te - ts)) : te;
+      } else {
+        ts = best_end;  // the Newton step did not help: a plain period from the best state
+        best = std::numeric_limits<double>::infinity();
+      }
     }
-    stats.periods = period;
-    // The state (τ, u_t,prev) repeats: u_t,prev is the last sample from period 2 on.
-    if (period >= 2 && (tau - tau_start).cwiseAbs().maxCoeff() <= march_.tolerance * force_scale) {
-      stats.converged = true;
-      break;
+    // The converged cycle starts at τ_s = best_start. Its exact derivative: τ_s = P(τ_s, p) gives
+    // ∂τ_s/∂p = (I − M)⁻¹ ∂P/∂p (implicit function theorem; (I − M) is invertible when the cycle
+    // slips). Pass 1 gives ∂P/∂p (τ_s held fixed) and M, pass 2 the cycle with the exact df.
+    tau = best_start;
+    if (jac) {
+      dtau.setZero();
+      march_period(parameters_, u, true, tau, &M, &dtau, du, df, ld, f);
+      const Eigen::Matrix2d A = Eigen::Matrix2d::Identity() - M;
+      if (std::abs(A.determinant()) > 1e-14) dtau = A.inverse() * dtau;
+      tau = best_start;
     }
+    counts = march_period(parameters_, u, true, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
   }
-  stats.stick_fraction = static_cast<double>(stick) / n;
-  stats.slip_fraction = static_cast<double>(slip) / n;
-  stats.separation_fraction = static_cast<double>(separation) / n;
+  stats.stick_fraction = static_cast<double>(counts.stick) / n;
+  stats.slip_fraction = static_cast<double>(counts.slip) / n;
+  stats.separation_fraction = static_cast<double>(counts.separation) / n;
   double energy = 0.0;
   for (int j = 0; j < n; ++j) {
     const int i = (j + n - 1) % n;

@@ -14,6 +14,9 @@ namespace {
 // Armijo constant of the sufficient-decrease test ||R_new|| <= (1 - c s) ||R||: small, so that
 // nearly any decrease is accepted while stagnation (||R_new|| == ||R||) is not.
 constexpr double kSufficientDecrease = 1e-4;
+// A relaxed (watchdog) step may raise ||R|| up to this factor above the watch point's: beyond it
+// the step is taken as a sign of divergence, not of a kink being crossed.
+constexpr double kWatchdogGrowth = 100.0;
 
 std::string str(double v) {
   std::ostringstream s;
@@ -34,6 +37,8 @@ void validate(const NewtonOptions& o, std::string_view prefix) {
           "must be >= 1");
   require(o.min_step_fraction > 0 && o.min_step_fraction <= 1, p + "min_step_fraction",
           str(o.min_step_fraction), "must be in (0, 1]");
+  require(o.watchdog_steps >= 0, p + "watchdog_steps", std::to_string(o.watchdog_steps),
+          "must be >= 0");
   require(o.min_rcond >= 0 && o.min_rcond < 1, p + "min_rcond", str(o.min_rcond),
           "must be in [0, 1)");
 }
@@ -70,8 +75,15 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   const double threshold = options.tolerance * scale;
 
   NewtonSummary summary;
+  Eigen::VectorXd x_watch, R_watch;  // the watch point: the best iterate so far
+  double r_watch = std::numeric_limits<double>::infinity();
   auto finish = [&](NewtonTermination t, const std::string& why) {
     summary.termination = t;
+    if (t != NewtonTermination::kConverged && x_watch.size() == n &&
+        r_watch < summary.residual_norm) {  // a relaxed step left the best iterate: return it
+      x = x_watch;
+      summary.residual_norm = r_watch;
+    }
     std::ostringstream m;
     m << to_string(t) << " after " << summary.iterations
       << " iterations at lambda = " << str(lambda) << ": ||R|| = " << str(summary.residual_norm)
@@ -96,6 +108,10 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   summary.residual_history.push_back(r);
 
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(n);
+  x_watch = x;
+  R_watch = R;
+  r_watch = r;
+  int relaxed_steps = 0;  // relaxed steps taken since the watch point
   while (true) {
     if (r <= threshold) return finish(NewtonTermination::kConverged, "");
     if (summary.iterations >= options.max_iterations) {
@@ -117,25 +133,67 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       return finish(NewtonTermination::kSingularJacobian, "the Newton step is not finite");
     }
 
-    // Backtracking: the full step is evaluated with its Jacobian (it is usually accepted); the
-    // shorter ones with R only, the Jacobian is then computed at the start of the next iteration.
+    // 1. The full step, evaluated with its Jacobian. Accepted if it decreases ||R|| enough, or,
+    //    as a relaxed step (watchdog), if fewer than watchdog_steps relaxed steps have been taken
+    //    since the watch point (the best iterate) and ||R|| stays below kWatchdogGrowth times the
+    //    watch point's. A relaxed iterate that decreases ||R|| below the watch point's becomes
+    //    the new watch point.
+    // 2. Otherwise, return to the watch point (if we left it) and backtrack from there: s = 1/2,
+    //    1/4, ... with R only; the Jacobian is then computed at the start of the next iteration.
     bool accepted = false;
     bool any_finite = false;
-    for (double s = 1.0; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
-      x_trial = x + s * dx;
-      const bool full = (s == 1.0);
-      sys.evaluate(x_trial, lambda, R_trial, full ? &J_trial : nullptr, nullptr);
-      if (!all_finite(R_trial)) continue;
+    x_trial = x + dx;
+    sys.evaluate(x_trial, lambda, R_trial, &J_trial, nullptr);
+    if (all_finite(R_trial)) {
       any_finite = true;
       const double r_trial = R_trial.norm();
-      if (r_trial <= (1 - kSufficientDecrease * s) * r) {
+      const bool decrease = r_trial <= (1 - kSufficientDecrease) * r;
+      const bool relaxed = !decrease && relaxed_steps < options.watchdog_steps &&
+                           r_trial <= kWatchdogGrowth * r_watch;
+      if (decrease || relaxed) {
         x.swap(x_trial);
         R.swap(R_trial);
-        if (full) J.swap(J_trial);
-        have_jacobian = full;
+        J.swap(J_trial);
+        have_jacobian = true;
         r = r_trial;
         accepted = true;
-        break;
+        if (r <= (1 - kSufficientDecrease) * r_watch) {
+          x_watch = x;
+          R_watch = R;
+          r_watch = r;
+          relaxed_steps = 0;
+        } else {
+          ++relaxed_steps;
+        }
+      }
+    }
+    if (!accepted) {
+      if (relaxed_steps > 0) {  // back to the watch point; its Newton step again
+        x = x_watch;
+        R = R_watch;
+        r = r_watch;
+        relaxed_steps = 0;
+        sys.evaluate(x, lambda, R, &J, nullptr);
+        lu.compute(J);
+        dx = lu.solve(-R);
+      }
+      for (double s = 0.5; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
+        x_trial = x + s * dx;
+        sys.evaluate(x_trial, lambda, R_trial, nullptr, nullptr);
+        if (!all_finite(R_trial)) continue;
+        any_finite = true;
+        const double r_trial = R_trial.norm();
+        if (r_trial <= (1 - kSufficientDecrease * s) * r) {
+          x.swap(x_trial);
+          R.swap(R_trial);
+          have_jacobian = false;
+          r = r_trial;
+          accepted = true;
+          x_watch = x;
+          R_watch = R;
+          r_watch = r;
+          break;
+        }
       }
     }
     if (!accepted) {

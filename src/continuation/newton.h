@@ -38,6 +38,10 @@ struct NewtonOptions {
   // dR/dx is declared singular when LU's reciprocal condition estimate (1-norm) is below this;
   // in [0, 1).
   double min_rcond = 1e-14;
+  // Watchdog (non-monotone) steps: up to this many consecutive full Newton steps may be taken
+  // even though they do not decrease ||R||, before returning to the best iterate and
+  // backtracking from it. >= 0; 0 = monotone line search only.
+  int watchdog_steps = 4;
 };
 
 // Throws InvalidInput naming the field ("NewtonOptions.tolerance = ...") and the rule it broke.

@@ -7,6 +7,73 @@
 
 namespace stickslip {
 
+namespace {
+
+// The balance at a fixed Ω with the dynamic excitation (harmonics ≥ 1) scaled by λ ∈ (0, 1]:
+//   R_λ(x) = R(x, Ω) + (1 − λ) u_lin,dyn(Ω),  dR_λ/dx = dR/dx,  dR_λ/dλ = −u_lin,dyn(Ω).
+class ExcitationRamp final : public ParametrizedSystem {
+ public:
+  ExcitationRamp(const HarmonicBalanceSystem& system, double omega)
+      : system_(system), omega_(omega), ulin_dyn_(Eigen::VectorXd::Zero(system.size())) {
+    const HarmonicSet& set = system.unknown_harmonics();
+    const int nc = set.coefficient_count();
+    for (int pos = 0; pos < set.size(); ++pos) {
+      const int k = set.harmonics()[pos], o = set.offset(pos);
+      if (k == 0) continue;
+      const Eigen::VectorXcd ul = system.linear_contact_response(k, omega);
+      for (int r = 0; r < system.contact_rows(); ++r) {
+        ulin_dyn_[r * nc + o] = ul[r].real();
+        ulin_dyn_[r * nc + o + 1] = -ul[r].imag();
+      }
+    }
+  }
+  int size() const override { return system_.size(); }
+  double residual_scale() const override { return system_.residual_scale(); }
+  void evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
+                Eigen::VectorXd* dR_dlambda) const override {
+    system_.evaluate(x, omega_, R, dR_dx, nullptr);
+    R += (1.0 - lambda) * ulin_dyn_;
+    if (dR_dlambda) *dR_dlambda = -ulin_dyn_;
+  }
+
+ private:
+  const HarmonicBalanceSystem& system_;
+  double omega_;
+  Eigen::VectorXd ulin_dyn_;
+};
+
+// Solution at the first frequency. The linear guess is tried first; if Newton fails from it (the
+// stuck linear response can be far from a slipping solution near resonance: Newton then wanders
+// among the stick/slip pieces of R), the excitation is ramped up from kRampStart of its value,
+// where the linear guess is close (scaled), to its full value by a stepped sweep in λ.
+Eigen::VectorXd first_solution(const HarmonicBalanceSystem& system, double omega, bool stuck,
+                               const SteppedSweepOptions& options) {
+  const Eigen::VectorXd guess = system.linear_guess(omega, stuck);
+  Eigen::VectorXd x = guess;
+  if (solve_newton(system, omega, x, options.newton).converged()) return x;
+  constexpr int kRampSteps = 20;  // λ = 1/20, 2/20, ..., 1
+  constexpr double kRampStart = 1.0 / kRampSteps;
+  const ExcitationRamp ramp(system, omega);
+  // Guess at λ = kRampStart: the static part of the guess and kRampStart of its dynamic part.
+  Eigen::VectorXd x0 = guess;
+  const HarmonicSet& set = system.unknown_harmonics();
+  const int nc = set.coefficient_count();
+  for (int pos = 0; pos < set.size(); ++pos) {
+    if (set.harmonics()[pos] == 0) continue;
+    for (int r = 0; r < system.contact_rows(); ++r) {
+      x0[r * nc + set.offset(pos)] *= kRampStart;
+      x0[r * nc + set.offset(pos) + 1] *= kRampStart;
+    }
+  }
+  std::vector<double> lambdas;
+  for (int i = 1; i <= kRampSteps; ++i) lambdas.push_back(static_cast<double>(i) / kRampSteps);
+  const ContinuationResult r = stepped_sweep(ramp, x0, lambdas, options);
+  if (r.points.back().newton.converged()) return r.points.back().x;
+  return guess;  // the sweep reports the failure at the first point itself
+}
+
+}  // namespace
+
 FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
                               double omega, const std::vector<int>& history_pairs) {
   FrequencyPoint point;
@@ -48,11 +115,13 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   const bool stuck = options.initial_guess == InitialGuess::kLinearStuck;
   if (options.method == ContinuationMethod::kSteppedSweep) {
     require(!options.omegas.empty(), "FrequencyResponseOptions.omegas", "[]", "not empty");
-    const Eigen::VectorXd x0 = system.linear_guess(options.omegas.front(), stuck);
+    const Eigen::VectorXd x0 = first_solution(system, options.omegas.front(), stuck, options.sweep);
     result = stepped_sweep(system, x0, std::span<const double>(options.omegas), options.sweep);
   } else {
     validate(options.arclength);
-    const Eigen::VectorXd x0 = system.linear_guess(options.arclength.lambda_start, stuck);
+    SteppedSweepOptions ramp;
+    ramp.newton = options.arclength.newton;
+    const Eigen::VectorXd x0 = first_solution(system, options.arclength.lambda_start, stuck, ramp);
     result = arclength_continuation(system, x0, options.arclength);
   }
   FrequencyResponse response;

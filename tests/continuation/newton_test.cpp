@@ -73,8 +73,11 @@ TEST(Newton, ConvergesQuadraticallyToTheClosedFormRoot) {
 
 TEST(Newton, DampingConvergesWhereTheFullStepOvershoots) {
   const FunctionSystem sys = shifted_atan();
+  // Monotone line search only (no watchdog steps).
+  NewtonOptions monotone;
+  monotone.watchdog_steps = 0;
   VectorXd x{{3.0}};
-  const NewtonSummary s = solve_newton(sys, 0.0, x, NewtonOptions{});
+  const NewtonSummary s = solve_newton(sys, 0.0, x, monotone);
   ASSERT_TRUE(s.converged()) << s.message;
   EXPECT_NEAR(x(0), 0.0, 1e-8);  // atan'(0) = 1: |x| = |R| <= tolerance
   EXPECT_LE(s.residual_norm, 1e-8);
@@ -82,10 +85,17 @@ TEST(Newton, DampingConvergesWhereTheFullStepOvershoots) {
   for (std::size_t k = 1; k < s.residual_history.size(); ++k) {
     EXPECT_LT(s.residual_history[k], s.residual_history[k - 1]);
   }
+  // With the default watchdog the relaxed full steps diverge (|R| -> π/2), the solver returns to
+  // the best iterate and backtracks: it converges too.
+  VectorXd w{{3.0}};
+  const NewtonSummary sw = solve_newton(sys, 0.0, w, NewtonOptions{});
+  ASSERT_TRUE(sw.converged()) << sw.message;
+  EXPECT_NEAR(w(0), 0.0, 1e-8);
 
-  // Plain Newton (no backtracking) from the same guess: the full step increases |R|.
+  // Plain Newton (no backtracking, no watchdog) from the same guess: the full step increases |R|.
   NewtonOptions plain;
   plain.min_step_fraction = 1.0;
+  plain.watchdog_steps = 0;
   VectorXd y{{3.0}};
   const NewtonSummary f = solve_newton(sys, 0.0, y, plain);
   EXPECT_EQ(f.termination, NewtonTermination::kLineSearchFailed) << f.message;
@@ -228,6 +238,8 @@ TEST(Newton, InvalidInputThrowsNamingTheField) {
                               "NewtonOptions.min_step_fraction");
   expect_invalid_input_naming(with([](NewtonOptions& o) { o.min_rcond = -1; }),
                               "NewtonOptions.min_rcond");
+  expect_invalid_input_naming(with([](NewtonOptions& o) { o.watchdog_steps = -1; }),
+                              "NewtonOptions.watchdog_steps");
   EXPECT_NO_THROW(validate(NewtonOptions{}));
 
   const FunctionSystem sys = circle_hyperbola();
