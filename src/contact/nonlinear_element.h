@@ -7,15 +7,18 @@
 //
 // march(): the element law marched over ONE period sampled at N equally spaced instants
 // (column j of u = u(t_j); the sample after N−1 is sample 0 of the next period). Elements with
-// memory (friction) start from the virgin state (zero force history at u = 0) and repeat the
-// period until the state at the end of a period equals the state at its start (the hysteresis
-// cycle repeats); the returned f is the last, converged period.
+// memory (friction) return the periodic steady state: the cycle whose state at the end of the
+// period equals the state at its start (the hysteresis cycle repeats). They start from the
+// virgin state (zero force history at u = 0) and march; a cycle that has not repeated after two
+// periods may be closed by solving the periodicity condition for the start state directly
+// (FrictionContact3D: Newton on τ at the period start). The returned f is the closed cycle.
 //
 // Exact derivatives: du_dp ((m·N) x p) holds ∂u_d(t_j)/∂p_q in row j·m + d, for any p parameters
 // (e.g. the harmonic coefficients of u). df_dp (same layout) receives ∂f_d(t_j)/∂p_q, propagated
 // through the whole march (stick, slip, lift-off branches) and across the period wrap: the
 // derivative of the last period's start state is the derivative of the previous period's end
-// state. Pass nullptr for both to skip derivatives.
+// state, or, for a start state found from the periodicity condition τ_s = P(τ_s, p), its
+// implicit derivative (I − ∂P/∂τ_s)⁻¹ ∂P/∂p. Pass nullptr for both to skip derivatives.
 #pragma once
 
 #include <memory>

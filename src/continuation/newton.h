@@ -3,11 +3,17 @@
 // Iteration k: solve dR/dx(x_k) Δx = −R(x_k) by dense LU with partial pivoting, then take
 // x_{k+1} = x_k + s Δx with the largest s ∈ {1, 1/2, 1/4, ..., >= min_step_fraction} that gives a
 // sufficient decrease ||R(x_{k+1})|| <= (1 − 1e-4 s) ||R(x_k)|| (backtracking on the 2-norm of R).
+// Watchdog: the full step (s = 1) is also taken when it does not decrease ||R||, up to
+// watchdog_steps times in a row and while ||R|| stays below 100 × that of the best iterate (the
+// watch point); if no iterate improves on the watch point by then, the solver returns to it and
+// backtracks from it. This crosses the kinks of piecewise-smooth residuals (stick/slip switches
+// of stiff contacts), where the Newton step is right but ||R|| rises at first.
 // Converged when ||R(x_k)||₂ <= tolerance · sys.residual_scale() (checked before each step, so an
 // initial guess that already satisfies it returns with 0 iterations).
 //
 // Numerical failure is a returned value, never an exception: NewtonSummary.termination says why
-// the solve stopped, and x holds the last accepted iterate (the best one found, in ||R||).
+// the solve stopped, and x holds the best iterate found (in ||R||), which residual_norm reports;
+// residual_history lists ||R|| at every accepted step, relaxed (watchdog) steps included.
 //   kConverged         ||R|| <= tolerance · scale.
 //   kMaxIterations     max_iterations steps taken without convergence.
 //   kLineSearchFailed  no step fraction down to min_step_fraction decreased ||R|| (e.g. a local
