@@ -22,8 +22,8 @@
 //    term; exact at kΩ = 0):
 //      x = Σ_r φ_r φ_rᵀF / (ω_r² − (kΩ)² + i kΩ c_r) + [K⁻¹F − Σ_r φ_r φ_rᵀF / ω_r²],
 //      c_r = α + β ω_r².
-//    Without the correction it is plain mode superposition (what ANSYS MSUP and CalculiX's
-//    *STEADY STATE DYNAMICS compute). The modes and the CHOLMOD factor of K_ff are computed once
+//    Without the correction it is plain mode superposition (ANSYS MSUP without residual vectors,
+//    CalculiX's *STEADY STATE DYNAMICS). The modes and the CHOLMOD factor of K_ff are computed once
 //    and reused for every load, harmonic and frequency. The body must be clamped enough to make
 //    K_ff positive definite (no rigid-body motion). Choose n at a gap of the spectrum: a
 //    truncation inside a group of repeated frequencies (symmetric bodies) depends on the
