@@ -10,7 +10,9 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "fe/stress.h"
+#include "io/apdl_macro.h"
 #include "io/atomic_file.h"
+#include "io/calculix_deck.h"
 #include "io/vtu_writer.h"
 #include "recovery/harmonic_response.h"
 #include "recovery/stress_envelope.h"
@@ -125,40 +127,65 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     const int n = body.mesh.num_dofs();
     for (int pi : points) {
       const FrequencyPoint& p = solved.response.points[pi];
-      Eigen::MatrixXcd x;
-      if (method == "expansion") {
-        x = expand_reduced_response(body.T, p.master.middleRows(body.offset, body.reduced.size()));
-      } else {
-        // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
-        Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
-        for (int h = 0; h < nh; ++h) {
-          const auto it = model.excitation.harmonics.find(harmonics[h]);
-          if (it == model.excitation.harmonics.end()) continue;
-          for (size_t i = 0; i < full_dofs.size(); ++i)
-            F(full_dofs[i], h) += it->second(reduced_dofs[i]);
+      // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
+      Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
+      for (int h = 0; h < nh; ++h) {
+        const auto it = model.excitation.harmonics.find(harmonics[h]);
+        if (it == model.excitation.harmonics.end()) continue;
+        for (size_t i = 0; i < full_dofs.size(); ++i) {
+          F(full_dofs[i], h) += it->second(reduced_dofs[i]);
         }
-        for (size_t q = 0; q < model.pairs.size(); ++q) {
-          const ContactPair& pair = model.pairs[q];
-          const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
-          for (int d = 0; d < 3; ++d) {
-            for (int side = 0; side < 2; ++side) {
-              const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
-              if (dofs.empty() || dofs[d] < body.offset ||
-                  dofs[d] >= body.offset + body.reduced.size()) {
-                continue;
-              }
-              const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
-              const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
-              F.row(full) += sign * fg.row(d);
+      }
+      for (size_t q = 0; q < model.pairs.size(); ++q) {
+        const ContactPair& pair = model.pairs[q];
+        const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
+        for (int d = 0; d < 3; ++d) {
+          for (int side = 0; side < 2; ++side) {
+            const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
+            if (dofs.empty() || dofs[d] < body.offset ||
+                dofs[d] >= body.offset + body.reduced.size()) {
+              continue;
             }
+            const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
+            const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
+            F.row(full) += sign * fg.row(d);
           }
         }
-        // Harmonic 0 is real by construction; drop round-off in its imaginary part.
-        for (int h = 0; h < nh; ++h) {
-          if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
-        }
-        x = harmonic_response(*solver, F, harmonics, p.omega);
       }
+      // Harmonic 0 is real by construction; drop round-off in its imaginary part.
+      for (int h = 0; h < nh; ++h) {
+        if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
+      }
+      const double f_hz = rad_s_to_hz(p.omega);
+      if (def.output.apdl_macro) {
+        ApdlMacroOptions o;
+        o.frequency_hz = f_hz;
+        o.harmonics = harmonics;
+        o.alpha = def.damping.alpha;
+        o.beta = def.damping.beta;
+        write_apdl_macro((dir / fmt::format("loads_p{}_{}.mac", pi, body.name)).string(), body.mesh,
+                         F, o);
+      }
+      if (def.output.calculix_deck) {
+        CalculixDeckOptions o;
+        o.youngs_modulus = body.material.youngs_modulus;
+        o.poisson_ratio = body.material.poisson_ratio;
+        o.density = body.material.density;
+        for (int node = 0; node < body.mesh.num_nodes(); ++node) {
+          if (body.constraints.is_constrained(dof_of(node, 0))) o.clamped_nodes.push_back(node);
+        }
+        o.alpha = def.damping.alpha;
+        o.beta = def.damping.beta;
+        o.frequency_hz = f_hz;
+        o.harmonics = harmonics;
+        o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
+        write_calculix_deck((dir / fmt::format("recovery_p{}_{}.inp", pi, body.name)).string(),
+                            body.mesh, F, o);
+      }
+      const Eigen::MatrixXcd x =
+          method == "expansion" ? expand_reduced_response(
+                                      body.T, p.master.middleRows(body.offset, body.reduced.size()))
+                                : harmonic_response(*solver, F, harmonics, p.omega);
       // Check against the reduced nonlinear response at the master DOFs.
       Eigen::MatrixXcd reduced = Eigen::MatrixXcd::Zero(n, nh);
       for (size_t i = 0; i < full_dofs.size(); ++i)

@@ -12,6 +12,8 @@
 //   recovery_p<point>_<body>.vtu  displacement and stress amplitudes per harmonic and the
 //                        stress envelope over the period (von Mises max / alternating / mean,
 //                        max principal) when output.vtu is true
+//   loads_p<point>_<body>.mac     ANSYS APDL macro with the point's loads (output.apdl_macro)
+//   recovery_p<point>_<body>.inp  CalculiX deck reproducing the recovery (output.calculix_deck)
 #pragma once
 
 #include <filesystem>
