@@ -1,5 +1,6 @@
 #include "hbm/frequency_response.h"
 
+#include <algorithm>
 #include <span>
 #include <string>
 
@@ -44,32 +45,49 @@ class ExcitationRamp final : public ParametrizedSystem {
 
 // Solution at the first frequency. The linear guess is tried first; if Newton fails from it (the
 // stuck linear response can be far from a slipping solution near resonance: Newton then wanders
-// among the stick/slip pieces of R), the excitation is ramped up from kRampStart of its value,
-// where the linear guess is close (scaled), to its full value by a stepped sweep in λ.
+// among the stick/slip pieces of R), the harmonic excitation is ramped up at that frequency: from
+// the largest fraction λ0 = 2^-j of it at which the scaled stuck guess is still stuck in every
+// pair (there it is the exact solution), by factors of kRampFactor up to λ = 1 (stepped sweep in
+// λ with its step halving). On failure the plain guess is returned (the sweep then reports the
+// point as not converged).
 Eigen::VectorXd first_solution(const HarmonicBalanceSystem& system, double omega, bool stuck,
-                               const SteppedSweepOptions& options) {
+                               const NewtonOptions& newton) {
   const Eigen::VectorXd guess = system.linear_guess(omega, stuck);
   Eigen::VectorXd x = guess;
-  if (solve_newton(system, omega, x, options.newton).converged()) return x;
-  constexpr int kRampSteps = 20;  // λ = 1/20, 2/20, ..., 1
-  constexpr double kRampStart = 1.0 / kRampSteps;
-  const ExcitationRamp ramp(system, omega);
-  // Guess at λ = kRampStart: the static part of the guess and kRampStart of its dynamic part.
-  Eigen::VectorXd x0 = guess;
+  if (solve_newton(system, omega, x, newton).converged()) return x;
+  constexpr double kRampFactor = 1.1;  // load increment per ramp step: 10 %
+  constexpr int kMaxHalvings = 30;     // λ0 >= 2^-30
   const HarmonicSet& set = system.unknown_harmonics();
   const int nc = set.coefficient_count();
-  for (int pos = 0; pos < set.size(); ++pos) {
-    if (set.harmonics()[pos] == 0) continue;
-    for (int r = 0; r < system.contact_rows(); ++r) {
-      x0[r * nc + set.offset(pos)] *= kRampStart;
-      x0[r * nc + set.offset(pos) + 1] *= kRampStart;
+  auto scaled = [&](double lambda) {  // the static part of the guess, λ times its dynamic part
+    Eigen::VectorXd y = guess;
+    for (int pos = 0; pos < set.size(); ++pos) {
+      if (set.harmonics()[pos] == 0) continue;
+      for (int r = 0; r < system.contact_rows(); ++r) {
+        y[r * nc + set.offset(pos)] *= lambda;
+        y[r * nc + set.offset(pos) + 1] *= lambda;
+      }
     }
-  }
-  std::vector<double> lambdas;
-  for (int i = 1; i <= kRampSteps; ++i) lambdas.push_back(static_cast<double>(i) / kRampSteps);
-  const ContinuationResult r = stepped_sweep(ramp, x0, lambdas, options);
+    return y;
+  };
+  auto all_stuck = [&](double lambda) {
+    Eigen::VectorXd forces;
+    std::vector<CycleStatistics> stats;
+    system.contact_forces(scaled(lambda), forces, &stats);
+    return std::all_of(stats.begin(), stats.end(), [](const CycleStatistics& c) {
+      return c.slip_fraction == 0 && c.separation_fraction == 0;
+    });
+  };
+  double lambda0 = 1.0;
+  for (int i = 0; i < kMaxHalvings && !all_stuck(lambda0); ++i) lambda0 *= 0.5;
+  std::vector<double> lambdas{lambda0};
+  while (lambdas.back() < 1.0) lambdas.push_back(std::min(1.0, lambdas.back() * kRampFactor));
+  SteppedSweepOptions options;  // default step halving and arc-length fallback, in λ
+  options.newton = newton;
+  const ExcitationRamp ramp(system, omega);
+  const ContinuationResult r = stepped_sweep(ramp, scaled(lambda0), lambdas, options);
   if (r.points.back().newton.converged()) return r.points.back().x;
-  return guess;  // the sweep reports the failure at the first point itself
+  return guess;
 }
 
 }  // namespace
@@ -115,13 +133,13 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   const bool stuck = options.initial_guess == InitialGuess::kLinearStuck;
   if (options.method == ContinuationMethod::kSteppedSweep) {
     require(!options.omegas.empty(), "FrequencyResponseOptions.omegas", "[]", "not empty");
-    const Eigen::VectorXd x0 = first_solution(system, options.omegas.front(), stuck, options.sweep);
+    const Eigen::VectorXd x0 =
+        first_solution(system, options.omegas.front(), stuck, options.sweep.newton);
     result = stepped_sweep(system, x0, std::span<const double>(options.omegas), options.sweep);
   } else {
     validate(options.arclength);
-    SteppedSweepOptions ramp;
-    ramp.newton = options.arclength.newton;
-    const Eigen::VectorXd x0 = first_solution(system, options.arclength.lambda_start, stuck, ramp);
+    const Eigen::VectorXd x0 =
+        first_solution(system, options.arclength.lambda_start, stuck, options.arclength.newton);
     result = arclength_continuation(system, x0, options.arclength);
   }
   FrequencyResponse response;

@@ -89,8 +89,9 @@ class CountingSystem final : public ParametrizedSystem {
 
 std::vector<int> node_dofs(int node) { return {3 * node, 3 * node + 1, 3 * node + 2}; }
 
-TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
-  const Joint j = make_joint();
+// The joint's harmonic balance system: the hub of A excited by `load` (harmonic 1), and the
+// static preload load.
+HarmonicBalanceSystem make_system(const Joint& j, const Eigen::Vector3cd& hub_load) {
   const int n = j.dofs();
   std::vector<ContactPair> pairs;
   Excitation e;
@@ -107,31 +108,42 @@ TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
       preload(3 * j.node_a(i) + d) += g(d);
     }
   }
-  // Amplitude chosen so that, across the sweep, most pairs slip over part of the cycle.
-  load.head(3) << Complex(100.0, 0), Complex(62.5, 25.0), Complex(-37.5, 0);
+  load.head(3) = hub_load;
   e.harmonics[0] = preload;
   e.harmonics[1] = load;
   HarmonicBalanceOptions o;
   o.harmonics = 1;
   o.time_samples = 64;
   o.static_newton.tolerance = 1e-12;
-  const LinearModel model = linear_model_from_matrices(j.K, j.M, j.alpha, j.beta);
-  const HarmonicBalanceSystem system(model, pairs, e, o);
+  return HarmonicBalanceSystem(linear_model_from_matrices(j.K, j.M, j.alpha, j.beta), pairs, e, o);
+}
+
+// First natural frequency of the assembly with every contact stuck (kt, kt, kn springs).
+double stuck_first_frequency(const Joint& j) {
+  const int n = j.dofs();
+  Eigen::MatrixXd Ks = j.K;
+  for (int i = 0; i < j.pairs; ++i) {
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, n);
+    b.middleCols(3 * j.node_a(i), 3) = j.R;
+    b.middleCols(3 * j.node_b(i), 3) = -j.R;
+    Ks +=
+        b.transpose() * Eigen::Vector3d(j.contact.kt, j.contact.kt, j.contact.kn).asDiagonal() * b;
+  }
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ks, j.M, Eigen::EigenvaluesOnly);
+  return std::sqrt(eig.eigenvalues()(0));
+}
+
+TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
+  const Joint j = make_joint();
+  // Amplitude chosen so that, across the sweep, most pairs slip over part of the cycle.
+  const Eigen::Vector3cd hub_load(Complex(100.0, 0), Complex(62.5, 25.0), Complex(-37.5, 0));
+  const HarmonicBalanceSystem system = make_system(j, hub_load);
+  Eigen::VectorXcd load = Eigen::VectorXcd::Zero(j.dofs());
+  load.head(3) = hub_load;
   ASSERT_TRUE(system.static_summary().converged());
 
   // Sweep through the first resonance of the stuck assembly.
-  Eigen::MatrixXd Ks = j.K;
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3 * j.pairs, n);
-  for (int i = 0; i < j.pairs; ++i) {
-    B.block(3 * i, 3 * j.node_a(i), 3, 3) = j.R;
-    B.block(3 * i, 3 * j.node_b(i), 3, 3) = -j.R;
-  }
-  Eigen::Matrix3d kc = Eigen::Vector3d(j.contact.kt, j.contact.kt, j.contact.kn).asDiagonal();
-  Eigen::MatrixXd Kc = Eigen::MatrixXd::Zero(3 * j.pairs, 3 * j.pairs);
-  for (int i = 0; i < j.pairs; ++i) Kc.block(3 * i, 3 * i, 3, 3) = kc;
-  Ks += B.transpose() * Kc * B;
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ks, j.M, Eigen::EigenvaluesOnly);
-  const double w1 = std::sqrt(eig.eigenvalues()(0));
+  const double w1 = stuck_first_frequency(j);
   std::vector<double> omegas;
   for (int i = 0; i <= 60; ++i) omegas.push_back(w1 * (0.85 + 0.3 * i / 60.0));
   SteppedSweepOptions so;
@@ -196,6 +208,50 @@ TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
   constexpr int kMaxIterations = 22;
   EXPECT_LE(static_cast<double>(total_iterations) / points.size(), kMeanIterations);
   EXPECT_LE(max_iterations, kMaxIterations);
+}
+
+TEST(FrictionJoint, FirstPointFarFromTheStuckGuessIsReachedByTheExcitationRamp) {
+  // At the stuck resonance with a large load the joint slips grossly; the stuck linear guess is
+  // far from the solution and Newton from it fails (checked: the test is about that case). The
+  // first point must still be found (by the excitation ramp), without step halving or arc-length
+  // in Ω, and satisfy R = 0 and the energy balance.
+  const Joint j = make_joint();
+  const Eigen::Vector3cd hub_load =
+      30.0 * Eigen::Vector3cd(Complex(100.0, 0), Complex(62.5, 25.0), Complex(-37.5, 0));
+  const HarmonicBalanceSystem system = make_system(j, hub_load);
+  const double w1 = stuck_first_frequency(j);
+  NewtonOptions newton;
+  newton.tolerance = 1e-9;
+  // A small budget: the direct solve from the stuck guess needs ~8 iterations, each 10 % step of
+  // the ramp fewer than 4.
+  newton.max_iterations = 4;
+  Eigen::VectorXd x = system.linear_guess(w1, true);
+  const NewtonSummary direct = solve_newton(system, w1, x, newton);
+  // Precondition: the direct attempt from the stuck guess fails within this Newton budget.
+  ASSERT_FALSE(direct.converged()) << direct.message;
+  FrequencyResponseOptions o;
+  o.omegas = {w1};
+  o.sweep.newton = newton;
+  o.sweep.max_step_halvings = 0;
+  o.sweep.jump_max_points = 0;
+  const FrequencyResponse r = frequency_response(system, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  Eigen::VectorXd R;
+  system.evaluate(r.points[0].unknowns, w1, R, nullptr, nullptr);
+  EXPECT_LE(R.norm(), newton.tolerance * system.residual_scale());
+  // Energy balance of harmonic 1 (as in the sweep test).
+  Eigen::VectorXcd load = Eigen::VectorXcd::Zero(j.dofs());
+  load.head(3) = hub_load;
+  const Eigen::VectorXcd X = r.points[0].master.col(1);
+  const Eigen::MatrixXd C = j.alpha * j.M + j.beta * j.K;
+  double friction = 0;
+  for (const PairResponse& pr : r.points[0].pairs) {
+    friction +=
+        kPi * (Complex(0, 1) * pr.force_local.col(1).dot(pr.displacement_local.col(1))).real();
+  }
+  const double external = kPi * (Complex(0, 1) * load.dot(X)).real();
+  const double viscous = kPi * w1 * (X.adjoint() * C.cast<Complex>() * X)(0).real();
+  EXPECT_NEAR(external, viscous + friction, 1e-6 * external);
 }
 
 }  // namespace
