@@ -71,11 +71,12 @@ void write_results(const fs::path& dir, const CaseDefinition& def, const Prepare
   const std::vector<int>& harmonics = fr.harmonics;
 
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy\n";
+    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
-      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.9e}\n", i, rad_s_to_hz(p.omega),
-                 p.converged ? 1 : 0, p.iterations, p.residual_norm, total_dissipation(p));
+      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
+                 p.converged ? 1 : 0, p.iterations, p.residual_norm, total_dissipation(p),
+                 p.residual_norm / solved.system->residual_scale());
     }
   });
 
