@@ -94,9 +94,14 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   };
 
   Eigen::VectorXd R(n), R_trial(n), dx(n), x_trial(n);
-  Eigen::MatrixXd J(n, n), J_trial(n, n);
-  sys.evaluate(x, lambda, R, &J, nullptr);
-  STICKSLIP_VERIFY(R.size() == n && J.rows() == n && J.cols() == n,
+  // Structured systems solve their own Newton systems (no dense dR/dx here).
+  const bool structured = sys.has_structured_jacobian();
+  Eigen::MatrixXd J(structured ? 0 : n, structured ? 0 : n);
+  Eigen::MatrixXd J_trial(structured ? 0 : n, structured ? 0 : n);
+  Eigen::MatrixXd* const J_out = structured ? nullptr : &J;
+  Eigen::MatrixXd* const J_trial_out = structured ? nullptr : &J_trial;
+  sys.evaluate(x, lambda, R, J_out, nullptr);
+  STICKSLIP_VERIFY(R.size() == n && (structured || (J.rows() == n && J.cols() == n)),
                    "ParametrizedSystem::evaluate returned outputs of the wrong size");
   bool have_jacobian = true;
   if (!all_finite(R)) {
@@ -107,7 +112,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   summary.residual_norm = r;
   summary.residual_history.push_back(r);
 
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(n);
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu(structured ? 0 : n);
   x_watch = x;
   R_watch = R;
   r_watch = r;
@@ -117,18 +122,24 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
     if (summary.iterations >= options.max_iterations) {
       return finish(NewtonTermination::kMaxIterations, "");
     }
-    if (!have_jacobian) {
-      sys.evaluate(x, lambda, R, &J, nullptr);
-      have_jacobian = true;
+    if (structured) {
+      if (!sys.solve_jacobian(x, lambda, -R, dx)) {
+        return finish(NewtonTermination::kSingularJacobian, "the structured solve of dR/dx failed");
+      }
+    } else {
+      if (!have_jacobian) {
+        sys.evaluate(x, lambda, R, &J, nullptr);
+        have_jacobian = true;
+      }
+      if (!J.allFinite()) return finish(NewtonTermination::kNonFinite, "dR/dx is not finite");
+      lu.compute(J);
+      const double rcond = lu.rcond();
+      if (!(rcond >= options.min_rcond)) {
+        return finish(NewtonTermination::kSingularJacobian,
+                      "rcond(dR/dx) = " + str(rcond) + " < min_rcond = " + str(options.min_rcond));
+      }
+      dx = lu.solve(-R);
     }
-    if (!J.allFinite()) return finish(NewtonTermination::kNonFinite, "dR/dx is not finite");
-    lu.compute(J);
-    const double rcond = lu.rcond();
-    if (!(rcond >= options.min_rcond)) {
-      return finish(NewtonTermination::kSingularJacobian,
-                    "rcond(dR/dx) = " + str(rcond) + " < min_rcond = " + str(options.min_rcond));
-    }
-    dx = lu.solve(-R);
     if (!all_finite(dx)) {
       return finish(NewtonTermination::kSingularJacobian, "the Newton step is not finite");
     }
@@ -143,7 +154,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
     bool accepted = false;
     bool any_finite = false;
     x_trial = x + dx;
-    sys.evaluate(x_trial, lambda, R_trial, &J_trial, nullptr);
+    sys.evaluate(x_trial, lambda, R_trial, J_trial_out, nullptr);
     if (all_finite(R_trial)) {
       any_finite = true;
       const double r_trial = R_trial.norm();
@@ -173,9 +184,14 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
         R = R_watch;
         r = r_watch;
         relaxed_steps = 0;
-        sys.evaluate(x, lambda, R, &J, nullptr);
-        lu.compute(J);
-        dx = lu.solve(-R);
+        if (structured) {
+          sys.evaluate(x, lambda, R, nullptr, nullptr);
+          if (!sys.solve_jacobian(x, lambda, -R, dx)) dx.setZero();
+        } else {
+          sys.evaluate(x, lambda, R, &J, nullptr);
+          lu.compute(J);
+          dx = lu.solve(-R);
+        }
       }
       for (double s = 0.5; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
         x_trial = x + s * dx;

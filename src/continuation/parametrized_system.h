@@ -21,6 +21,18 @@ class ParametrizedSystem {
   // Scale for convergence: Newton stops when ||R|| <= tolerance * residual_scale().
   // E.g. the norm of the excitation. Must be > 0.
   virtual double residual_scale() const { return 1.0; }
+
+  // Optional structured linear solver for large systems. When has_structured_jacobian() is true,
+  // Newton never asks evaluate() for dR_dx; each step instead calls
+  //   solve_jacobian(x, λ, rhs, dx):  dx = (dR/dx(x, λ))⁻¹ rhs, to a relative residual
+  //   ||dR/dx·dx − rhs|| <= 1e-10 ||rhs|| or better (an inexact Newton step),
+  // which returns false when it cannot (singular or not converged). evaluate() must still fill
+  // dR_dx when asked (arc-length continuation uses the dense matrix).
+  virtual bool has_structured_jacobian() const { return false; }
+  virtual bool solve_jacobian(const Eigen::VectorXd& /*x*/, double /*lambda*/,
+                              const Eigen::VectorXd& /*rhs*/, Eigen::VectorXd& /*dx*/) const {
+    return false;
+  }
 };
 
 }  // namespace stickslip
