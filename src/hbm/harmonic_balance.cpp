@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "continuation/gmres.h"
 #include "core/errors.h"
 
 namespace stickslip {
@@ -19,6 +20,10 @@ using Complex = std::complex<double>;
 std::string idx(const std::string& name, size_t i) { return name + "[" + std::to_string(i) + "]"; }
 
 bool all_finite(const Eigen::MatrixXd& m) { return m.allFinite(); }
+
+// Relative residual of the structured Newton-step solve: far below Newton's own tolerances
+// (1e-8 of the residual scale), so the inexact steps behave as exact ones.
+constexpr double kStructuredSolveTolerance = 1e-10;
 
 // A v for real A and complex v, as two real products (vectorised, no complex casts of A).
 template <typename Matrix>
@@ -221,6 +226,10 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
   }
   solve_static();
   scale += u0_.norm();
+  structured_ =
+      options_.linear_solver == HbmLinearSolver::kStructured ||
+      (options_.linear_solver == HbmLinearSolver::kAuto && size() >= kStructuredSolverThreshold);
+  build_stuck_tangent();
   residual_scale_ =
       options_.residual_scale > 0 ? options_.residual_scale : (scale > 0 ? scale : 1.0);
 }
@@ -299,16 +308,158 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
 
   const std::shared_ptr<const CondensedOperator> op =
       condensed_operator(omega, dR_domega != nullptr);
-  const Eigen::MatrixXd& Gbig = op->G;
-  R = x - op->ulin + Gbig * F;
+  R = x - op->ulin + apply_G(*op, F);
   if (dR_dx) {
+    const Eigen::MatrixXd Gbig = dense_G(*op);
     dR_dx->setIdentity(n, n);
     for (size_t p = 0; p < pairs_.size(); ++p) {
       const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
       dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w) * blocks[p];
     }
   }
-  if (dR_domega) *dR_domega = op->dG * F - op->dulin;
+  if (dR_domega) *dR_domega = apply_dG(*op, F) - op->dulin;
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::apply_G(const CondensedOperator& op,
+                                               const Eigen::VectorXd& v) const {
+  // Per harmonic with complex V_k = a − i b: (𝔾 v) = (Re, −Im) of G_k V_k (harmonic 0: real).
+  const HarmonicSet& set = unknown_harmonics();
+  Eigen::VectorXd out(v.size());
+  Eigen::VectorXcd z(rows_);
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    for (int r = 0; r < rows_; ++r) z[r] = Complex(v[r * nc_ + o], k > 0 ? -v[r * nc_ + o + 1] : 0);
+    const Eigen::VectorXcd w = op.G[pos] * z;
+    for (int r = 0; r < rows_; ++r) {
+      out[r * nc_ + o] = w[r].real();
+      if (k > 0) out[r * nc_ + o + 1] = -w[r].imag();
+    }
+  }
+  return out;
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::apply_dG(const CondensedOperator& op,
+                                                const Eigen::VectorXd& v) const {
+  // ∂G_k/∂Ω = Ψ diag(dh_k/dΩ) Ψᵀ, applied through the modes (harmonic 0 does not depend on Ω).
+  const HarmonicSet& set = unknown_harmonics();
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
+  Eigen::VectorXcd z(rows_);
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    if (k == 0) continue;
+    for (int r = 0; r < rows_; ++r) z[r] = Complex(v[r * nc_ + o], -v[r * nc_ + o + 1]);
+    const Eigen::VectorXcd w =
+        real_times(Psi_, op.dh[pos].cwiseProduct(real_times(Psi_.transpose(), z)));
+    for (int r = 0; r < rows_; ++r) {
+      out[r * nc_ + o] = w[r].real();
+      out[r * nc_ + o + 1] = -w[r].imag();
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixXd HarmonicBalanceSystem::dense_G(const CondensedOperator& op) const {
+  const HarmonicSet& set = unknown_harmonics();
+  const int n = size();
+  Eigen::MatrixXd big = Eigen::MatrixXd::Zero(n, n);
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    const Eigen::MatrixXcd& g = op.G[pos];
+    for (int r = 0; r < rows_; ++r) {
+      for (int s = 0; s < rows_; ++s) {
+        const double re = g(s, r).real();
+        big(s * nc_ + o, r * nc_ + o) = re;
+        if (k == 0) continue;
+        const double im = g(s, r).imag();
+        big(s * nc_ + o, r * nc_ + o + 1) = im;
+        big(s * nc_ + o + 1, r * nc_ + o) = -im;
+        big(s * nc_ + o + 1, r * nc_ + o + 1) = re;
+      }
+    }
+  }
+  return big;
+}
+
+void HarmonicBalanceSystem::build_stuck_tangent() {
+  // Element tangents at the zero-vibration state (static displacement, no dynamic part): the AFT
+  // Jacobian of a constant signal maps coefficient c of one row to coefficient c of the others.
+  stuck_tangent_.clear();
+  if (!structured_) return;
+  const HarmonicSet& set = unknown_harmonics();
+  const bool frozen = !set.has_static();
+  Eigen::VectorXd fp;
+  Eigen::MatrixXd jp;
+  for (int pos = 0; pos < set.size(); ++pos) {
+    stuck_tangent_.push_back(Eigen::MatrixXd::Zero(rows_, rows_));
+  }
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+    Eigen::VectorXd xp = Eigen::VectorXd::Zero(m * nc_);
+    if (!frozen) {
+      for (int i = 0; i < m; ++i) xp[i * nc_ + set.offset(0)] = u0_[r + i];
+    }
+    aft_.evaluate(*pairs_[p].element, xp,
+                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, &jp);
+    for (int pos = 0; pos < set.size(); ++pos) {
+      const int o = set.offset(pos);
+      for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < m; ++j)
+          stuck_tangent_[pos](r + i, r + j) = jp(i * nc_ + o, j * nc_ + o);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::apply_preconditioner(const CondensedOperator& op,
+                                                            const Eigen::VectorXd& v) const {
+  const HarmonicSet& set = unknown_harmonics();
+  Eigen::VectorXd out(v.size());
+  Eigen::VectorXcd z(rows_);
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    for (int r = 0; r < rows_; ++r) z[r] = Complex(v[r * nc_ + o], k > 0 ? -v[r * nc_ + o + 1] : 0);
+    const Eigen::VectorXcd w = op.precondition[pos].solve(z);
+    for (int r = 0; r < rows_; ++r) {
+      out[r * nc_ + o] = w[r].real();
+      if (k > 0) out[r * nc_ + o + 1] = -w[r].imag();
+    }
+  }
+  return out;
+}
+
+bool HarmonicBalanceSystem::solve_jacobian(const Eigen::VectorXd& x, double omega,
+                                           const Eigen::VectorXd& rhs, Eigen::VectorXd& dx) const {
+  STICKSLIP_VERIFY(structured_, "HarmonicBalanceSystem::solve_jacobian: not structured");
+  STICKSLIP_VERIFY(x.size() == size() && rhs.size() == size(),
+                   "HarmonicBalanceSystem::solve_jacobian: wrong sizes");
+  const bool frozen = !unknown_harmonics().has_static();
+  Eigen::VectorXd fp;
+  std::vector<Eigen::MatrixXd> blocks(pairs_.size());
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
+                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, &blocks[p]);
+    if (!blocks[p].allFinite()) return false;
+  }
+  const std::shared_ptr<const CondensedOperator> op = condensed_operator(omega, false);
+  auto apply = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    Eigen::VectorXd jv(v.size());
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
+      jv.segment(c, w).noalias() = blocks[p] * v.segment(c, w);
+    }
+    return v + apply_G(*op, jv);
+  };
+  auto precondition = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return apply_preconditioner(*op, v);
+  };
+  GmresOptions options;
+  options.tolerance = kStructuredSolveTolerance;
+  options.restart = 200;
+  options.max_iterations = 2000;
+  const GmresSummary s = gmres(apply, precondition, rhs, dx, options);
+  last_gmres_iterations_ = s.iterations;
+  return s.converged && dx.allFinite();
 }
 
 std::shared_ptr<const HarmonicBalanceSystem::CondensedOperator>
@@ -324,29 +475,10 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   auto op = std::make_shared<CondensedOperator>();
   op->omega = omega;
   op->has_derivative = derivative;
-  op->G.setZero(n, n);
   op->ulin.setZero(n);
-  if (derivative) {
-    op->dG.setZero(n, n);
-    op->dulin.setZero(n);
-  }
+  if (derivative) op->dulin.setZero(n);
   const HarmonicSet& set = unknown_harmonics();
   Eigen::MatrixXd psi_d, gr(rows_, rows_), gi(rows_, rows_);
-  // Scatter the real split of a complex nu x nu matrix (Gr, Gi) into 𝔾's harmonic block.
-  auto scatter = [&](Eigen::MatrixXd& big, int k, int o) {
-    // Only the lower triangles of gr, gi are computed (G_k is symmetric).
-    for (int r = 0; r < rows_; ++r) {
-      for (int s = 0; s < rows_; ++s) {
-        const double re = s >= r ? gr(s, r) : gr(r, s);
-        big(s * nc_ + o, r * nc_ + o) = re;
-        if (k == 0) continue;
-        const double im = s >= r ? gi(s, r) : gi(r, s);
-        big(s * nc_ + o, r * nc_ + o + 1) = im;
-        big(s * nc_ + o + 1, r * nc_ + o) = -im;
-        big(s * nc_ + o + 1, r * nc_ + o + 1) = re;
-      }
-    }
-  };
   auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c, int k, int o) {
     for (int s = 0; s < rows_; ++s) {
       v[s * nc_ + o] = c[s].real();
@@ -356,31 +488,42 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   for (int pos = 0; pos < set.size(); ++pos) {
     const int k = set.harmonics()[pos], o = set.offset(pos);
     const Eigen::VectorXcd h = modal_receptance(k, omega);
-    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ.
+    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ (lower
+    // triangles, then mirrored: G_k is symmetric).
     psi_d = Psi_ * h.real().asDiagonal();
     gr.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+    gr.triangularView<Eigen::StrictlyUpper>() = gr.transpose();
+    gi.setZero();
     if (k > 0) {
       psi_d = Psi_ * h.imag().asDiagonal();
       gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
+      gi.triangularView<Eigen::StrictlyUpper>() = gi.transpose();
     }
-    scatter(op->G, k, o);
+    op->G.emplace_back(rows_, rows_);
+    op->G.back().real() = gr;
+    op->G.back().imag() = gi;
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) {
       scatter_vector(op->ulin, real_times(Psi_, h.cwiseProduct(load->second)), k, o);
     }
+    Eigen::VectorXcd dh = Eigen::VectorXcd::Zero(h.size());
     if (derivative && k > 0) {
-      Eigen::VectorXcd dh(h.size());
       for (Eigen::Index r = 0; r < h.size(); ++r) {
         dh[r] = -h[r] * h[r] * Complex(-2.0 * k * k * omega, k * model_.modal_damping[r]);
       }
-      psi_d = Psi_ * dh.real().asDiagonal();
-      gr.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
-      psi_d = Psi_ * dh.imag().asDiagonal();
-      gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
-      scatter(op->dG, k, o);
       if (load != modal_load_.end()) {
         scatter_vector(op->dulin, real_times(Psi_, dh.cwiseProduct(load->second)), k, o);
       }
+    }
+    op->dh.push_back(std::move(dh));
+    if (structured_) {  // I + G_k K_0, K_0 block-diagonal per pair
+      Eigen::MatrixXcd P = Eigen::MatrixXcd::Identity(rows_, rows_);
+      for (size_t p = 0; p < pairs_.size(); ++p) {
+        const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+        P.middleCols(r, m).noalias() +=
+            op->G.back().middleCols(r, m) * stuck_tangent_[pos].block(r, r, m, m).cast<Complex>();
+      }
+      op->precondition.emplace_back(P);
     }
   }
   const std::lock_guard<std::mutex> lock(cache_->mutex);
@@ -397,6 +540,10 @@ Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) co
   }
   if (stuck) {
     Eigen::VectorXd R;
+    if (structured_) {  // dR/dx at the zero-vibration state is the preconditioner itself
+      evaluate(x, omega, R, nullptr, nullptr);
+      return x - apply_preconditioner(*condensed_operator(omega, false), R);
+    }
     Eigen::MatrixXd J;
     evaluate(x, omega, R, &J, nullptr);
     return x - J.partialPivLu().solve(R);

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "contact/nonlinear_element.h"
 #include "continuation/newton.h"
@@ -79,6 +80,14 @@ struct Excitation {
 
 enum class StaticCoupling { kUncoupled, kCoupled };
 
+// How Newton solves dR/dx Δ = −R. Dense: LU of the n x n matrix. Structured: GMRES on
+// (I + 𝔾 J_f) (products per harmonic with the complex nu x nu G_k and per pair with J_f),
+// right-preconditioned by P = I + 𝔾 J_f,0, J_f,0 the element tangents at the zero-vibration state
+// (stuck friction, closed preloaded contacts), i.e. per harmonic the complex LU of I + G_k K_0,
+// factored once per Ω. Auto: structured when n >= kStructuredSolverThreshold.
+enum class HbmLinearSolver { kAuto, kDense, kStructured };
+inline constexpr int kStructuredSolverThreshold = 2000;
+
 struct HarmonicBalanceOptions {
   int harmonics = 1;                 // H: dynamic harmonics 1..H
   std::vector<int> harmonic_list{};  // if not empty, the dynamic harmonics (≥ 1, increasing),
@@ -87,6 +96,7 @@ struct HarmonicBalanceOptions {
   StaticCoupling static_coupling = StaticCoupling::kUncoupled;
   double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
   NewtonOptions static_newton;  // for the uncoupled static problem
+  HbmLinearSolver linear_solver = HbmLinearSolver::kAuto;
 };
 void validate(const HarmonicBalanceOptions& options);
 
@@ -103,6 +113,12 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   // options.residual_scale if set, else the 2-norm of the quasi-static linear contact response
   // Σ_k ||B Φ diag(1/ω²) Φᵀ F_k|| plus ||u0|| (1 if both vanish).
   double residual_scale() const override { return residual_scale_; }
+  // Structured solve (see HbmLinearSolver): GMRES to 1e-10 relative.
+  bool has_structured_jacobian() const override { return structured_; }
+  bool solve_jacobian(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& rhs,
+                      Eigen::VectorXd& dx) const override;
+  // GMRES products of the last structured solve (diagnostics).
+  int last_gmres_iterations() const { return last_gmres_iterations_; }
 
   const HarmonicSet& unknown_harmonics() const { return aft_.basis().harmonics(); }
   // 0 followed by the dynamic harmonics: the harmonics every output carries.
@@ -140,15 +156,23 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::MatrixXcd master_response(const Eigen::MatrixXcd& contact_force, double omega) const;
 
  private:
-  // 𝔾(Ω) (n x n, the real split of G_k per harmonic, unknown layout), u_lin(Ω) (n) and, if
-  // requested, their Ω-derivatives. The last one is cached: Newton iterations at one Ω and the
-  // recovery reuse it.
+  // G_k(Ω) per unknown harmonic (complex nu x nu; 𝔾 is their real split), u_lin(Ω) (n) and,
+  // if requested, dh_k/dΩ and du_lin/dΩ; when structured, the preconditioner's LUs. The last one
+  // is cached: Newton iterations at one Ω and the recovery reuse it.
   struct CondensedOperator {
     double omega = 0.0;
     bool has_derivative = false;
-    Eigen::MatrixXd G, dG;
+    std::vector<Eigen::MatrixXcd> G;                                  // per harmonic position
+    std::vector<Eigen::VectorXcd> dh;                                 // dh_k/dΩ per position
+    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
     Eigen::VectorXd ulin, dulin;
   };
+  // 𝔾 v and (∂𝔾/∂Ω) v in the unknown layout.
+  Eigen::VectorXd apply_G(const CondensedOperator& op, const Eigen::VectorXd& v) const;
+  Eigen::VectorXd apply_dG(const CondensedOperator& op, const Eigen::VectorXd& v) const;
+  Eigen::MatrixXd dense_G(const CondensedOperator& op) const;
+  Eigen::VectorXd apply_preconditioner(const CondensedOperator& op, const Eigen::VectorXd& v) const;
+  void build_stuck_tangent();
   struct OperatorCache {
     std::mutex mutex;
     std::shared_ptr<const CondensedOperator> last;
@@ -172,6 +196,9 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::VectorXd u0_, f0_;
   NewtonSummary static_summary_;
   double residual_scale_ = 1.0;
+  bool structured_ = false;
+  std::vector<Eigen::MatrixXd> stuck_tangent_;  // per harmonic position: K_0, nu x nu
+  mutable int last_gmres_iterations_ = 0;
   std::shared_ptr<OperatorCache> cache_ = std::make_shared<OperatorCache>();
 };
 
