@@ -540,8 +540,10 @@ Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) co
   }
   if (stuck) {
     Eigen::VectorXd R;
-    if (structured_) {  // dR/dx at the zero-vibration state is the preconditioner itself
+    if (structured_) {
       evaluate(x, omega, R, nullptr, nullptr);
+      Eigen::VectorXd dx;
+      if (solve_jacobian(x, omega, -R, dx)) return x + dx;
       return x - apply_preconditioner(*condensed_operator(omega, false), R);
     }
     Eigen::MatrixXd J;
