@@ -2,12 +2,17 @@
 
 #include <Spectra/SymEigsSolver.h>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <numeric>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -66,6 +71,76 @@ Eigen::Index sign_component(const Eigen::Ref<const Eigen::VectorXd>& phi) {
   return 0;
 }
 
+// Block Lanczos on C = G⁻¹ M G⁻ᵀ with full reorthogonalisation (classical Gram–Schmidt, twice)
+// and no restart. After j steps the basis Q (n x kb) satisfies C Q = Q H + W Eᵀ with
+// H = Qᵀ C Q and W the part of the last block's image orthogonal to Q, so the Ritz pair
+// (ν, Q s) of H has residual ‖C Q s − ν Q s‖ = ‖W s_last‖ (s_last: the last b entries of s).
+// Converged when the nev largest Ritz values all have residual <= tol · max(|ν|, eps^(2/3)),
+// Spectra's criterion. Returns false (nothing usable) if the basis would exceed `capacity`
+// columns or a block loses rank; on success `nu` holds the nev largest ν descending and `y`
+// the Ritz vectors (n x nev, orthonormal).
+bool block_lanczos(const SparseCholesky& factor, const SparseMatrix& M, int nev, int b,
+                   Eigen::Index capacity, double tol, Eigen::VectorXd& nu, Eigen::MatrixXd& y,
+                   int& operations, int& steps) {
+  const Eigen::Index n = M.rows();
+  Eigen::MatrixXd Q(n, capacity);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(capacity, capacity);
+  std::mt19937 rng(20261122);  // fixed seed: reproducible modes
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd W(n, b);
+  for (Eigen::Index j = 0; j < b; ++j)
+    for (Eigen::Index i = 0; i < n; ++i) W(i, j) = normal(rng);
+  // Orthonormal block of W's columns; false if W is (numerically) rank deficient.
+  auto orthonormalise = [&](Eigen::Index at, double scale) {
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
+    const Eigen::VectorXd r = qr.matrixQR().diagonal().head(b).cwiseAbs();
+    if (r.minCoeff() <= 1e-10 * scale) return false;
+    Q.middleCols(at, b) = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
+    return true;
+  };
+  if (!orthonormalise(0, W.norm())) return false;
+  Eigen::Index k = b;  // basis columns filled
+  const double eps23 = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
+  operations = 0;
+  steps = 0;
+  while (true) {
+    // W = C V for the newest block V.
+    const Eigen::MatrixXd T = factor.solve_upper(Eigen::MatrixXd(Q.middleCols(k - b, b)));
+    const Eigen::MatrixXd U = M * T;
+    W = factor.solve_lower(U);
+    operations += b;
+    ++steps;
+    const double image_norm = W.norm();
+    for (int pass = 0; pass < 2; ++pass) {
+      const Eigen::MatrixXd coefficients = Q.leftCols(k).transpose() * W;
+      W.noalias() -= Q.leftCols(k) * coefficients;
+      H.block(0, k - b, k, b) += coefficients;
+    }
+    // Column block j holds Qᵀ C V_j for the blocks that existed then: H's upper triangle is
+    // complete (the sub-diagonal blocks are filled by symmetry).
+    const Eigen::MatrixXd Hk = H.topLeftCorner(k, k).selfadjointView<Eigen::Upper>();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(Hk);
+    if (ritz.info() != Eigen::Success) return false;
+    if (k >= nev) {
+      // Largest nev Ritz values: the last nev of the ascending list.
+      const Eigen::MatrixXd S = ritz.eigenvectors().rightCols(nev);
+      const Eigen::VectorXd values = ritz.eigenvalues().tail(nev);
+      const Eigen::MatrixXd residual = W * S.bottomRows(b);
+      bool converged = true;
+      for (int j = 0; j < nev && converged; ++j)
+        converged = residual.col(j).norm() <= tol * std::max(std::abs(values(j)), eps23);
+      if (converged) {
+        nu = values.reverse();
+        y = Q.leftCols(k) * S.rowwise().reverse();
+        return true;
+      }
+    }
+    if (k + b > capacity) return false;
+    if (!orthonormalise(k, image_norm)) return false;
+    k += b;
+  }
+}
+
 }  // namespace
 
 void validate(const ModalOptions& options) {
@@ -81,6 +156,8 @@ void validate(const ModalOptions& options) {
           to_text(options.tolerance), "0 < tolerance < 1");
   require(options.max_iterations >= 1, "ModalOptions::max_iterations",
           std::to_string(options.max_iterations), "max_iterations >= 1");
+  require(options.block_size >= 0, "ModalOptions::block_size", std::to_string(options.block_size),
+          "block_size >= 0 (0 = automatic)");
 }
 
 Eigen::VectorXd ModalResult::frequencies_hz() const {
@@ -102,22 +179,17 @@ ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const Moda
           std::to_string(options.subspace_size),
           "subspace_size <= problem size (" + std::to_string(n) + ")");
 
-  const int nev = options.num_modes;
-  const Eigen::Index ncv = options.subspace_size > 0
-                               ? options.subspace_size
-                               : std::min<Eigen::Index>(std::max(2 * nev + 1, nev + 20), n);
-
-  ModalResult result;
-  ModalSummary& summary = result.summary;
-
   auto start = std::chrono::steady_clock::now();
   SparseCholesky factor;
   {
     const SparseMatrix A = options.shift == 0.0 ? K : SparseMatrix(K - options.shift * M);
     factor.factorize(A);
   }
-  summary.factorization_seconds = seconds_since(start);
+  const double factorization_seconds = seconds_since(start);
   if (!factor.ok()) {
+    ModalResult result;
+    ModalSummary& summary = result.summary;
+    summary.factorization_seconds = factorization_seconds;
     summary.termination = ModalTermination::kFactorizationFailed;
     summary.message = "factorisation of K - sigma*M failed (sigma = " + to_text(options.shift) +
                       " (rad/s)^2): " + factor.message() +
@@ -126,32 +198,92 @@ ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const Moda
                       "positive semi-definite and M positive definite";
     return result;
   }
+  ModalResult result = solve_modes(factor, M, options);
+  result.summary.factorization_seconds = factorization_seconds;
+  return result;
+}
 
-  start = std::chrono::steady_clock::now();
-  SymmetricShiftInvertOp op(factor, M);
-  Spectra::SymEigsSolver<SymmetricShiftInvertOp> solver(op, nev, ncv);
+ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
+                        const ModalOptions& options) {
+  validate(options);
+  require(factor.ok(), "factor", "not factorised",
+          "solve_modes needs a successful Cholesky of K - sigma*M");
+  const Eigen::Index n = factor.size();
+  require(M.rows() == n && M.cols() == n, "M",
+          std::to_string(M.rows()) + " x " + std::to_string(M.cols()),
+          "M must have the size of the factor (" + std::to_string(n) + ")");
+  require(options.num_modes < n, "ModalOptions::num_modes", std::to_string(options.num_modes),
+          "num_modes < problem size (" + std::to_string(n) + ")");
+  require(options.subspace_size <= n, "ModalOptions::subspace_size",
+          std::to_string(options.subspace_size),
+          "subspace_size <= problem size (" + std::to_string(n) + ")");
+
+  const int nev = options.num_modes;
+  const Eigen::Index ncv = options.subspace_size > 0
+                               ? options.subspace_size
+                               : std::min<Eigen::Index>(std::max(2 * nev + 1, nev + 20), n);
+
+  ModalResult result;
+  ModalSummary& summary = result.summary;
+
+  // Automatic block size: single-vector Lanczos for small problems (its solves are cheap), blocks
+  // where the factor is large and each single solve streams it from memory.
+  constexpr Eigen::Index kBlockMinRows = 20000;
+  const int block = options.block_size > 0 ? options.block_size
+                                           : (n >= kBlockMinRows ? std::clamp(nev / 2, 8, 32) : 1);
+
+  auto start = std::chrono::steady_clock::now();
   Eigen::VectorXd values;
   Eigen::MatrixXd vectors;
-  try {
-    const ScopedBlasThreads single_thread(1);  // BLAS-2 solves: threads only hurt (blas_threads.h)
-    solver.init();
-    solver.compute(Spectra::SortRule::LargestAlge, options.max_iterations, options.tolerance,
-                   Spectra::SortRule::LargestAlge);
-    const Eigen::VectorXd nu = solver.eigenvalues();
-    const Eigen::MatrixXd y = solver.eigenvectors();
-    values = (1.0 / nu.array() + options.shift).matrix();
-    vectors.resize(n, y.cols());
-    for (Eigen::Index j = 0; j < y.cols(); ++j)
-      factor.solve_upper(y.col(j).data(), vectors.col(j).data());
-  } catch (const std::exception& e) {
-    summary.termination = ModalTermination::kNotConverged;
-    summary.message = std::string("Lanczos iteration failed: ") + e.what();
-    summary.iteration_seconds = seconds_since(start);
-    return result;
+  bool converged = false;
+  std::string method;
+  if (block >= 2) {
+    const Eigen::Index capacity =
+        std::min<Eigen::Index>(std::max<Eigen::Index>(ncv, 6 * nev) + block, n);
+    Eigen::VectorXd nu;
+    Eigen::MatrixXd y;
+    int operations = 0, steps = 0;
+    const bool done =
+        capacity >= std::max(block, nev) &&
+        block_lanczos(factor, M, nev, block, capacity, options.tolerance, nu, y, operations, steps);
+    summary.operations += operations;
+    if (done) {
+      values = (1.0 / nu.array() + options.shift).matrix();
+      vectors = factor.solve_upper(y);
+      converged = true;
+      summary.iterations = steps;
+      summary.block_size = block;
+      method = "block Lanczos (" + std::to_string(block) + " vectors per step) in " +
+               std::to_string(steps) + " steps, ";
+    }
+  }
+  if (!converged) {
+    SymmetricShiftInvertOp op(factor, M);
+    Spectra::SymEigsSolver<SymmetricShiftInvertOp> solver(op, nev, ncv);
+    try {
+      const ScopedBlasThreads single_thread(1);  // BLAS-2 solves: threads only hurt
+      solver.init();
+      solver.compute(Spectra::SortRule::LargestAlge, options.max_iterations, options.tolerance,
+                     Spectra::SortRule::LargestAlge);
+      const Eigen::VectorXd nu = solver.eigenvalues();
+      const Eigen::MatrixXd y = solver.eigenvectors();
+      values = (1.0 / nu.array() + options.shift).matrix();
+      vectors.resize(n, y.cols());
+      for (Eigen::Index j = 0; j < y.cols(); ++j)
+        factor.solve_upper(y.col(j).data(), vectors.col(j).data());
+    } catch (const std::exception& e) {
+      summary.termination = ModalTermination::kNotConverged;
+      summary.message = std::string("Lanczos iteration failed: ") + e.what();
+      summary.iteration_seconds = seconds_since(start);
+      return result;
+    }
+    summary.iterations = static_cast<int>(solver.num_iterations());
+    summary.operations += static_cast<int>(solver.num_operations());
+    summary.block_size = 1;
+    converged = solver.info() == Spectra::CompInfo::Successful && values.size() == nev;
+    method = std::to_string(summary.iterations) + " restarts, ";
   }
   summary.iteration_seconds = seconds_since(start);
-  summary.iterations = static_cast<int>(solver.num_iterations());
-  summary.operations = static_cast<int>(solver.num_operations());
   summary.converged_modes = static_cast<int>(values.size());
 
   // Ascending ω², mass normalisation, deterministic sign.
@@ -172,10 +304,9 @@ ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const Moda
     if (phi(sign_component(phi)) < 0.0) phi = -phi;
   }
 
-  if (solver.info() == Spectra::CompInfo::Successful && summary.converged_modes == nev) {
+  if (converged) {
     summary.termination = ModalTermination::kConverged;
-    summary.message = std::to_string(nev) + " modes converged in " +
-                      std::to_string(summary.iterations) + " restarts, " +
+    summary.message = std::to_string(nev) + " modes converged: " + method +
                       std::to_string(summary.operations) + " operator applications";
   } else {
     summary.termination = ModalTermination::kNotConverged;

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 
 #include "core/types.h"
+#include "linalg/sparse_cholesky.h"
 
 namespace stickslip {
 
@@ -29,6 +30,12 @@ struct ModalOptions {
   int subspace_size = 0;      // Lanczos basis size; 0 = automatic (max(2n+1, n+20), <= size)
   double tolerance = 1e-10;   // Spectra's relative convergence tolerance on the Ritz values
   int max_iterations = 1000;  // restarts
+  // Vectors per Lanczos step. 1: Spectra's single-vector restarted Lanczos (each step two
+  // memory-bound half solves). k >= 2: block Lanczos with full reorthogonalisation, k right-hand
+  // sides per solve (supernodal BLAS-3), no restart: the basis grows to at most
+  // max(subspace_size, 6 num_modes) + k vectors; if that does not converge, the single-vector
+  // method is run. 0 = automatic: block of clamp(num_modes / 2, 8, 32) for 20,000 rows and more.
+  int block_size = 0;
 };
 void validate(const ModalOptions& options);  // throws InvalidInput naming field, value, rule
 
@@ -36,9 +43,10 @@ enum class ModalTermination { kConverged, kFactorizationFailed, kNotConverged };
 
 struct ModalSummary {
   ModalTermination termination = ModalTermination::kNotConverged;
-  int iterations = 0;
+  int iterations = 0;  // restarts (single-vector Lanczos) or block steps (block Lanczos)
   int converged_modes = 0;
-  int operations = 0;  // applications of G⁻¹ M G⁻ᵀ (one M product, two half solves)
+  int operations = 0;  // applications of G⁻¹ M G⁻ᵀ to a vector (one M product, two half solves)
+  int block_size = 1;  // vectors per Lanczos step actually used (1: single-vector Lanczos)
   double factorization_seconds = 0;  // wall time of the CHOLMOD factorisation of K − σM
   double iteration_seconds = 0;      // wall time of the Lanczos iteration
   std::string message;
@@ -53,5 +61,12 @@ struct ModalResult {
 };
 
 ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const ModalOptions& options);
+
+// The same eigen-solve with a factor the caller already holds: `factor` must be the successful
+// Cholesky of K − σM with σ = options.shift (e.g. of K itself with shift 0, as Craig–Bampton has
+// for K_ii), so no second factorisation is done; K is not needed. summary.factorization_seconds
+// is 0. Throws InvalidInput for a failed factor or a size mismatch with M.
+ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
+                        const ModalOptions& options);
 
 }  // namespace stickslip

@@ -183,27 +183,46 @@ std::string SparseCholesky::ordering() const {
   return ordering_name(p.common.method[p.common.selected].ordering);
 }
 
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
-  Impl& p = *impl_;
+namespace {
+
+// X = op(B) for the CHOLMOD solve systems in `systems`, applied in order to all columns at once.
+template <typename Impl>
+Eigen::MatrixXd apply_block(Impl& p, std::initializer_list<int> systems, const Eigen::MatrixXd& B) {
   require(p.ok, "SparseCholesky", "not factorised", "solve() needs a successful factorize()");
   require(B.rows() == p.n, "B.rows()", std::to_string(B.rows()),
           "must equal the factorised size " + std::to_string(p.n));
-  Eigen::MatrixXd X(B.rows(), B.cols());
+  Eigen::MatrixXd X = B;
   if (B.cols() == 0) return X;
-  cholmod_dense view;
-  std::memset(&view, 0, sizeof(view));
-  view.nrow = static_cast<size_t>(B.rows());
-  view.ncol = static_cast<size_t>(B.cols());
-  view.nzmax = view.nrow * view.ncol;
-  view.d = view.nrow;
-  view.x = const_cast<double*>(B.data());  // read only
-  view.xtype = CHOLMOD_REAL;
-  view.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* result = cholmod_solve(CHOLMOD_A, p.factor, &view, &p.common);
-  STICKSLIP_VERIFY(result != nullptr, "cholmod_solve failed: " + status_text(p.common.status));
-  std::memcpy(X.data(), result->x, sizeof(double) * view.nzmax);
-  cholmod_free_dense(&result, &p.common);
+  for (int system : systems) {
+    cholmod_dense view;
+    std::memset(&view, 0, sizeof(view));
+    view.nrow = static_cast<size_t>(X.rows());
+    view.ncol = static_cast<size_t>(X.cols());
+    view.nzmax = view.nrow * view.ncol;
+    view.d = view.nrow;
+    view.x = X.data();  // read only
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* result = cholmod_solve(system, p.factor, &view, &p.common);
+    STICKSLIP_VERIFY(result != nullptr, "cholmod_solve failed: " + status_text(p.common.status));
+    std::memcpy(X.data(), result->x, sizeof(double) * view.nzmax);
+    cholmod_free_dense(&result, &p.common);
+  }
   return X;
+}
+
+}  // namespace
+
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
+  return apply_block(*impl_, {CHOLMOD_A}, B);
+}
+
+Eigen::MatrixXd SparseCholesky::solve_lower(const Eigen::MatrixXd& B) const {
+  return apply_block(*impl_, {CHOLMOD_P, CHOLMOD_L}, B);
+}
+
+Eigen::MatrixXd SparseCholesky::solve_upper(const Eigen::MatrixXd& B) const {
+  return apply_block(*impl_, {CHOLMOD_Lt, CHOLMOD_Pt}, B);
 }
 
 namespace {

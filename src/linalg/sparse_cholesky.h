@@ -61,6 +61,9 @@ class SparseCholesky {
   // so that A⁻¹ = G⁻ᵀ G⁻¹ and G⁻¹ B G⁻ᵀ is symmetric for symmetric B. Arrays of length n.
   void solve_lower(const double* x, double* y) const;
   void solve_upper(const double* x, double* y) const;
+  // The same half solves for n x k blocks (k >= 1 columns at once: supernodal BLAS-3 kernels).
+  Eigen::MatrixXd solve_lower(const Eigen::MatrixXd& B) const;
+  Eigen::MatrixXd solve_upper(const Eigen::MatrixXd& B) const;
 
  private:
   struct Impl;

@@ -164,14 +164,18 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     }
   }
   summary.seconds_constraint = seconds_since(start);
-  cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
+  if (options.modal.shift != 0.0) {
+    cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
+  }
 
   start = std::chrono::steady_clock::now();
   result.mode_eigenvalues.resize(nm);
   if (nm > 0) {
     ModalOptions modal = options.modal;
     modal.num_modes = nm;
-    ModalResult modes = solve_modes(K_ii, M_ii, modal);
+    // Shift 0: the factor of K_ii is the factor of K_ii − σM_ii (no second factorisation).
+    ModalResult modes =
+        modal.shift == 0.0 ? solve_modes(cholesky, M_ii, modal) : solve_modes(K_ii, M_ii, modal);
     summary.modal = modes.summary;
     if (!modes.summary.ok()) {
       summary.termination = CraigBamptonTermination::kEigenSolveFailed;
@@ -182,6 +186,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     result.mode_eigenvalues = modes.eigenvalues;
     Psi.rightCols(nm) = modes.modes;
   }
+  cholesky = SparseCholesky();
   summary.seconds_modes = seconds_since(start);
 
   // Reduced matrices. With K_ii Φ_c = −K_ib, Φ_nᵀ K_ii Φ_n = Ω², Φ_nᵀ M_ii Φ_n = I:

@@ -19,7 +19,8 @@
 // zero) for the expansion x = T q.
 //
 // Cost: one sparse Cholesky of K_ii (SparseCholesky, CHOLMOD) solving all n_b constraint modes
-// in blocks of `block_size` right-hand sides, one shift-invert Lanczos solve of (K_ii, M_ii), one
+// in blocks of `block_size` right-hand sides, one shift-invert Lanczos solve of (K_ii, M_ii) over
+// that same factor (shift 0, the default here; another modal.shift factorises K_ii − σM_ii), one
 // pass of M_ii over Φ_c and dense products of size n_b x n_i x n_b (BLAS). No n x n dense matrix
 // is formed. Bad input throws InvalidInput; a failed factorisation or eigen-solve is reported in
 // the summary (no exception).
@@ -41,7 +42,14 @@ struct CraigBamptonOptions {
   int num_modes = 60;      // fixed-interface modes kept; 0 = Guyan (static) reduction
   int block_size = 128;    // constraint modes solved per block (memory ~ 16 n_i block_size bytes)
   bool keep_basis = true;  // keep T in the result (n x (n_b + num_modes) doubles)
-  ModalOptions modal;      // fixed-interface eigen-solve settings; modal.num_modes is ignored
+  // Fixed-interface eigen-solve settings; modal.num_modes is ignored. Shift 0 (default): the
+  // Lanczos reuses the Cholesky of K_ii (positive definite once the interior is held); any other
+  // shift costs a second factorisation, of K_ii − σM_ii.
+  ModalOptions modal = [] {
+    ModalOptions m;
+    m.shift = 0.0;
+    return m;
+  }();
 };
 void validate(const CraigBamptonOptions& options);  // throws InvalidInput naming field and rule
 

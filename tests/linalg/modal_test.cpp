@@ -18,6 +18,9 @@ constexpr double kEigenvalueTolerance = 1e-9;
 // like the square root of the Ritz values) and by round-off in (K − σM)⁻¹.
 constexpr double kResidualTolerance = 1e-6;
 constexpr double kOrthogonalityTolerance = 1e-9;
+// Two solves of the same problem (different shift or factor): mass-normalised modes agree to
+// about the square root of the Lanczos tolerance.
+constexpr double kSameModeTolerance = 1e-6;
 
 // Spring–mass chain: n masses m joined by springs k; `fixed` adds a spring to ground at each end.
 void chain(int n, double k, double m, bool fixed, SparseMatrix* K, SparseMatrix* M) {
@@ -67,18 +70,25 @@ TEST(SolveModes, FixedFixedChainMatchesClosedForm) {
   const double m = 0.25;
   SparseMatrix K, M;
   chain(n, k, m, /*fixed=*/true, &K, &M);
-  ModalOptions options;
-  options.num_modes = 12;
-  const ModalResult r = solve_modes(K, M, options);
-  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
-  ASSERT_EQ(r.eigenvalues.size(), options.num_modes);
-  for (int j = 1; j <= options.num_modes; ++j) {
-    const double s = std::sin(j * kPi / (2.0 * (n + 1)));
-    const double exact = 4.0 * k / m * s * s;
-    EXPECT_NEAR(r.eigenvalues(j - 1), exact, kEigenvalueTolerance * exact) << "mode " << j;
+  // Single-vector Lanczos (block 1, automatic for this size) and block Lanczos (4 and 7 vectors
+  // per step: 7 does not divide the basis evenly into num_modes).
+  for (int block : {0, 4, 7}) {
+    ModalOptions options;
+    options.num_modes = 12;
+    options.block_size = block;
+    const ModalResult r = solve_modes(K, M, options);
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
+    EXPECT_EQ(r.summary.block_size, block == 0 ? 1 : block) << r.summary.message;
+    ASSERT_EQ(r.eigenvalues.size(), options.num_modes);
+    for (int j = 1; j <= options.num_modes; ++j) {
+      const double s = std::sin(j * kPi / (2.0 * (n + 1)));
+      const double exact = 4.0 * k / m * s * s;
+      EXPECT_NEAR(r.eigenvalues(j - 1), exact, kEigenvalueTolerance * exact)
+          << "mode " << j << ", block " << block;
+    }
+    expect_modal_properties(K, M, r);
+    EXPECT_NEAR(r.frequencies_hz()(0), std::sqrt(r.eigenvalues(0)) / (2 * kPi), 1e-12);
   }
-  expect_modal_properties(K, M, r);
-  EXPECT_NEAR(r.frequencies_hz()(0), std::sqrt(r.eigenvalues(0)) / (2 * kPi), 1e-12);
 }
 
 TEST(SolveModes, FreeChainHasOneRigidModeWithNegativeShift) {
@@ -128,21 +138,34 @@ TEST(SolveModes, RandomGeneralisedProblemMatchesDenseSolver) {
   // Dominance: each row of M has at most a few couplings of size <= 0.4; diagonal >= 2.
   const SparseMatrix K = SparseMatrix(B.transpose()) * B;
 
-  ModalOptions options;
-  options.num_modes = 15;
-  const ModalResult r = solve_modes(K, M, options);
-  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
-
   const Eigen::MatrixXd K_dense = Eigen::MatrixXd(K);
   const Eigen::MatrixXd M_dense = Eigen::MatrixXd(M);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(K_dense, M_dense);
   ASSERT_EQ(dense.info(), Eigen::Success);
   const double scale = dense.eigenvalues().maxCoeff();
-  for (int j = 0; j < options.num_modes; ++j) {
-    EXPECT_NEAR(r.eigenvalues(j), dense.eigenvalues()(j), kEigenvalueTolerance * scale)
-        << "mode " << j;
+  // Single-vector Lanczos; block Lanczos with room for the whole space (it must stop there);
+  // block Lanczos with the default room, which may fall back to the single-vector method on
+  // this clustered random spectrum: the modes must be right either way.
+  struct Case {
+    int block, subspace, expected_block;
+  };
+  for (const Case c : {Case{1, 0, 1}, Case{5, 115, 5}, Case{5, 0, 0}}) {
+    const int block = c.block;
+    ModalOptions options;
+    options.num_modes = 15;
+    options.block_size = c.block;
+    options.subspace_size = c.subspace;
+    const ModalResult r = solve_modes(K, M, options);
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
+    if (c.expected_block > 0) {
+      EXPECT_EQ(r.summary.block_size, c.expected_block);
+    }
+    for (int j = 0; j < options.num_modes; ++j) {
+      EXPECT_NEAR(r.eigenvalues(j), dense.eigenvalues()(j), kEigenvalueTolerance * scale)
+          << "mode " << j << ", block " << block;
+    }
+    expect_modal_properties(K, M, r);
   }
-  expect_modal_properties(K, M, r);
 }
 
 TEST(SolveModes, ExplicitSubspaceAndZeroShiftGiveTheSameModes) {
@@ -162,6 +185,55 @@ TEST(SolveModes, ExplicitSubspaceAndZeroShiftGiveTheSameModes) {
     // Same sign convention: the same vector, not its negative.
     EXPECT_LT((ra.modes.col(j) - rb.modes.col(j)).norm(), 1e-6);
   }
+}
+
+TEST(SolveModes, GivenFactorOfKWithZeroShiftMatchesDenseSolver) {
+  // Fixed-fixed chain with a non-uniform mass (so modes are not the closed-form sines): the
+  // overload reuses a caller's Cholesky of K (σ = 0) and must give the dense generalised
+  // eigenpairs, like the factorising overload.
+  const int n = 90;
+  SparseMatrix K, M;
+  chain(n, 7.0, 1.0, /*fixed=*/true, &K, &M);
+  for (int i = 0; i < n; ++i) M.coeffRef(i, i) = 1.0 + 0.5 * std::sin(0.3 * i) * std::sin(0.3 * i);
+  const SparseCholesky factor(K);
+  ASSERT_TRUE(factor.ok()) << factor.message();
+  ModalOptions options;
+  options.num_modes = 8;
+  options.shift = 0.0;
+  const ModalResult r = solve_modes(factor, M, options);
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
+  EXPECT_EQ(r.summary.factorization_seconds, 0.0);
+
+  const Eigen::MatrixXd K_dense = Eigen::MatrixXd(K);
+  const Eigen::MatrixXd M_dense = Eigen::MatrixXd(M);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(K_dense, M_dense);
+  ASSERT_EQ(dense.info(), Eigen::Success);
+  for (int j = 0; j < options.num_modes; ++j) {
+    EXPECT_NEAR(r.eigenvalues(j), dense.eigenvalues()(j),
+                kEigenvalueTolerance * dense.eigenvalues().maxCoeff())
+        << "mode " << j;
+  }
+  expect_modal_properties(K, M, r);
+
+  const ModalResult own = solve_modes(K, M, options);  // its own factorisation of K
+  ASSERT_TRUE(own.summary.ok()) << own.summary.message;
+  for (int j = 0; j < options.num_modes; ++j)
+    EXPECT_LT((own.modes.col(j) - r.modes.col(j)).norm(), kSameModeTolerance) << "mode " << j;
+}
+
+TEST(SolveModes, GivenFactorMustBeValidAndMatchM) {
+  SparseMatrix K, M;
+  chain(20, 1.0, 1.0, /*fixed=*/true, &K, &M);
+  ModalOptions options;
+  options.num_modes = 3;
+  options.shift = 0.0;
+  const SparseCholesky empty;
+  EXPECT_THROW(solve_modes(empty, M, options), InvalidInput);
+  SparseMatrix K_small, M_small;
+  chain(10, 1.0, 1.0, /*fixed=*/true, &K_small, &M_small);
+  const SparseCholesky small(K_small);
+  ASSERT_TRUE(small.ok());
+  EXPECT_THROW(solve_modes(small, M, options), InvalidInput);
 }
 
 TEST(SolveModes, InvalidOptionsThrow) {

@@ -76,6 +76,11 @@ TEST(SparseCholesky, HalfSolvesComposeToTheInverseAndWhitenA) {
   EXPECT_LT((GinvT - Ginv.transpose()).norm(), kSolveTolerance * Ginv.norm());
   EXPECT_LT((GinvT * Ginv - Ad.inverse()).norm(), kSolveTolerance * Ad.inverse().norm());
   EXPECT_LT((Ginv * Ad * GinvT - Eigen::MatrixXd::Identity(n, n)).norm(), kSolveTolerance * n);
+
+  // Block half solves: all columns at once give the same as column by column.
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+  EXPECT_LT((cholesky.solve_lower(I) - Ginv).norm(), kSolveTolerance * Ginv.norm());
+  EXPECT_LT((cholesky.solve_upper(I) - GinvT).norm(), kSolveTolerance * GinvT.norm());
 }
 
 TEST(SparseCholesky, EstimateMatchesTheActualFactor) {

@@ -337,6 +337,42 @@ TEST(CraigBampton, BlockSizeDoesNotChangeTheResult) {
   EXPECT_LE(max_abs(odd.T.leftCols(9) - big.T.leftCols(9)), kProjectionTolerance);
 }
 
+TEST(CraigBampton, ReusedFactorSecondFactorisationAndBlockLanczosGiveTheSameBody) {
+  // Default shift 0: the eigen-solve reuses the Cholesky of K_ii. A nonzero shift factorises
+  // K_ii − σM_ii separately; both are Lanczos on the same pencil and must agree.
+  const Body b = default_lattice();
+  CraigBamptonOptions reuse;
+  reuse.num_modes = 12;
+  ASSERT_EQ(reuse.modal.shift, 0.0);
+  CraigBamptonOptions second = reuse;
+  second.modal.shift = -1.0;
+  const CraigBamptonResult a = craig_bampton(b.K, b.M, b.constrained, b.boundary, reuse);
+  const CraigBamptonResult c = craig_bampton(b.K, b.M, b.constrained, b.boundary, second);
+  ASSERT_TRUE(a.summary.ok()) << a.summary.message;
+  ASSERT_TRUE(c.summary.ok()) << c.summary.message;
+  EXPECT_EQ(a.summary.modal.factorization_seconds, 0.0);  // no second factorisation
+  EXPECT_GT(c.summary.modal.factorization_seconds, 0.0);
+  // Eigenvalues converge to 1e-10 (Lanczos tolerance); mode vectors, hence the mass coupling,
+  // to about its square root.
+  constexpr double kEigenvalueTolerance = 1e-9;
+  constexpr double kCouplingTolerance = 1e-6;
+  EXPECT_LE(max_abs(a.mode_eigenvalues - c.mode_eigenvalues),
+            kEigenvalueTolerance * c.mode_eigenvalues.maxCoeff());
+  EXPECT_LE(max_abs(a.body.K - c.body.K), kEigenvalueTolerance * max_abs(c.body.K));
+  EXPECT_LE(max_abs(a.body.M - c.body.M), kCouplingTolerance * max_abs(c.body.M));
+
+  // Block Lanczos over the reused factor (automatic only for large bodies): the same body.
+  CraigBamptonOptions blocked = reuse;
+  blocked.modal.block_size = 4;
+  const CraigBamptonResult d = craig_bampton(b.K, b.M, b.constrained, b.boundary, blocked);
+  ASSERT_TRUE(d.summary.ok()) << d.summary.message;
+  EXPECT_EQ(d.summary.modal.block_size, 4);
+  EXPECT_LE(max_abs(d.mode_eigenvalues - c.mode_eigenvalues),
+            kEigenvalueTolerance * c.mode_eigenvalues.maxCoeff());
+  EXPECT_LE(max_abs(d.body.K - c.body.K), kEigenvalueTolerance * max_abs(c.body.K));
+  EXPECT_LE(max_abs(d.body.M - c.body.M), kCouplingTolerance * max_abs(c.body.M));
+}
+
 TEST(CraigBampton, RayleighDampingReducesConsistentlyAndModalRatioAddsToModes) {
   const Body b = default_lattice();
   const CraigBamptonResult r = reduce(b, 6);
