@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 
 #include "contact/friction_contact.h"
+#include "continuation/newton.h"
 #include "core/types.h"
 #include "hbm/frequency_response.h"
 #include "hbm/harmonic_balance.h"
@@ -188,6 +189,181 @@ void BM_DenseLu(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_DenseLu)->Unit(benchmark::kMicrosecond);
+
+// ---------- Issue 4's large case: 300 pairs, H = 3, 100 points. ----------
+// Two chains of 320 nodes (1920 DOFs), the lowest 1000 modes kept (α = 5 s⁻¹), the last 300
+// nodes of each chain joined by 300 FrictionContact3D pairs (same parameters as above, N0 =
+// 150 N), ±500 N tip excitation, H = 3, N = 32, uncoupled statics (nu = 900 rows x 6 = 5400
+// unknowns), 100 points over ±1 % around the stuck resonance that moves the pairs tangentially
+// (from the modes of the stuck structure), stepped sweep without the arc-length fallback.
+// Above kStructuredSolverThreshold unknowns the structured solve is used.
+constexpr int kLargeNodes = 320;
+constexpr int kLargePairs = 300;
+constexpr int kLargeModes = 1000;
+
+struct LargeCase {
+  std::unique_ptr<HarmonicBalanceSystem> system;
+  std::vector<double> omegas;
+};
+
+LargeCase make_large_case() {
+  const int n = 2 * kLargeNodes * 3;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n), M = Eigen::MatrixXd::Zero(n, n);
+  const double k_chain[3] = {4e9, 2e9, 3e9}, mass = 0.05;
+  for (int b = 0; b < 2; ++b) {
+    for (int i = 0; i < kLargeNodes; ++i) {
+      for (int d = 0; d < 3; ++d) {
+        const int p = 3 * (b * kLargeNodes + i) + d;
+        M(p, p) = mass * (1.0 + 0.001 * i);
+        if (i == 0) K(p, p) += 10 * k_chain[d];
+        if (i + 1 < kLargeNodes) {
+          const double k = k_chain[d] * (1.0 + 0.02 * ((i * 7 + d) % 5));
+          K(p, p) += k;
+          K(p + 3, p + 3) += k;
+          K(p, p + 3) -= k;
+          K(p + 3, p) -= k;
+        }
+      }
+    }
+  }
+  const FrictionContactParameters contact{
+      .kt = 4.467e9, .kn = 5.6309e9, .mu = 0.5, .normal_preload = 150.0};
+  auto element = std::make_shared<FrictionContact3D>(contact);
+  std::vector<ContactPair> pairs;
+  Eigen::MatrixXd Kstuck = K;
+  const double kc[3] = {contact.kt, contact.kt, contact.kn};
+  for (int q = 0; q < kLargePairs; ++q) {
+    const int a = kLargeNodes - kLargePairs + q, b = kLargeNodes + a;
+    pairs.push_back({.dofs_a = {3 * a, 3 * a + 1, 3 * a + 2},
+                     .dofs_b = {3 * b, 3 * b + 1, 3 * b + 2},
+                     .frame = Eigen::Matrix3d::Identity(),
+                     .element = element});
+    for (int d = 0; d < 3; ++d) {
+      Kstuck(3 * a + d, 3 * a + d) += kc[d];
+      Kstuck(3 * b + d, 3 * b + d) += kc[d];
+      Kstuck(3 * a + d, 3 * b + d) -= kc[d];
+      Kstuck(3 * b + d, 3 * a + d) -= kc[d];
+    }
+  }
+  Excitation e;
+  Eigen::VectorXcd f = Eigen::VectorXcd::Zero(n);
+  f[3 * (kLargeNodes - 1)] = 500.0;
+  f[3 * (2 * kLargeNodes - 1)] = -500.0;
+  e.harmonics[1] = f;
+
+  LinearModel full = linear_model_from_matrices(K, M, 5.0, 0.0);
+  LinearModel model;
+  model.omega2 = full.omega2.head(kLargeModes);
+  model.Phi = full.Phi.leftCols(kLargeModes);
+  model.modal_damping = full.modal_damping.head(kLargeModes);
+
+  // The stuck structure's FRF of the x relative displacement of pair 0, from its own modes.
+  const LinearModel stuck = linear_model_from_matrices(Kstuck, M, 5.0, 0.0);
+  const int a0 = kLargeNodes - kLargePairs, b0 = kLargeNodes + a0;
+  const Eigen::VectorXd psi = stuck.Phi.row(3 * a0) - stuck.Phi.row(3 * b0);
+  const Eigen::VectorXcd q = stuck.Phi.transpose().cast<std::complex<double>>() * f;
+  double best = 0, omega_peak = 0;
+  for (double w = 100; w < 2e5; w *= 1.002) {
+    std::complex<double> u = 0;
+    for (Eigen::Index r = 0; r < psi.size(); ++r) {
+      u +=
+          psi[r] * q[r] / std::complex<double>(stuck.omega2[r] - w * w, w * stuck.modal_damping[r]);
+    }
+    if (std::abs(u) > best) {
+      best = std::abs(u);
+      omega_peak = w;
+    }
+  }
+  HarmonicBalanceOptions options;
+  options.harmonics = 3;
+  options.time_samples = 32;
+  LargeCase c;
+  c.system = std::make_unique<HarmonicBalanceSystem>(model, pairs, e, options);
+  for (int i = 0; i < 100; ++i) c.omegas.push_back(omega_peak * (0.99 + 0.02 * i / 99.0));
+  return c;
+}
+
+const LargeCase& large_case() {
+  static const LargeCase c = make_large_case();
+  return c;
+}
+
+void BM_LargeSweep(benchmark::State& state) {
+  const LargeCase& c = large_case();
+  FrequencyResponseOptions o;
+  o.omegas = c.omegas;
+  if (state.range(0) < static_cast<int64_t>(o.omegas.size())) o.omegas.resize(state.range(0));
+  o.sweep.jump_max_points = 0;  // no arc-length fallback (it needs the dense Jacobian)
+  int iterations = 0, converged = 0;
+  double slip = 0;
+  for (auto _ : state) {
+    const FrequencyResponse r = frequency_response(*c.system, o);
+    iterations = converged = 0;
+    slip = 0;
+    for (const FrequencyPoint& p : r.points) {
+      iterations += p.iterations;
+      converged += p.converged;
+      for (const PairResponse& pr : p.pairs) slip = std::max(slip, pr.cycle.slip_fraction);
+    }
+  }
+  state.counters["unknowns"] = c.system->size();
+  state.counters["points"] = static_cast<double>(o.omegas.size());
+  state.counters["converged"] = converged;
+  state.counters["newton_per_point"] = static_cast<double>(iterations) / o.omegas.size();
+  state.counters["max_slip_fraction"] = slip;
+  state.counters["last_gmres_iterations"] = c.system->last_gmres_iterations();
+}
+// The dense path's cost per Newton iteration on the large case: residual + dense dR/dx
+// (5400 x 5400) and its LU, at the stuck guess of the middle frequency.
+void BM_LargeDenseNewtonStep(benchmark::State& state) {
+  const LargeCase& c = large_case();
+  const double w = c.omegas[50];
+  const Eigen::VectorXd x = c.system->linear_guess(w, true);
+  Eigen::VectorXd R;
+  Eigen::MatrixXd J;
+  for (auto _ : state) {
+    c.system->evaluate(x, w, R, &J, nullptr);
+    Eigen::VectorXd dx = J.partialPivLu().solve(R);
+    benchmark::DoNotOptimize(dx.data());
+  }
+}
+BENCHMARK(BM_LargeDenseNewtonStep)->Unit(benchmark::kSecond)->Iterations(1);
+
+// The structured path's pieces on the large case: building G_k and the preconditioner's LUs at
+// a new Ω (alternating two frequencies), and one structured Newton step (AFT Jacobian + GMRES).
+void BM_LargeOperatorNewFrequency(benchmark::State& state) {
+  const LargeCase& c = large_case();
+  const Eigen::VectorXd x = c.system->linear_guess(c.omegas[50], true);
+  Eigen::VectorXd R, dx;
+  int i = 0;
+  for (auto _ : state) {
+    const double w = c.omegas[50 + (i++ % 2)];
+    c.system->evaluate(x, w, R, nullptr, nullptr);
+    c.system->solve_jacobian(x, w, -R, dx);  // builds the preconditioner
+    benchmark::DoNotOptimize(dx.data());
+  }
+}
+BENCHMARK(BM_LargeOperatorNewFrequency)->Unit(benchmark::kMillisecond)->Iterations(4);
+
+void BM_LargeStructuredNewtonStep(benchmark::State& state) {
+  const LargeCase& c = large_case();
+  const double w = c.omegas[50];
+  Eigen::VectorXd x = c.system->linear_guess(w, true);
+  // A slipping state: one Newton iteration from the stuck guess.
+  NewtonOptions o;
+  o.max_iterations = 1;
+  solve_newton(*c.system, w, x, o);
+  Eigen::VectorXd R, dx;
+  c.system->evaluate(x, w, R, nullptr, nullptr);
+  for (auto _ : state) {
+    c.system->solve_jacobian(x, w, -R, dx);
+    benchmark::DoNotOptimize(dx.data());
+  }
+  state.counters["gmres_iterations"] = c.system->last_gmres_iterations();
+}
+BENCHMARK(BM_LargeStructuredNewtonStep)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+BENCHMARK(BM_LargeSweep)->Arg(5)->Arg(100)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace stickslip
