@@ -36,8 +36,8 @@ bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
   });
   std::string plot = "plot ";
   for (size_t i = 0; i < series.size(); ++i) {
-    plot += fmt::format("{}{} index {} using 1:2 with lines lw 2 title {}", i ? ", " : "",
-                        quoted(stem + ".dat"), i, quoted(series[i].label));
+    plot += fmt::format("{}{} index {} using 1:2 with {} title {}", i ? ", " : "",
+                        quoted(stem + ".dat"), i, series[i].style, quoted(series[i].label));
   }
   write_file_atomically((dir / (stem + ".gp")).string(), [&](std::ostream& out) {
     fmt::print(out, "set title {}\nset xlabel {}\nset ylabel {}\nset grid\nset key outside\n",

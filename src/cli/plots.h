@@ -13,6 +13,7 @@ struct PlotSeries {
   std::string label;
   std::vector<double> x;
   std::vector<double> y;
+  std::string style = "lines lw 2";  // gnuplot "with" clause, e.g. "points pt 6 ps 1.2"
 };
 
 // One plot with several curves; writes <stem>.dat, <stem>.gp, <stem>.png, <stem>.svg into dir.

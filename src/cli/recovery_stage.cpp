@@ -14,6 +14,7 @@
 #include "io/atomic_file.h"
 #include "io/calculix_deck.h"
 #include "io/vtu_writer.h"
+#include "mesh/mesh.h"
 #include "recovery/harmonic_response.h"
 #include "recovery/stress_envelope.h"
 
@@ -82,7 +83,8 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
 
 void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                   const PreparedModel& model, const SolvedCase& solved,
-                  const std::function<void(const std::string&)>& progress) {
+                  const std::function<void(const std::string&)>& progress,
+                  std::vector<PlotSeries>* full_frf) {
   const std::vector<int> points = recovery_points(def, model, solved);
   if (points.empty()) return;
   const std::vector<int>& harmonics = solved.response.harmonics;
@@ -99,9 +101,28 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   std::vector<Row> check;
   std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
 
+  const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const PreparedBody& body = model.bodies[b];
     if (!body.from_mesh) continue;
+    // FRF DOFs of this body: full-model amplitude per recovered point (plotted against the
+    // reduced nonlinear curve: the thesis's validation plot).
+    std::vector<std::pair<int, int>> frf_dofs;  // (full DOF, index into full_frf)
+    if (full_frf) {
+      const auto by_id = node_index_by_id(body.mesh);
+      for (const ResponseDofDefinition& r : def.output.frf) {
+        if (r.body != body.name || !by_id.count(r.node)) continue;
+        frf_dofs.emplace_back(dof_of(by_id.at(r.node), r.direction),
+                              static_cast<int>(full_frf->size()));
+        full_frf->push_back(
+            {fmt::format("full model: {} node {} {}", r.body, r.node, kAxes[r.direction]),
+             {},
+             {},
+             "points pt 6 ps 1.3"});
+      }
+    }
+    // Envelope over the recovered points.
+    Eigen::VectorXd sweep_vm_max, sweep_vm_alt, sweep_p_max;
     progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(), method));
     std::unique_ptr<HarmonicSolver> solver;
     if (method == "direct") {
@@ -186,6 +207,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
           method == "expansion" ? expand_reduced_response(
                                       body.T, p.master.middleRows(body.offset, body.reduced.size()))
                                 : harmonic_response(*solver, F, harmonics, p.omega);
+      for (const auto& [dof, series] : frf_dofs) {
+        (*full_frf)[series].x.push_back(rad_s_to_hz(p.omega));
+        (*full_frf)[series].y.push_back(std::abs(x(dof, h1)));
+      }
       // Check against the reduced nonlinear response at the master DOFs.
       Eigen::MatrixXcd reduced = Eigen::MatrixXcd::Zero(n, nh);
       for (size_t i = 0; i < full_dofs.size(); ++i)
@@ -240,9 +265,27 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         data.point_data.push_back({"von_mises_alternating", env.von_mises_alternating.transpose()});
         data.point_data.push_back({"von_mises_mean", env.von_mises_mean.transpose()});
         data.point_data.push_back({"max_principal_max", env.max_principal_max.transpose()});
+        if (sweep_vm_max.size() == 0) {
+          sweep_vm_max = env.von_mises_max;
+          sweep_vm_alt = env.von_mises_alternating;
+          sweep_p_max = env.max_principal_max;
+        } else {
+          sweep_vm_max = sweep_vm_max.cwiseMax(env.von_mises_max);
+          sweep_vm_alt = sweep_vm_alt.cwiseMax(env.von_mises_alternating);
+          sweep_p_max = sweep_p_max.cwiseMax(env.max_principal_max);
+        }
       }
       data.field_data.emplace_back("frequency_hz", rad_s_to_hz(p.omega));
       write_vtu((dir / fmt::format("recovery_p{}_{}.vtu", pi, body.name)).string(), body.mesh,
+                data);
+    }
+    if (points.size() > 1 && sweep_vm_max.size() > 0) {
+      VtuData data;
+      data.point_data.push_back({"von_mises_max", sweep_vm_max.transpose()});
+      data.point_data.push_back({"von_mises_alternating", sweep_vm_alt.transpose()});
+      data.point_data.push_back({"max_principal_max", sweep_p_max.transpose()});
+      data.field_data.emplace_back("recovered_points", static_cast<double>(points.size()));
+      write_vtu((dir / fmt::format("recovery_envelope_{}.vtu", body.name)).string(), body.mesh,
                 data);
     }
   }

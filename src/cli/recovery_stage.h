@@ -12,6 +12,7 @@
 //   recovery_p<point>_<body>.vtu  displacement and stress amplitudes per harmonic and the
 //                        stress envelope over the period (von Mises max / alternating / mean,
 //                        max principal) when output.vtu is true
+//   recovery_envelope_<body>.vtu  the stress envelope over all recovered points (their maxima)
 //   loads_p<point>_<body>.mac     ANSYS APDL macro with the point's loads (output.apdl_macro)
 //   recovery_p<point>_<body>.inp  CalculiX deck reproducing the recovery (output.calculix_deck)
 #pragma once
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "cli/pipeline.h"
+#include "cli/plots.h"
 #include "io/case_file.h"
 
 namespace stickslip {
@@ -30,8 +32,11 @@ namespace stickslip {
 std::vector<int> recovery_points(const CaseDefinition& definition, const PreparedModel& model,
                                  const SolvedCase& solved);
 
+// full_frf (may be null) receives, per output.frf DOF of a mesh body, the full-model amplitude
+// of the first dynamic harmonic at each recovered point.
 void run_recovery(const std::filesystem::path& dir, const CaseDefinition& definition,
                   const PreparedModel& model, const SolvedCase& solved,
-                  const std::function<void(const std::string&)>& progress);
+                  const std::function<void(const std::string&)>& progress,
+                  std::vector<PlotSeries>* full_frf = nullptr);
 
 }  // namespace stickslip

@@ -297,10 +297,21 @@ int run_case(const RunCommand& command) {
     const fs::path dir = folder.empty() ? out_dir : out_dir / folder;
     write_results(dir, def, model, solved,
                   std::chrono::duration<double>(Clock::now() - t_run).count());
-    run_recovery(dir, def, model, solved, progress);
+    std::vector<PlotSeries> full_frf;
+    run_recovery(dir, def, model, solved, progress, &full_frf);
     if (def.output.plots) {
       const auto frf = frf_series(def, model, solved, folder.empty() ? "" : folder + ": ");
       plot_run(dir, def, solved, frf, warn);
+      if (!full_frf.empty() && full_frf.front().x.size() > 1) {
+        // The thesis's validation plot: reduced nonlinear FRF and full-model recovery overlaid.
+        std::vector<PlotSeries> both = frf_series(def, model, solved, "reduced: ");
+        both.insert(both.end(), full_frf.begin(), full_frf.end());
+        std::string warning;
+        if (!plot_curves(dir, "frf_full_vs_reduced", def.title, "frequency (Hz)",
+                         "amplitude of harmonic 1 (m)", both, &warning)) {
+          warn(warning);
+        }
+      }
       overlay.insert(overlay.end(), frf.begin(), frf.end());
     }
     int bad = 0;

@@ -196,6 +196,27 @@ TEST(RunCli, LowerPreloadSlipsMoreAndDissipates) {
   EXPECT_GT(*std::max_element(l.energy.begin(), l.energy.end()), 0.0);
 }
 
+TEST(RunCli, RecoveringEveryPointChecksEachAndWritesTheEnvelopeOverTheSweep) {
+  std::string text = small_case(1000.0, 500.0);
+  const std::string peak = "recovery: {points: peak,";
+  text.replace(text.find(peak), peak.size(), "recovery: {points: all,");
+  const fs::path dir = write_case("all", text);
+  ASSERT_EQ(run("run -q " + (dir / "case.yaml").string() + " -o " + (dir / "out").string(),
+                dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  int rows = 0;
+  for (const auto& r : read_csv(dir / "out" / "recovery_check.csv")) {
+    ++rows;
+    if (r.at("harmonic") == "1") {
+      EXPECT_LT(std::stod(r.at("max_relative")), 1e-2);
+    }
+  }
+  EXPECT_EQ(rows, 9 * 2 * 2);  // points x bodies x harmonics (0 and 1)
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_envelope_beam1.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_envelope_beam2.vtu"));
+}
+
 TEST(RunCli, BadCaseStopsWithFileLineAndRule) {
   const fs::path dir = write_case("bad", small_case(0.5, 50.0, "bogus_key: 3\n"));
   EXPECT_EQ(run("run " + (dir / "case.yaml").string(), dir / "log.txt"), 2);
