@@ -2,6 +2,8 @@
 // check that does not rely on the program's own numbers.
 #include <gtest/gtest.h>
 
+#include "cli_test_support.h"
+
 #include <cmath>
 #include <complex>
 #include <cstdlib>
@@ -14,58 +16,16 @@
 
 namespace {
 
-namespace fs = std::filesystem;
+using namespace stickslip::cli_test;
 
-const std::string kProgram = std::string(STICKSLIP_BINARY_DIR) + "/src/cli/stickslip";
 const fs::path kExamples = fs::path(STICKSLIP_TEST_DATA_DIR) / ".." / ".." / "examples";
-
-int shell(const std::string& cmd, const fs::path& log) {
-  const int status = std::system((cmd + " > " + log.string() + " 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  const auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) out.push_back(cell);
-    return out;
-  };
-  if (std::getline(in, line)) header = split(line);
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_example_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 std::complex<double> value(const std::map<std::string, std::string>& r) {
   return {std::stod(r.at("real")), std::stod(r.at("imag"))};
 }
 
 TEST(Examples, JenkinsOscillatorIsTheStuckLinearOscillatorBelowTheStickLimit) {
-  const fs::path out = fresh("01");
+  const fs::path out = fresh_dir("example_01");
   ASSERT_EQ(shell(kProgram + " run -q " + (kExamples / "01_jenkins_oscillator/case.yaml").string() +
                       " -o " + out.string(),
                   out / "log.txt"),
@@ -88,7 +48,7 @@ TEST(Examples, JenkinsOscillatorIsTheStuckLinearOscillatorBelowTheStickLimit) {
 }
 
 TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImportMatches) {
-  const fs::path out02 = fresh("02");
+  const fs::path out02 = fresh_dir("example_02");
   ASSERT_EQ(shell(kProgram + " run -q " + (kExamples / "02_two_beam_joint/case.yaml").string() +
                       " -o " + out02.string(),
                   out02 / "log.txt"),
@@ -106,7 +66,7 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
   }
   // Example 03: the same beams as HBMAT matrices. Copy the example (it writes its matrices next
   // to the case file) and run its script with this build's program.
-  const fs::path ex03 = fresh("03");
+  const fs::path ex03 = fresh_dir("example_03");
   fs::copy(kExamples / "03_imported_hbmat", ex03 / "03_imported_hbmat",
            fs::copy_options::recursive);
   fs::copy(kExamples / "02_two_beam_joint", ex03 / "02_two_beam_joint",

@@ -3,6 +3,8 @@
 // bending mode, and the file formats' own consistency.
 #include <gtest/gtest.h>
 
+#include "cli_test_support.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -13,29 +15,7 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-
-const std::string kProgram = std::string(STICKSLIP_BINARY_DIR) + "/src/cli/stickslip";
-
-int run(const std::string& args, const fs::path& log) {
-  const std::string cmd = kProgram + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_cli_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+using namespace stickslip::cli_test;
 
 std::vector<double> read_frequencies(const fs::path& csv) {
   std::ifstream in(csv);

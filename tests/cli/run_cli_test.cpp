@@ -9,6 +9,8 @@
 //  - bad input stops with the case file's line.
 #include <gtest/gtest.h>
 
+#include "cli_test_support.h"
+
 #include <cmath>
 #include <complex>
 #include <cstdlib>
@@ -21,45 +23,7 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-
-const std::string kProgram = std::string(STICKSLIP_BINARY_DIR) + "/src/cli/stickslip";
-
-int run(const std::string& args, const fs::path& log) {
-  const std::string cmd = kProgram + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Rows of a CSV file as maps column -> text.
-std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
-  std::ifstream in(p);
-  std::string line;
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  const auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) out.push_back(cell);
-    return out;
-  };
-  if (std::getline(in, line)) header = split(line);
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
+using namespace stickslip::cli_test;
 
 // A two-beam butt joint, small mesh; opposite forces along ±y at mirror nodes excite the
 // antisymmetric mode 4 (second bending in y).
