@@ -14,32 +14,21 @@
 #include "core/types.h"
 #include "io/atomic_file.h"
 #include "io/harwell_boeing.h"
+#include "io/text.h"
 
 namespace stickslip {
 namespace {
 
-std::vector<std::string> split_ws(std::string_view s) {
-  std::vector<std::string> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    size_t j = i;
-    while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
-    if (j > i) out.emplace_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
+using text::lower;
+using text::rtrim;
+using text::split_whitespace;
+using text::trim;
+using text::upper;
 
 bool to_int(const std::string& s, int* v) {
   const char* e = s.data() + s.size();
   auto [p, ec] = std::from_chars(s.data(), e, *v);
   return ec == std::errc() && p == e && !s.empty();
-}
-
-std::string upper(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
 }
 
 // Relative asymmetry allowed in an RUA matrix read as a symmetric body matrix: ASCII exports of
@@ -71,7 +60,7 @@ AnsysMapping read_ansys_mapping(std::istream& in, const std::string& name) {
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const auto t = split_ws(line);
+    const auto t = split_whitespace(line);
     if (t.empty()) continue;
     int equation = 0, node = 0;
     const bool is_row = t.size() == 3 && to_int(t[0], &equation) && to_int(t[1], &node);

@@ -15,42 +15,19 @@
 
 #include "core/errors.h"
 #include "io/atomic_file.h"
+#include "io/text.h"
 
 namespace stickslip {
 namespace {
 
+using text::lower;
+using text::rtrim;
+using text::split_whitespace;
+using text::trim;
+using text::upper;
+
 // ---------------------------------------------------------------------------------------------
 // Small text helpers.
-
-std::string rtrim(std::string s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  return s;
-}
-
-std::string trim(std::string_view s) {
-  size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return std::string(s.substr(a, b - a));
-}
-
-std::string upper(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::vector<std::string> split_ws(std::string_view s) {
-  std::vector<std::string> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    size_t j = i;
-    while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
-    if (j > i) out.emplace_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
 
 bool parse_int(std::string_view text, long long* value) {
   std::string s = trim(text);
@@ -282,7 +259,7 @@ std::vector<T> read_section(LineReader& r, const FortranFormat& f, long long cou
     if (!error.empty()) {
       // Some writers (scipy 1.10 for reals) use fields narrower than their declared format and
       // separate them by blanks: accept a line of exactly on_line blank-separated numbers.
-      const auto tokens = split_ws(line);
+      const auto tokens = split_whitespace(line);
       bool ok = static_cast<long long>(tokens.size()) == on_line;
       on_this_line.clear();
       for (size_t k = 0; ok && k < tokens.size(); ++k) {
@@ -318,7 +295,7 @@ FortranFormat format_or_fail(const LineReader& r, int line, const std::string& k
 std::vector<long long> header_integers(const LineReader& r, const std::string& text, int line,
                                        const std::string& key, size_t min_count, size_t max_count) {
   std::vector<long long> values;
-  for (const std::string& token : split_ws(text)) {
+  for (const std::string& token : split_whitespace(text)) {
     long long v = 0;
     if (!parse_int(token, &v)) r.fail(line, key, "'" + token + "' is not an integer");
     if (v < 0) r.fail(line, key, "'" + token + "' must not be negative");

@@ -12,22 +12,16 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "io/text.h"
 
 namespace stickslip {
 namespace {
 
-std::string trim(std::string_view s) {
-  size_t b = 0;
-  size_t e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return std::string(s.substr(b, e - b));
-}
-
-std::string upper(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
-  return s;
-}
+using text::lower;
+using text::rtrim;
+using text::split_whitespace;
+using text::trim;
+using text::upper;
 
 // Upper case, internal runs of white space collapsed to one blank ("*Solid  section").
 std::string normalize_name(const std::string& s) {

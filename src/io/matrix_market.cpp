@@ -16,29 +16,18 @@
 
 #include "core/errors.h"
 #include "io/atomic_file.h"
+#include "io/text.h"
 
 namespace stickslip {
 namespace {
 
+using text::lower;
+using text::rtrim;
+using text::split_whitespace;
+using text::trim;
+using text::upper;
+
 constexpr double kSymmetryTolerance = 1e-12;  // relative; assembly round-off is far below
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::vector<std::string> split_ws(std::string_view s) {
-  std::vector<std::string> out;
-  size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    size_t j = i;
-    while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
-    if (j > i) out.emplace_back(s.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
 
 bool to_long(const std::string& s, long long* v) {
   const char* b = s.data() + (!s.empty() && s[0] == '+' ? 1 : 0);
@@ -74,7 +63,7 @@ class Reader {
       ++line_;
       if (!line.empty() && line.back() == '\r') line.pop_back();
       if (!line.empty() && line[0] == '%') continue;
-      *tokens = split_ws(line);
+      *tokens = split_whitespace(line);
       if (tokens->empty()) continue;
       return true;
     }
@@ -97,7 +86,7 @@ class Reader {
 
 Header read_header(Reader& r) {
   const std::string banner = r.first_line();
-  const auto t = split_ws(banner);
+  const auto t = split_whitespace(banner);
   if (t.empty() || lower(t[0]) != "%%matrixmarket") {
     r.fail(1, "the first line must start with %%MatrixMarket, got '" + banner + "'");
   }
