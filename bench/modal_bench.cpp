@@ -5,7 +5,7 @@
 // mesh generation, assembly of K and M (fe/assembly.h, both triangles), elimination of the clamped
 // DOFs (DofMap), and solve_modes for the lowest 60 modes (factorisation and Lanczos separately).
 //
-// Usage: modal_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [max_factor_gb]
+// Usage: modal_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [max_factor_gb] [block]
 //   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs. The modal part is skipped when the
 //   Cholesky factor would exceed max_factor_gb (default 8 GB); its size is printed anyway. Peak
 //   memory: run under /usr/bin/time -v (docs/performance.md has the commands and the results).
@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
   ++arg;
   // Largest factor (GB) the modal part may allocate; the machine is shared.
   const double max_factor_gb = argc > arg ? std::atof(argv[arg]) : 8.0;
+  ++arg;
+  // Lanczos vectors per step (ModalOptions::block_size): 0 automatic, 1 single-vector.
+  const int block_size = argc > arg ? std::atoi(argv[arg]) : 0;
 
   auto start = std::chrono::steady_clock::now();
   std::vector<int> clamped;
@@ -172,6 +175,7 @@ int main(int argc, char** argv) {
 
   stickslip::ModalOptions modal;
   modal.num_modes = num_modes;
+  modal.block_size = block_size;
   start = std::chrono::steady_clock::now();
   const stickslip::ModalResult result = stickslip::solve_modes(Kff, Mff, modal);
   const double t_modes = seconds_since(start);

@@ -109,6 +109,8 @@ void BM_ReduceBox(benchmark::State& state) {
     // single-vector Lanczos.
     options.modal.shift = -1.0;
     options.modal.block_size = 1;
+  } else if (state.range(0) >= 2) {
+    options.modal.block_size = static_cast<int>(state.range(0));  // block Lanczos of this size
   }
   CraigBamptonResult r;
   for (auto _ : state) {
@@ -121,7 +123,8 @@ void BM_ReduceBox(benchmark::State& state) {
 BENCHMARK(BM_ReduceReferenceBeam)->Unit(benchmark::kMillisecond)->Iterations(1);
 // Box/1: defaults (the eigen-solve reuses the factor of K_ii; block Lanczos). Box/0: the
 // previous configuration (second factorisation, single-vector Lanczos), for comparison.
-BENCHMARK(BM_ReduceBox)->Arg(1)->Arg(0)->Unit(benchmark::kSecond)->Iterations(1);
+// Box/k, k >= 2: defaults with a block Lanczos of k vectors.
+BENCHMARK(BM_ReduceBox)->Arg(1)->Arg(0)->Arg(8)->Arg(15)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 
