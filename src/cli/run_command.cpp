@@ -259,6 +259,33 @@ void plot_run(const fs::path& dir, const CaseDefinition& def, const SolvedCase& 
                                        {stick, slip, separation}, &warning)) {
     warn(warning);
   }
+  // Hysteresis loops (first tangential axis) of the pairs in output.histories, at the point that
+  // dissipates most.
+  int best = -1;
+  double most = -1;
+  for (size_t i = 0; i < solved.response.points.size(); ++i) {
+    const FrequencyPoint& p = solved.response.points[i];
+    if (p.converged && total_dissipation(p) > most) most = total_dissipation(p), best = int(i);
+  }
+  if (best < 0) return;
+  const FrequencyPoint& p = solved.response.points[best];
+  std::vector<PlotSeries> loops;
+  for (size_t q = 0; q < p.pairs.size(); ++q) {
+    const AftSamples& h = p.pairs[q].history;
+    if (h.u.size() == 0) continue;
+    PlotSeries s{fmt::format("pair {}", q), {}, {}};
+    for (int j = 0; j <= h.u.cols(); ++j) {  // closed loop: repeat the first sample
+      s.x.push_back(h.u(0, j % h.u.cols()));
+      s.y.push_back(h.f(0, j % h.u.cols()));
+    }
+    loops.push_back(std::move(s));
+  }
+  if (!loops.empty() &&
+      !plot_curves(dir, "hysteresis", fmt::format("{}: {:.6g} Hz", title, rad_s_to_hz(p.omega)),
+                   "relative displacement, first local axis (m)",
+                   "contact force, first local axis (N)", loops, &warning)) {
+    warn(warning);
+  }
 }
 
 }  // namespace
