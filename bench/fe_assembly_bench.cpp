@@ -5,6 +5,7 @@
 
 #include "fe/assembly.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_tools.h"
 
 namespace {
 
@@ -12,39 +13,7 @@ using namespace stickslip;
 
 // n x n x n cells of the unit cube; (n+1)^3 nodes, 3 (n+1)^3 DOFs.
 Mesh cube_mesh(int n, ElementType type) {
-  Mesh mesh;
-  const int m = n + 1;
-  mesh.coordinates.resize(3, static_cast<Eigen::Index>(m) * m * m);
-  mesh.node_ids.resize(static_cast<size_t>(m) * m * m);
-  for (int k = 0; k < m; ++k) {
-    for (int j = 0; j < m; ++j) {
-      for (int i = 0; i < m; ++i) {
-        const int id = (k * m + j) * m + i;
-        mesh.coordinates.col(id) = Eigen::Vector3d(i, j, k) / n;
-        mesh.node_ids[id] = id + 1;
-      }
-    }
-  }
-  auto node = [m](int i, int j, int k) { return (k * m + j) * m + i; };
-  mesh.element_types.reserve(static_cast<size_t>(n) * n * n);
-  mesh.connectivity.reserve(static_cast<size_t>(8) * n * n * n);
-  int eid = 1;
-  for (int k = 0; k < n; ++k) {
-    for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) {
-        const int c[8] = {node(i, j, k),
-                          node(i + 1, j, k),
-                          node(i + 1, j + 1, k),
-                          node(i, j + 1, k),
-                          node(i, j, k + 1),
-                          node(i + 1, j, k + 1),
-                          node(i + 1, j + 1, k + 1),
-                          node(i, j + 1, k + 1)};
-        mesh.add_element(eid++, type, c);
-      }
-    }
-  }
-  return mesh;
+  return structured_hex_box(n, n, n, Eigen::Vector3d::Ones(), type);
 }
 
 void BM_AssembleHex8(benchmark::State& state) {

@@ -14,6 +14,7 @@
 #include "fe/assembly.h"
 #include "io/two_beam_model.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_tools.h"
 #include "reduction/craig_bampton.h"
 
 namespace {
@@ -70,30 +71,8 @@ void BM_ReduceBox(benchmark::State& state) {
   const int ex = 99, ey = 25, ez = 25;
   const int nx = ex + 1, ny = ey + 1, nz = ez + 1;
   auto node = [&](int i, int j, int k) { return i + nx * (j + ny * k); };
-  Mesh mesh;
-  mesh.coordinates.resize(3, static_cast<Eigen::Index>(nx) * ny * nz);
-  mesh.node_ids.resize(static_cast<size_t>(nx) * ny * nz);
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        mesh.coordinates.col(node(i, j, k)) =
-            Eigen::Vector3d(1.0 * i / ex, 0.2 * j / ey, 0.2 * k / ez);
-        mesh.node_ids[node(i, j, k)] = node(i, j, k) + 1;
-      }
-  int eid = 1;
-  for (int k = 0; k < ez; ++k)
-    for (int j = 0; j < ey; ++j)
-      for (int i = 0; i < ex; ++i) {
-        const int c[8] = {node(i, j, k),
-                          node(i + 1, j, k),
-                          node(i + 1, j + 1, k),
-                          node(i, j + 1, k),
-                          node(i, j, k + 1),
-                          node(i + 1, j, k + 1),
-                          node(i + 1, j + 1, k + 1),
-                          node(i, j + 1, k + 1)};
-        mesh.add_element(eid++, ElementType::kC3D8, c);
-      }
+  const Mesh mesh =
+      structured_hex_box(ex, ey, ez, Eigen::Vector3d(1.0, 0.2, 0.2), ElementType::kC3D8);
   SparseMatrix K, M;
   assemble_stiffness_mass(mesh, kSteel, AssemblyOptions{}, &K, &M);
   std::vector<int> constrained, boundary;

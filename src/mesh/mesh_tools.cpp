@@ -248,4 +248,54 @@ AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset, int 
   return range;
 }
 
+Mesh structured_hex_box(int nx, int ny, int nz, const Eigen::Vector3d& size, ElementType type) {
+  if (nx < 1 || ny < 1 || nz < 1) {
+    throw InvalidInput("structured_hex_box: element counts must be >= 1");
+  }
+  if (!(size.minCoeff() > 0.0)) throw InvalidInput("structured_hex_box: sizes must be > 0");
+  if (nodes_per_element(type) != 8) {
+    throw InvalidInput(std::string("structured_hex_box: ") + element_type_name(type) +
+                       " is not an 8-node hexahedron");
+  }
+  const int px = nx + 1, py = ny + 1, pz = nz + 1;
+  const auto node = [&](int i, int j, int k) { return i + px * (j + py * k); };
+  Mesh mesh;
+  const int num_nodes = px * py * pz;
+  mesh.coordinates.resize(3, num_nodes);
+  mesh.node_ids.resize(static_cast<size_t>(num_nodes));
+  for (int k = 0; k < pz; ++k) {
+    for (int j = 0; j < py; ++j) {
+      for (int i = 0; i < px; ++i) {
+        const int n = node(i, j, k);
+        mesh.coordinates.col(n) << size(0) * i / nx, size(1) * j / ny, size(2) * k / nz;
+        mesh.node_ids[static_cast<size_t>(n)] = n + 1;
+      }
+    }
+  }
+  const size_t num_elements = static_cast<size_t>(nx) * ny * nz;
+  mesh.element_types.assign(num_elements, type);
+  mesh.element_ids.resize(num_elements);
+  mesh.element_offsets.resize(num_elements + 1);
+  mesh.connectivity.resize(8 * num_elements);
+  size_t e = 0;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i, ++e) {
+        const int nodes[8] = {node(i, j, k),
+                              node(i + 1, j, k),
+                              node(i + 1, j + 1, k),
+                              node(i, j + 1, k),
+                              node(i, j, k + 1),
+                              node(i + 1, j, k + 1),
+                              node(i + 1, j + 1, k + 1),
+                              node(i, j + 1, k + 1)};
+        std::copy(nodes, nodes + 8, mesh.connectivity.begin() + static_cast<std::ptrdiff_t>(8 * e));
+        mesh.element_ids[e] = static_cast<int>(e) + 1;
+        mesh.element_offsets[e + 1] = static_cast<int>(8 * (e + 1));
+      }
+    }
+  }
+  return mesh;
+}
+
 }  // namespace stickslip

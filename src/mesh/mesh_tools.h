@@ -83,4 +83,12 @@ struct AppendedRange {
 AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset = 0,
                           int element_id_offset = 0);
 
+// A structured box of nx x ny x nz 8-node hexahedra of `type` (C3D8 or C3D8I) over
+// [0, size.x] x [0, size.y] x [0, size.z] (m). Node (i, j, k), 0 <= i <= nx, ..., has index
+// i + (nx + 1)(j + (ny + 1) k), coordinates (size.x i / nx, size.y j / ny, size.z k / nz) and id
+// index + 1; element (i, j, k) has index i + nx (j + ny k), id index + 1. No sets. The arrays are
+// filled directly, so millions of nodes are cheap (Mesh::add_node grows one column at a time).
+// InvalidInput for a non-positive count or size, or a type that is not an 8-node hexahedron.
+Mesh structured_hex_box(int nx, int ny, int nz, const Eigen::Vector3d& size, ElementType type);
+
 }  // namespace stickslip

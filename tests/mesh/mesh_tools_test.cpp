@@ -134,5 +134,29 @@ TEST(AppendMesh, ShiftsIdsAndIndicesAndMergesSets) {
   EXPECT_THROW(append_mesh(clash, cube_row(1)), InvalidInput);  // same ids
 }
 
+TEST(StructuredHexBox, CountsCoordinatesAndCalculixNodeOrder) {
+  const Mesh m = structured_hex_box(3, 2, 4, Eigen::Vector3d(0.3, 0.2, 0.4), ElementType::kC3D8I);
+  EXPECT_NO_THROW(check_mesh(m));
+  EXPECT_EQ(m.num_nodes(), 4 * 3 * 5);
+  EXPECT_EQ(m.num_elements(), 3 * 2 * 4);
+  EXPECT_TRUE(m.coordinates.col(m.num_nodes() - 1).isApprox(Eigen::Vector3d(0.3, 0.2, 0.4)));
+  // Every element: its first four nodes are the bottom face counter-clockwise seen from +z,
+  // the last four the same face one layer up (CalculiX's order), with edges of 0.1 m.
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const auto n = m.element_nodes(e);
+    const Eigen::Vector3d x0 = m.coordinates.col(n[0]);
+    EXPECT_TRUE((m.coordinates.col(n[1]) - x0).isApprox(Eigen::Vector3d(0.1, 0, 0)));
+    EXPECT_TRUE((m.coordinates.col(n[3]) - x0).isApprox(Eigen::Vector3d(0, 0.1, 0)));
+    for (int a = 0; a < 4; ++a) {
+      EXPECT_TRUE((m.coordinates.col(n[a + 4]) - m.coordinates.col(n[a]))
+                      .isApprox(Eigen::Vector3d(0, 0, 0.1)));
+    }
+  }
+  EXPECT_THROW(structured_hex_box(0, 1, 1, Eigen::Vector3d::Ones(), ElementType::kC3D8),
+               InvalidInput);
+  EXPECT_THROW(structured_hex_box(1, 1, 1, Eigen::Vector3d::Ones(), ElementType::kC3D10),
+               InvalidInput);
+}
+
 }  // namespace
 }  // namespace stickslip
