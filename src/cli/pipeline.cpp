@@ -510,14 +510,13 @@ PreparedModel prepare_model(const CaseDefinition& def,
 
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
   Eigen::MatrixXd K = model.K;
+  std::vector<int> pairs_of_contact(def.contacts.size(), 0);
+  for (const PreparedPair& q : model.pair_info) ++pairs_of_contact[q.contact];
   for (size_t i = 0; i < model.pairs.size(); ++i) {
     const ContactPair& pair = model.pairs[i];
-    const ContactDefinition& cd = def.contacts[model.pair_info[i].contact];
-    const ContactParametersDefinition p = per_pair_parameters(
-        def, cd,
-        static_cast<int>(std::count_if(
-            model.pair_info.begin(), model.pair_info.end(),
-            [&](const PreparedPair& q) { return q.contact == model.pair_info[i].contact; })));
+    const int c = model.pair_info[i].contact;
+    const ContactDefinition& cd = def.contacts[c];
+    const ContactParametersDefinition p = per_pair_parameters(def, cd, pairs_of_contact[c]);
     Eigen::VectorXd k_local;
     if (cd.law == "friction") {
       k_local = Eigen::Vector3d(p.kt, p.kt, p.kn);

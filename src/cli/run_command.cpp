@@ -331,7 +331,8 @@ int run_case(const RunCommand& command) {
       plot_run(dir, def, solved, frf, warn);
       if (!full_frf.empty() && full_frf.front().x.size() > 1) {
         // The thesis's validation plot: reduced nonlinear FRF and full-model recovery overlaid.
-        std::vector<PlotSeries> both = frf_series(def, model, solved, "reduced: ");
+        std::vector<PlotSeries> both = frf;  // the same curves, relabelled
+        for (PlotSeries& c : both) c.label = "reduced: " + c.label;
         both.insert(both.end(), full_frf.begin(), full_frf.end());
         std::string warning;
         if (!plot_curves(dir, "frf_full_vs_reduced", def.title, "frequency (Hz)",
