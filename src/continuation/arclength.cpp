@@ -155,6 +155,16 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
       std::isnan(options.lambda_return_limit) ? lambda_start : options.lambda_return_limit;
 
   ContinuationResult result;
+  auto push = [&](ContinuationPoint p) {
+    const bool converged = p.newton.converged();
+    const double lambda = p.lambda;
+    result.points.push_back(std::move(p));
+    if (options.on_point) {
+      const double fraction =
+          std::clamp((lambda - lambda_start) / (lambda_end - lambda_start), 0.0, 1.0);
+      options.on_point({static_cast<int>(result.points.size()), lambda, fraction, converged});
+    }
+  };
   auto stop = [&](bool completed, const std::string& why) {
     result.completed = completed;
     std::ostringstream m;
@@ -169,7 +179,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     first.lambda = lambda_start;
     first.x = x0;
     first.newton = solve_newton(sys, lambda_start, first.x, options.newton);
-    result.points.push_back(first);
+    push(first);
     if (!first.newton.converged()) {
       return stop(false, "no solution at lambda_start: " + first.newton.message);
     }
@@ -246,7 +256,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     if (direction * (lambda_new - lambda_end) > 0) {
       ContinuationPoint p = clip_onto(lambda_end, y_new);
       if (p.newton.converged()) {
-        result.points.push_back(std::move(p));
+        push(std::move(p));
         return stop(true, "reached lambda_end");
       }
       return stop(true, "reached lambda_end; the solution at exactly lambda_end failed (" +
@@ -254,7 +264,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     }
     if (direction * (lambda_new - return_limit) < 0) {
       ContinuationPoint p = clip_onto(return_limit, y_new);
-      if (p.newton.converged()) result.points.push_back(std::move(p));
+      if (p.newton.converged()) push(std::move(p));
       return stop(false, std::isnan(options.lambda_return_limit)
                              ? "the branch turned back past lambda_start"
                              : "the branch turned back past lambda_return_limit");
@@ -265,7 +275,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     p.x = x_scale * y_new.head(n);
     const int iterations = summary.iterations;
     p.newton = std::move(summary);
-    result.points.push_back(std::move(p));
+    push(std::move(p));
     y = y_new;
     t = *t_new;
     if (iterations < options.target_newton_iterations) {

@@ -64,6 +64,7 @@ struct ArcLengthOptions {
   // How far back λ may go behind lambda_start after a fold before the continuation stops: a value
   // on the far side of lambda_start from lambda_end, or NaN (default) for lambda_start itself.
   double lambda_return_limit = std::numeric_limits<double>::quiet_NaN();
+  ProgressCallback on_point{};  // after each returned point; fraction from λ's progress
 };
 
 // Throws InvalidInput naming the field ("ArcLengthOptions.min_step = ...") and the rule it broke.

@@ -134,7 +134,12 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
       }
     }
     if (!point.newton.converged()) failed.push_back(target);
+    const bool converged = point.newton.converged();
     result.points.push_back(std::move(point));
+    if (options.on_point) {
+      const int done = static_cast<int>(result.points.size());
+      options.on_point({done, target, static_cast<double>(done) / lambdas.size(), converged});
+    }
   }
 
   result.completed = failed.empty();

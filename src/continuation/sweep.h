@@ -19,6 +19,7 @@
 // fold, then jumps to another branch: the hysteresis of a physical sweep.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -51,6 +52,19 @@ struct ContinuationResult {
   std::string message;  // one line for humans: how it ended, which points failed
 };
 
+// Progress of a sweep or continuation, reported after each point it returns (to drive a progress
+// bar). points: points returned so far; lambda: the parameter of the last one; fraction: the part
+// of the requested range done, in [0, 1] (stepped: points / requested; arc-length: how far λ
+// got from lambda_start towards lambda_end); converged: whether the last point converged.
+struct ContinuationProgress {
+  int points = 0;
+  double lambda = 0;
+  double fraction = 0;
+  bool converged = true;
+};
+// Called on the solving thread; it must not throw. Empty = no reports.
+using ProgressCallback = std::function<void(const ContinuationProgress&)>;
+
 struct SteppedSweepOptions {
   NewtonOptions newton;
   int max_step_halvings = 4;      // >= 0; 0 = no retry
@@ -59,6 +73,7 @@ struct SteppedSweepOptions {
   // It uses lambda_scale = L = the requested λ range, x_scale = ||x_g||, steps from |Δλ|/2
   // (Δλ = λ_i − λ_g), between |Δλ|/1e6 and max(4|Δλ|, L/10), and the default step guards.
   int jump_max_points = 200;
+  ProgressCallback on_point{};  // after each requested point (converged or reported)
 };
 
 // Throws InvalidInput naming the field ("SteppedSweepOptions.max_step_halvings = -1. ...").

@@ -175,6 +175,23 @@ TEST(ArcLength, StopsAtMaxPoints) {
   EXPECT_NE(r.message.find("max_points"), std::string::npos) << r.message;
 }
 
+TEST(ArcLength, ReportsProgressForEveryReturnedPoint) {
+  const FunctionSystem sys = s_curve();
+  ArcLengthOptions o = s_curve_options(-1, 1);
+  std::vector<ContinuationProgress> seen;
+  o.on_point = [&](const ContinuationProgress& p) { seen.push_back(p); };
+  const ContinuationResult r = arclength_continuation(sys, VectorXd{{-1.3}}, o);
+  ASSERT_TRUE(r.completed) << r.message;
+  ASSERT_EQ(seen.size(), r.points.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(seen[i].points, static_cast<int>(i + 1));
+    EXPECT_EQ(seen[i].lambda, r.points[i].lambda);
+    EXPECT_DOUBLE_EQ(seen[i].fraction, std::clamp((r.points[i].lambda + 1) / 2, 0.0, 1.0));
+  }
+  EXPECT_EQ(seen.front().fraction, 0.0);
+  EXPECT_EQ(seen.back().fraction, 1.0);
+}
+
 TEST(ArcLength, ReportsAStepBelowMinStep) {
   // x − λ = 0, but R is NaN for λ > 0.5: the corrector fails there until the step is too small.
   const FunctionSystem sys(

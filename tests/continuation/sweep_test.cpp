@@ -137,6 +137,23 @@ TEST(SteppedSweep, ReportsAPointWithoutSolutionAndContinuesFromTheLastGoodOne) {
   EXPECT_NEAR(q.points[1].x(0), 2.0, kRootTolerance);
 }
 
+TEST(SteppedSweep, ReportsProgressOncePerRequestedPoint) {
+  const FunctionSystem sys = parabola();
+  const std::vector<double> lambdas{4.0, 1.0, -1.0, 1.0};
+  std::vector<ContinuationProgress> seen;
+  SteppedSweepOptions options;
+  options.on_point = [&](const ContinuationProgress& p) { seen.push_back(p); };
+  const ContinuationResult r = stepped_sweep(sys, VectorXd{{3.0}}, lambdas, options);
+  ASSERT_EQ(seen.size(), lambdas.size());
+  for (std::size_t i = 0; i < lambdas.size(); ++i) {
+    EXPECT_EQ(seen[i].points, static_cast<int>(i + 1));
+    EXPECT_EQ(seen[i].lambda, lambdas[i]);
+    EXPECT_DOUBLE_EQ(seen[i].fraction, (i + 1.0) / lambdas.size());
+    EXPECT_EQ(seen[i].converged, r.points[i].newton.converged());
+  }
+  EXPECT_FALSE(seen[2].converged);  // no real root at λ = -1: reported, not hidden
+}
+
 TEST(SteppedSweep, InvalidInputThrowsNamingTheField) {
   using testing::expect_invalid_input_naming;
   const FunctionSystem sys = parabola();
