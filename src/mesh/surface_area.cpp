@@ -1,0 +1,230 @@
+#include "mesh/surface_area.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace stickslip {
+namespace {
+
+// Corner cycles of the faces (CalculiX face numbering) and the mid-edge node of each edge.
+constexpr int kHexFaces[6][4] = {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 4, 5, 1},
+                                 {1, 5, 6, 2}, {2, 6, 7, 3}, {3, 7, 4, 0}};
+constexpr int kHexEdges[12][3] = {{0, 1, 8},  {1, 2, 9},  {2, 3, 10}, {0, 3, 11},
+                                  {4, 5, 12}, {5, 6, 13}, {6, 7, 14}, {4, 7, 15},
+                                  {0, 4, 16}, {1, 5, 17}, {2, 6, 18}, {3, 7, 19}};
+constexpr int kTetFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
+constexpr int kTetEdges[6][3] = {{0, 1, 4}, {1, 2, 5}, {0, 2, 6}, {0, 3, 7}, {1, 3, 8}, {2, 3, 9}};
+
+template <size_t N>
+int midside(const int (&edges)[N][3], int a, int b) {
+  if (a > b) std::swap(a, b);
+  for (const auto& e : edges) {
+    if (e[0] == a && e[1] == b) return e[2];
+  }
+  return -1;
+}
+
+// Local node numbers of every face of an element type (corners, then mid-edge nodes).
+std::vector<std::vector<int>> local_faces(ElementType type) {
+  std::vector<std::vector<int>> faces;
+  const bool quadratic =
+      type == ElementType::kC3D20 || type == ElementType::kC3D20R || type == ElementType::kC3D10;
+  const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
+                   type == ElementType::kC3D20 || type == ElementType::kC3D20R;
+  const auto add = [&](const int* corners, int n) {
+    std::vector<int> f(corners, corners + n);
+    if (quadratic) {
+      for (int k = 0; k < n; ++k) {
+        const int a = corners[k], b = corners[(k + 1) % n];
+        f.push_back(hex ? midside(kHexEdges, a, b) : midside(kTetEdges, a, b));
+      }
+    }
+    faces.push_back(std::move(f));
+  };
+  if (hex) {
+    for (const auto& c : kHexFaces) add(c, 4);
+  } else {
+    for (const auto& c : kTetFaces) add(c, 3);
+  }
+  return faces;
+}
+
+// Shape functions N (n) and their derivatives dN/dξ, dN/dη (2 x n) of a face with n nodes at the
+// natural point (ξ, η): quadrilaterals on [−1, 1]², triangles on {ξ, η ≥ 0, ξ + η ≤ 1}.
+void face_shape(int n, double xi, double eta, Eigen::VectorXd& N, Eigen::Matrix2Xd& dN) {
+  N.resize(n);
+  dN.resize(2, n);
+  if (n == 4 || n == 8) {
+    constexpr double kCorner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int a = 0; a < 4; ++a) {
+      const double xa = kCorner[a][0], ya = kCorner[a][1];
+      const double fx = 1 + xi * xa, fy = 1 + eta * ya;
+      if (n == 4) {
+        N(a) = 0.25 * fx * fy;
+        dN(0, a) = 0.25 * xa * fy;
+        dN(1, a) = 0.25 * fx * ya;
+      } else {
+        const double s = xi * xa + eta * ya - 1;
+        N(a) = 0.25 * fx * fy * s;
+        dN(0, a) = 0.25 * xa * fy * s + 0.25 * fx * fy * xa;
+        dN(1, a) = 0.25 * fx * ya * s + 0.25 * fx * fy * ya;
+      }
+    }
+    if (n == 8) {
+      constexpr double kMid[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+      for (int m = 0; m < 4; ++m) {
+        const int a = 4 + m;
+        const double xa = kMid[m][0], ya = kMid[m][1];
+        if (xa == 0) {
+          N(a) = 0.5 * (1 - xi * xi) * (1 + eta * ya);
+          dN(0, a) = -xi * (1 + eta * ya);
+          dN(1, a) = 0.5 * (1 - xi * xi) * ya;
+        } else {
+          N(a) = 0.5 * (1 + xi * xa) * (1 - eta * eta);
+          dN(0, a) = 0.5 * xa * (1 - eta * eta);
+          dN(1, a) = -eta * (1 + xi * xa);
+        }
+      }
+    }
+    return;
+  }
+  // Triangles: barycentric L = (1 − ξ − η, ξ, η).
+  const double L[3] = {1 - xi - eta, xi, eta};
+  const double dL[3][2] = {{-1, -1}, {1, 0}, {0, 1}};
+  for (int a = 0; a < 3; ++a) {
+    if (n == 3) {
+      N(a) = L[a];
+      dN(0, a) = dL[a][0];
+      dN(1, a) = dL[a][1];
+    } else {
+      N(a) = L[a] * (2 * L[a] - 1);
+      dN(0, a) = (4 * L[a] - 1) * dL[a][0];
+      dN(1, a) = (4 * L[a] - 1) * dL[a][1];
+    }
+  }
+  if (n == 6) {
+    for (int e = 0; e < 3; ++e) {
+      const int i = e, j = (e + 1) % 3;
+      N(3 + e) = 4 * L[i] * L[j];
+      dN(0, 3 + e) = 4 * (L[i] * dL[j][0] + L[j] * dL[i][0]);
+      dN(1, 3 + e) = 4 * (L[i] * dL[j][1] + L[j] * dL[i][1]);
+    }
+  }
+}
+
+struct FacePoint {
+  double xi, eta, w;
+};
+
+// Gauss–Legendre 3 x 3 on [−1, 1]² (degree 5), Dunavant's 6-point rule on the triangle (degree
+// 4; D. A. Dunavant, Int. J. Numer. Meth. Eng. 21, 1985), weights summing to the reference area.
+const std::vector<FacePoint>& face_rule(int n) {
+  static const std::vector<FacePoint> quad = [] {
+    const double s[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
+    const double w[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+    std::vector<FacePoint> r;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) r.push_back({s[i], s[j], w[i] * w[j]});
+    }
+    return r;
+  }();
+  static const std::vector<FacePoint> tri = [] {
+    const double a = 0.445948490915965, wa = 0.223381589678011;
+    const double b = 0.091576213509771, wb = 0.109951743655322;
+    std::vector<FacePoint> r;
+    for (const auto& [p, w] : {std::pair{a, wa}, std::pair{b, wb}}) {
+      r.push_back({p, p, 0.5 * w});
+      r.push_back({1 - 2 * p, p, 0.5 * w});
+      r.push_back({p, 1 - 2 * p, 0.5 * w});
+    }
+    return r;
+  }();
+  return n == 4 || n == 8 ? quad : tri;
+}
+
+// ∫ N_i dA and ∫ N_i² dA over one face, and its area.
+struct FaceIntegrals {
+  Eigen::VectorXd n, n2;
+  double area = 0.0;
+};
+
+FaceIntegrals integrate_face(const Mesh& mesh, const ElementFace& face) {
+  const int n = static_cast<int>(face.nodes.size());
+  Eigen::Matrix3Xd X(3, n);
+  for (int a = 0; a < n; ++a) X.col(a) = mesh.coordinates.col(face.nodes[a]);
+  FaceIntegrals r;
+  r.n = Eigen::VectorXd::Zero(n);
+  r.n2 = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd N;
+  Eigen::Matrix2Xd dN;
+  for (const FacePoint& p : face_rule(n)) {
+    face_shape(n, p.xi, p.eta, N, dN);
+    const Eigen::Vector3d gx = X * dN.row(0).transpose(), gy = X * dN.row(1).transpose();
+    const double dA = gx.cross(gy).norm() * p.w;
+    r.n += N * dA;
+    r.n2 += N.cwiseProduct(N) * dA;
+    r.area += dA;
+  }
+  return r;
+}
+
+}  // namespace
+
+std::vector<ElementFace> faces_within(const Mesh& mesh, std::span<const int> nodes) {
+  const std::unordered_set<int> in(nodes.begin(), nodes.end());
+  std::vector<ElementFace> faces;
+  std::set<std::vector<int>> seen;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const std::span<const int> element = mesh.element_nodes(e);
+    for (const std::vector<int>& local : local_faces(mesh.element_types[e])) {
+      ElementFace face{e, {}};
+      bool inside = true;
+      for (int l : local) {
+        const int node = element[static_cast<size_t>(l)];
+        if (!in.count(node)) {
+          inside = false;
+          break;
+        }
+        face.nodes.push_back(node);
+      }
+      if (!inside) continue;
+      std::vector<int> key = face.nodes;
+      std::sort(key.begin(), key.end());
+      if (seen.insert(key).second) faces.push_back(std::move(face));
+    }
+  }
+  return faces;
+}
+
+double face_area(const Mesh& mesh, const ElementFace& face) {
+  return integrate_face(mesh, face).area;
+}
+
+std::vector<double> nodal_areas(const Mesh& mesh, std::span<const int> nodes, NodalAreaRule rule) {
+  std::unordered_map<int, double> by_node;
+  for (const ElementFace& face : faces_within(mesh, nodes)) {
+    const FaceIntegrals f = integrate_face(mesh, face);
+    const int n = static_cast<int>(face.nodes.size());
+    const bool quadratic = n == 6 || n == 8;
+    const bool scaled =
+        rule == NodalAreaRule::kDiagonalScaled || (rule == NodalAreaRule::kAutomatic && quadratic);
+    const Eigen::VectorXd a = scaled ? Eigen::VectorXd(f.n2 * (f.area / f.n2.sum())) : f.n;
+    for (int k = 0; k < n; ++k) by_node[face.nodes[k]] += a(k);
+  }
+  std::vector<double> out;
+  out.reserve(nodes.size());
+  for (int node : nodes) {
+    const auto it = by_node.find(node);
+    out.push_back(it == by_node.end() ? 0.0 : it->second);
+  }
+  return out;
+}
+
+}  // namespace stickslip
