@@ -1,7 +1,10 @@
 #include "fe/stress.h"
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <Eigen/LU>
@@ -154,6 +157,188 @@ ComplexStressMatrix nodal_stress(const Mesh& mesh, const IsotropicMaterial& mate
   ComplexStressMatrix S;
   nodal_average(mesh, material, options, u, elements, S);
   return S;
+}
+
+// ---------------------------------------------------------------------------------------------
+// NodalStressOperator
+
+namespace {
+
+int thread_count(int requested) {
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return std::clamp(requested == 0 ? hardware : requested, 1, 64);
+}
+
+// Runs work(begin, end) over [0, n) split into `threads` contiguous ranges.
+template <class Work>
+void parallel_ranges(Eigen::Index n, int threads, const Work& work) {
+  threads = static_cast<int>(std::min<Eigen::Index>(threads, std::max<Eigen::Index>(n, 1)));
+  if (threads <= 1) {
+    work(Eigen::Index{0}, n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      try {
+        work(n * t / threads, n * (t + 1) / threads);
+      } catch (...) {
+        errors[static_cast<size_t>(t)] = std::current_exception();
+      }
+    });
+  }
+  for (std::thread& th : pool) th.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+}  // namespace
+
+NodalStressOperator::NodalStressOperator(const Mesh& mesh, const IsotropicMaterial& material,
+                                         const AssemblyOptions& options,
+                                         std::span<const int> elements) {
+  validate(material);
+  std::vector<int> listed;
+  if (elements.empty()) {
+    listed.resize(static_cast<size_t>(mesh.num_elements()));
+    for (int e = 0; e < mesh.num_elements(); ++e) listed[static_cast<size_t>(e)] = e;
+  } else {
+    listed.assign(elements.begin(), elements.end());
+    for (int e : listed) {
+      if (e < 0 || e >= mesh.num_elements()) {
+        throw InvalidInput("nodal_stress: element index " + std::to_string(e) + " out of range");
+      }
+    }
+  }
+  const int num_nodes = mesh.num_nodes();
+  const auto N = static_cast<size_t>(num_nodes);
+  // Elements per node (over the listed ones, repeats included, as nodal_stress averages).
+  std::vector<int> count(N, 0);
+  for (int e : listed) {
+    for (int a : mesh.element_nodes(e)) ++count[static_cast<size_t>(a)];
+  }
+  std::vector<Eigen::Index> elem_offsets(N + 1, 0);
+  for (size_t n = 0; n < N; ++n) elem_offsets[n + 1] = elem_offsets[n] + count[n];
+  std::vector<int> node_elements(static_cast<size_t>(elem_offsets[N]));
+  {
+    std::vector<Eigen::Index> fill(elem_offsets.begin(), elem_offsets.end() - 1);
+    for (int e : listed) {
+      for (int a : mesh.element_nodes(e)) {
+        node_elements[static_cast<size_t>(fill[static_cast<size_t>(a)]++)] = e;
+      }
+    }
+  }
+  // Block pattern: the nodes sharing a listed element with n, sorted.
+  row_offsets_.assign(N + 1, 0);
+  std::vector<int> row;
+  for (size_t n = 0; n < N; ++n) {
+    row.clear();
+    for (Eigen::Index i = elem_offsets[n]; i < elem_offsets[n + 1]; ++i) {
+      for (int m : mesh.element_nodes(node_elements[static_cast<size_t>(i)])) row.push_back(m);
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    block_nodes_.insert(block_nodes_.end(), row.begin(), row.end());
+    row_offsets_[n + 1] = static_cast<Eigen::Index>(block_nodes_.size());
+  }
+  block_nodes_.shrink_to_fit();
+  blocks_.assign(18 * block_nodes_.size(), 0.0);
+
+  // Element operators: node a of element e gets (1 / count) sum_g E(a, g) D B_g (6 x 3 nen).
+  const VoigtMatrix D = elasticity_matrix(material);
+  std::vector<Eigen::MatrixXd> extrapolation(16);
+  std::vector<char> have_extrapolation(16, 0);
+  std::vector<Eigen::MatrixXd> B;
+  std::vector<Eigen::MatrixXd> DB;
+  Eigen::MatrixXd op;
+  for (int e : listed) {
+    const auto nodes = mesh.element_nodes(e);
+    const ElementType type = effective_element_type(mesh.element_types[e], options);
+    const auto t = static_cast<size_t>(type);
+    if (t >= extrapolation.size()) {
+      extrapolation.resize(t + 1);
+      have_extrapolation.resize(t + 1, 0);
+    }
+    if (!have_extrapolation[t]) {
+      extrapolation[t] = stress_extrapolation_matrix(type);
+      have_extrapolation[t] = 1;
+    }
+    const Eigen::MatrixXd& E = extrapolation[t];
+    Eigen::Matrix3Xd X(3, nodes.size());
+    for (size_t a = 0; a < nodes.size(); ++a) X.col(a) = mesh.coordinates.col(nodes[a]);
+    element_strain_operators(type, X, material, B);
+    DB.resize(B.size());
+    for (size_t g = 0; g < B.size(); ++g) DB[g].noalias() = D * B[g];
+    for (size_t a = 0; a < nodes.size(); ++a) {
+      op.setZero(6, 3 * static_cast<Eigen::Index>(nodes.size()));
+      for (size_t g = 0; g < DB.size(); ++g) {
+        op += E(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(g)) * DB[g];
+      }
+      const auto n = static_cast<size_t>(nodes[a]);
+      op /= static_cast<double>(count[n]);
+      const int* first = block_nodes_.data() + row_offsets_[n];
+      const int* last = block_nodes_.data() + row_offsets_[n + 1];
+      for (size_t b = 0; b < nodes.size(); ++b) {
+        const int* it = std::lower_bound(first, last, nodes[b]);
+        STICKSLIP_ASSERT(it != last && *it == nodes[b]);
+        double* block = blocks_.data() + 18 * (it - block_nodes_.data());
+        Eigen::Map<Eigen::Matrix<double, 6, 3>>(block) +=
+            op.middleCols<3>(3 * static_cast<Eigen::Index>(b));
+      }
+    }
+  }
+}
+
+Eigen::MatrixXd NodalStressOperator::apply(const Eigen::MatrixXd& U, int num_threads) const {
+  const Eigen::Index N = num_nodes();
+  if (U.rows() != 3 * N) {
+    throw InvalidInput("nodal_stress: displacement vector of size " + std::to_string(U.rows()) +
+                       ", mesh has " + std::to_string(3 * N) + " DOFs");
+  }
+  const Eigen::Index m = U.cols();
+  Eigen::MatrixXd Y(6 * N, m);
+  const double* u = U.data();
+  const Eigen::Index ldu = U.rows(), ldy = Y.rows();
+  parallel_ranges(N, thread_count(num_threads), [&](Eigen::Index n0, Eigen::Index n1) {
+    Eigen::Matrix<double, 6, Eigen::Dynamic> acc(6, m);
+    for (Eigen::Index n = n0; n < n1; ++n) {
+      acc.setZero();
+      for (Eigen::Index b = row_offsets_[static_cast<size_t>(n)];
+           b < row_offsets_[static_cast<size_t>(n) + 1]; ++b) {
+        const Eigen::Map<const Eigen::Matrix<double, 6, 3>> G(blocks_.data() + 18 * b);
+        const Eigen::Index col =
+            3 * static_cast<Eigen::Index>(block_nodes_[static_cast<size_t>(b)]);
+        for (Eigen::Index j = 0; j < m; ++j) {
+          acc.col(j).noalias() += G * Eigen::Map<const Eigen::Vector3d>(u + j * ldu + col);
+        }
+      }
+      for (Eigen::Index j = 0; j < m; ++j) {
+        Eigen::Map<Eigen::Matrix<double, 6, 1>>(Y.data() + j * ldy + 6 * n) = acc.col(j);
+      }
+    }
+  });
+  return Y;
+}
+
+std::vector<ComplexStressMatrix> NodalStressOperator::apply(const Eigen::MatrixXcd& x,
+                                                            int num_threads) const {
+  const Eigen::Index m = x.cols();
+  Eigen::MatrixXd U(x.rows(), 2 * m);
+  U.leftCols(m) = x.real();
+  U.rightCols(m) = x.imag();
+  const Eigen::MatrixXd Y = apply(U, num_threads);
+  std::vector<ComplexStressMatrix> out;
+  out.reserve(static_cast<size_t>(m));
+  const Eigen::Index N = num_nodes();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    ComplexStressMatrix S(6, N);
+    S.real() = Eigen::Map<const StressMatrix>(Y.col(j).data(), 6, N);
+    S.imag() = Eigen::Map<const StressMatrix>(Y.col(m + j).data(), 6, N);
+    out.push_back(std::move(S));
+  }
+  return out;
 }
 
 }  // namespace stickslip

@@ -1,14 +1,18 @@
 // Stress recovery: exact constant stress for linear fields on distorted meshes (integration
 // points, extrapolated and averaged nodal values, complex amplitudes), extrapolation exact for
-// its polynomial basis, and C3D8I's pure-bending stress including the incompatible modes.
+// its polynomial basis, C3D8I's pure-bending stress including the incompatible modes, and the
+// sparse NodalStressOperator against the element-by-element nodal_stress.
 #include "fe/stress.h"
 
 #include <complex>
 #include <random>
+#include <span>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/LU>
 
+#include "core/errors.h"
 #include "fe/element.h"
 #include "fe_test_util.h"
 
@@ -126,6 +130,43 @@ TEST(Stress, C3D8IRecoversPureBendingStressThroughItsIncompatibleModes) {
   }
   const StressMatrix S8 = element_stress_at_integration_points(ElementType::kC3D8, X, kSteel, ue);
   EXPECT_GT(S8.row(3).cwiseAbs().maxCoeff(), 0.1 * scale);  // parasitic shear s_xy
+}
+
+// The assembled operator G must reproduce nodal_stress (element by element, the reference) for
+// every element type, on a distorted mesh, for all elements and for a subset (averaging over the
+// listed elements only), real and complex, with one and two threads.
+TEST(Stress, NodalStressOperatorMatchesElementByElementStress) {
+  const Eigen::Vector3d size(1.0, 0.8, 0.6);
+  std::mt19937 rng(20261122);
+  std::uniform_real_distribution<double> uniform(-1e-4, 1e-4);
+  for (ElementType type : kAllTypes) {
+    Mesh mesh = box_mesh(type, 3, 2, 2, size);
+    perturb_nodes(mesh, size, 0.08, 17, true);
+    Eigen::MatrixXcd x(mesh.num_dofs(), 2);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = {uniform(rng), uniform(rng)};
+    std::vector<int> subset;
+    for (int e = 0; e < mesh.num_elements(); e += 2) subset.push_back(e);
+    for (const bool all : {true, false}) {
+      const std::span<const int> elements = all ? std::span<const int>{} : std::span(subset);
+      const NodalStressOperator G(mesh, kSteel, {}, elements);
+      ASSERT_EQ(G.num_nodes(), mesh.num_nodes());
+      for (const int threads : {1, 2}) {
+        const std::vector<ComplexStressMatrix> S = G.apply(x, threads);
+        ASSERT_EQ(S.size(), 2u);
+        for (int j = 0; j < 2; ++j) {
+          const ComplexStressMatrix ref =
+              nodal_stress(mesh, kSteel, {}, Eigen::VectorXcd(x.col(j)), elements);
+          EXPECT_LT((S[j] - ref).cwiseAbs().maxCoeff(), kRoundOff * ref.cwiseAbs().maxCoeff())
+              << element_type_name(type) << (all ? " all" : " subset") << " threads " << threads;
+        }
+      }
+    }
+  }
+  const Mesh mesh = box_mesh(ElementType::kC3D8, 1, 1, 1, size);
+  const NodalStressOperator G(mesh, kSteel, {});
+  EXPECT_THROW(G.apply(Eigen::MatrixXd(Eigen::MatrixXd::Zero(mesh.num_dofs() + 1, 1))),
+               InvalidInput);
+  EXPECT_THROW(NodalStressOperator(mesh, kSteel, {}, std::vector<int>{1}), InvalidInput);
 }
 
 }  // namespace
