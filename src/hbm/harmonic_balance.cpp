@@ -25,6 +25,12 @@ bool all_finite(const Eigen::MatrixXd& m) { return m.allFinite(); }
 // (1e-8 of the residual scale), so the inexact steps behave as exact ones.
 constexpr double kStructuredSolveTolerance = 1e-10;
 
+// Modal damping matrix checks. ΦᵀCΦ computed in floating point is symmetric and PSD only to
+// round-off of the products (≈ nm·eps·max|C_m|): asymmetry up to 1e-10 and negative eigenvalues
+// down to −1e-10 of the largest are accepted as round-off, larger ones are input errors.
+constexpr double kDampingSymmetryTolerance = 1e-10;
+constexpr double kDampingDefinitenessTolerance = 1e-10;
+
 // A v for real A and complex v, as two real products (vectorised, no complex casts of A).
 template <typename Matrix>
 Eigen::VectorXcd real_times(const Matrix& A, const Eigen::VectorXcd& v) {
@@ -98,14 +104,39 @@ void validate(const LinearModel& model) {
   require(model.Phi.cols() == nm && model.Phi.rows() >= 1, "LinearModel.Phi",
           std::to_string(model.Phi.rows()) + " x " + std::to_string(model.Phi.cols()),
           "ndof x nm with nm = omega2.size() = " + std::to_string(nm));
-  require(model.modal_damping.size() == nm, "LinearModel.modal_damping",
-          "size " + std::to_string(model.modal_damping.size()), "size nm = " + std::to_string(nm));
+  const bool dense = model.modal_damping_matrix.size() > 0;
+  require(model.modal_damping.size() == nm || (dense && model.modal_damping.size() == 0),
+          "LinearModel.modal_damping", "size " + std::to_string(model.modal_damping.size()),
+          "size nm = " + std::to_string(nm) + " (or empty with modal_damping_matrix)");
   for (Eigen::Index r = 0; r < nm; ++r) {
     require(std::isfinite(model.omega2[r]) && model.omega2[r] >= 0, idx("LinearModel.omega2", r),
             std::to_string(model.omega2[r]), ">= 0 and finite");
+    if (dense) continue;
     require(std::isfinite(model.modal_damping[r]) && model.modal_damping[r] >= 0,
             idx("LinearModel.modal_damping", r), std::to_string(model.modal_damping[r]),
             ">= 0 and finite");
+  }
+  if (dense) {
+    const Eigen::MatrixXd& C = model.modal_damping_matrix;
+    require(C.rows() == nm && C.cols() == nm, "LinearModel.modal_damping_matrix",
+            std::to_string(C.rows()) + " x " + std::to_string(C.cols()),
+            "nm x nm with nm = " + std::to_string(nm));
+    require(all_finite(C), "LinearModel.modal_damping_matrix", "non-finite entry", "finite");
+    const double cmax = C.cwiseAbs().maxCoeff();
+    const double asym = (C - C.transpose()).cwiseAbs().maxCoeff();
+    require(asym <= kDampingSymmetryTolerance * cmax, "LinearModel.modal_damping_matrix",
+            "max |C − Cᵀ| = " + std::to_string(asym),
+            "symmetric (to 1e-10 of max |C| = " + std::to_string(cmax) + ")");
+    if (cmax > 0) {
+      const Eigen::MatrixXd Cs = 0.5 * (C + C.transpose());
+      const Eigen::VectorXd ev =
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Cs, Eigen::EigenvaluesOnly).eigenvalues();
+      const double scale = ev.cwiseAbs().maxCoeff();
+      require(ev.minCoeff() >= -kDampingDefinitenessTolerance * scale,
+              "LinearModel.modal_damping_matrix",
+              "smallest eigenvalue " + std::to_string(ev.minCoeff()),
+              "positive semi-definite (damping dissipates)");
+    }
   }
   require(all_finite(model.Phi), "LinearModel.Phi", "non-finite entry", "finite");
 }
@@ -131,6 +162,18 @@ LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::Ma
   model.omega2 = eig.eigenvalues().cwiseMax(0.0);
   model.Phi = eig.eigenvectors();  // Φᵀ M Φ = I
   model.modal_damping = rayleigh_modal_damping(model.omega2, alpha, beta);
+  return model;
+}
+
+LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                       const Eigen::MatrixXd& C) {
+  require(C.rows() == K.rows() && C.cols() == K.cols() && all_finite(C), "C",
+          std::to_string(C.rows()) + " x " + std::to_string(C.cols()),
+          "finite, same size as K (" + std::to_string(K.rows()) + ")");
+  LinearModel model = linear_model_from_matrices(K, M, 0.0, 0.0);
+  const Eigen::MatrixXd Cm = model.Phi.transpose() * C * model.Phi;
+  model.modal_damping_matrix = 0.5 * (Cm + Cm.transpose());
+  model.modal_damping = model.modal_damping_matrix.diagonal();
   return model;
 }
 
@@ -248,15 +291,32 @@ Eigen::VectorXcd HarmonicBalanceSystem::modal_receptance(int k, double omega) co
   return h;
 }
 
+Eigen::PartialPivLU<Eigen::MatrixXcd> HarmonicBalanceSystem::modal_impedance_lu(
+    int k, double omega) const {
+  STICKSLIP_VERIFY(k >= 1 && dense_damping(), "modal_impedance_lu: k >= 1 with a damping matrix");
+  const double kw = k * omega;
+  Eigen::MatrixXcd Z(model_.omega2.size(), model_.omega2.size());
+  Z.real() = (model_.omega2.array() - kw * kw).matrix().asDiagonal();
+  Z.imag() = kw * model_.modal_damping_matrix;
+  return Eigen::PartialPivLU<Eigen::MatrixXcd>(Z);
+}
+
+Eigen::MatrixXcd HarmonicBalanceSystem::modal_flexibility_times(int k, double omega,
+                                                                const Eigen::MatrixXcd& rhs) const {
+  if (k == 0 || !dense_damping()) return modal_receptance(k, omega).asDiagonal() * rhs;
+  return modal_impedance_lu(k, omega).solve(rhs);
+}
+
 Eigen::MatrixXcd HarmonicBalanceSystem::receptance(int k, double omega) const {
-  const Eigen::VectorXcd h = modal_receptance(k, omega);
-  return Psi_.cast<Complex>() * h.asDiagonal() * Psi_.transpose().cast<Complex>();
+  const Eigen::MatrixXcd PsiT = Psi_.transpose().cast<Complex>();
+  const Eigen::MatrixXcd G = Psi_.cast<Complex>() * modal_flexibility_times(k, omega, PsiT);
+  return 0.5 * (G + G.transpose());  // complex symmetric; exact symmetry against round-off
 }
 
 Eigen::VectorXcd HarmonicBalanceSystem::linear_contact_response(int k, double omega) const {
   const auto it = modal_load_.find(k);
   if (it == modal_load_.end()) return Eigen::VectorXcd::Zero(rows_);
-  return real_times(Psi_, modal_receptance(k, omega).cwiseProduct(it->second));
+  return real_times(Psi_, Eigen::VectorXcd(modal_flexibility_times(k, omega, it->second)));
 }
 
 void HarmonicBalanceSystem::solve_static() {
@@ -348,8 +408,16 @@ Eigen::VectorXd HarmonicBalanceSystem::apply_dG(const CondensedOperator& op,
     const int k = set.harmonics()[pos], o = set.offset(pos);
     if (k == 0) continue;
     for (int r = 0; r < rows_; ++r) z[r] = Complex(v[r * nc_ + o], -v[r * nc_ + o + 1]);
-    const Eigen::VectorXcd w =
-        real_times(Psi_, op.dh[pos].cwiseProduct(real_times(Psi_.transpose(), z)));
+    Eigen::VectorXcd w;
+    if (dense_damping()) {  // ∂H/∂Ω = −H (−2k²Ω I + i k C_m) H
+      Eigen::VectorXcd y = op.modal_lu[pos].solve(real_times(Psi_.transpose(), z));
+      y = op.modal_lu[pos].solve(
+          Eigen::VectorXcd(-2.0 * k * k * op.omega * y +
+                           Complex(0, k) * real_times(model_.modal_damping_matrix, y)));
+      w = -real_times(Psi_, y);
+    } else {
+      w = real_times(Psi_, op.dh[pos].cwiseProduct(real_times(Psi_.transpose(), z)));
+    }
     for (int r = 0; r < rows_; ++r) {
       out[r * nc_ + o] = w[r].real();
       out[r * nc_ + o + 1] = -w[r].imag();
@@ -487,6 +555,11 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   };
   for (int pos = 0; pos < set.size(); ++pos) {
     const int k = set.harmonics()[pos], o = set.offset(pos);
+    op->modal_lu.emplace_back();
+    if (k > 0 && dense_damping()) {
+      dense_damping_terms(*op, pos, k, o, derivative);
+      continue;
+    }
     const Eigen::VectorXcd h = modal_receptance(k, omega);
     // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ (lower
     // triangles, then mirrored: G_k is symmetric).
@@ -516,12 +589,14 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       }
     }
     op->dh.push_back(std::move(dh));
-    if (structured_) {  // I + G_k K_0, K_0 block-diagonal per pair
+  }
+  if (structured_) {
+    for (int pos = 0; pos < set.size(); ++pos) {  // I + G_k K_0, K_0 block-diagonal per pair
       Eigen::MatrixXcd P = Eigen::MatrixXcd::Identity(rows_, rows_);
       for (size_t p = 0; p < pairs_.size(); ++p) {
         const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
         P.middleCols(r, m).noalias() +=
-            op->G.back().middleCols(r, m) * stuck_tangent_[pos].block(r, r, m, m).cast<Complex>();
+            op->G[pos].middleCols(r, m) * stuck_tangent_[pos].block(r, r, m, m).cast<Complex>();
       }
       op->precondition.emplace_back(P);
     }
@@ -529,6 +604,34 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->last = op;
   return op;
+}
+
+void HarmonicBalanceSystem::dense_damping_terms(CondensedOperator& op, int pos, int k, int o,
+                                                bool derivative) const {
+  // G_k = Ψ H_k Ψᵀ with H_k from the LU of the modal impedance; u_lin = Ψ H_k q_k and
+  // du_lin/dΩ = −Ψ H_k (−2k²Ω I + i k C_m) H_k q_k.
+  auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c) {
+    for (int s = 0; s < rows_; ++s) {
+      v[s * nc_ + o] = c[s].real();
+      v[s * nc_ + o + 1] = -c[s].imag();
+    }
+  };
+  op.modal_lu[pos] = modal_impedance_lu(k, op.omega);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd>& lu = op.modal_lu[pos];
+  const Eigen::MatrixXcd X = lu.solve(Psi_.transpose().cast<Complex>());  // H_k Ψᵀ, nm x nu
+  Eigen::MatrixXcd G(rows_, rows_);
+  G.real().noalias() = Psi_ * X.real();
+  G.imag().noalias() = Psi_ * X.imag();
+  op.G.push_back(0.5 * (G + G.transpose()));
+  op.dh.emplace_back();
+  const auto load = modal_load_.find(k);
+  if (load == modal_load_.end()) return;
+  const Eigen::VectorXcd y = lu.solve(load->second);
+  scatter_vector(op.ulin, real_times(Psi_, y));
+  if (!derivative) return;
+  const Eigen::VectorXcd dy = lu.solve(Eigen::VectorXcd(
+      -2.0 * k * k * op.omega * y + Complex(0, k) * real_times(model_.modal_damping_matrix, y)));
+  scatter_vector(op.dulin, -real_times(Psi_, dy));
 }
 
 Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) const {
@@ -591,7 +694,7 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
     Eigen::VectorXcd q = -real_times(Psi_.transpose(), contact_force.col(c));
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) q += load->second;
-    x.col(c) = real_times(model_.Phi, modal_receptance(k, omega).cwiseProduct(q));
+    x.col(c) = real_times(model_.Phi, Eigen::VectorXcd(modal_flexibility_times(k, omega, q)));
   }
   return x;
 }

@@ -5,6 +5,13 @@
 // equations q̈_r + c_r q̇_r + ω_r² q_r = φ_rᵀ F. Per harmonic k the dynamic flexibility is
 //   D_k⁻¹ = Φ diag(h_k) Φᵀ,  h_{k,r}(Ω) = 1 / (ω_r² − (kΩ)² + i kΩ c_r).
 // Modal damping from Rayleigh C = αM + βK: c_r = α + β ω_r²; from a damping ratio ζ: c_r = 2ζω_r.
+// Non-proportional damping: LinearModel.modal_damping_matrix C_m = ΦᵀCΦ (nm x nm, symmetric,
+// positive semi-definite), when given, replaces the diagonal c_r and the flexibility becomes dense:
+//   D_k⁻¹ = Φ H_k Φᵀ,  H_k(Ω) = (diag(ω_r²) − (kΩ)² I + i kΩ C_m)⁻¹  (k ≥ 1; complex symmetric),
+// obtained per harmonic and Ω by a complex LU of the nm x nm modal impedance (cost O(nm³) per
+// Ω and harmonic instead of O(nm)); harmonic 0 is undamped, H_0 = diag(1/ω_r²) either way.
+// Everything below that is written with diag(h_k) then reads H_k, and
+// dH_k/dΩ = −H_k (−2k²Ω I + i k C_m) H_k.
 //
 // Contact pairs: pair p joins node A (DOFs dofs_a) and node B (dofs_b; either may be empty =
 // ground) through a NonlinearElement of dimension m_p with frame R_p (m_p x k, k = DOFs per node):
@@ -34,7 +41,8 @@
 // Harmonic 0 needs ω_r² > 0: rigid-body modes (ω_r² <= 1e-12 max ω²) are left out of G_0 and
 // u_lin,0 (the static load and contact preloads must then be self-equilibrated).
 //
-// Recovery of every master DOF: x_k = Φ diag(h_k) (Φᵀ F_k − Ψᵀ F_k^c), Ψ = BΦ.
+// Recovery of every master DOF: x_k = Φ diag(h_k) (Φᵀ F_k − Ψᵀ F_k^c), Ψ = BΦ (H_k when the
+// modal damping matrix is given).
 #pragma once
 
 #include <map>
@@ -57,7 +65,9 @@ namespace stickslip {
 struct LinearModel {
   Eigen::VectorXd omega2{};         // ω_r², (rad/s)², ≥ 0, size nm
   Eigen::MatrixXd Phi{};            // ndof x nm, mass-normalised
-  Eigen::VectorXd modal_damping{};  // c_r, 1/s, ≥ 0, size nm
+  Eigen::VectorXd modal_damping{};  // c_r, 1/s, ≥ 0, size nm (may be empty when the matrix is set)
+  Eigen::MatrixXd modal_damping_matrix{};  // optional nm x nm ΦᵀCΦ (symmetric, PSD); when
+                                           // non-empty it replaces modal_damping
 };
 void validate(const LinearModel& model);
 
@@ -66,6 +76,11 @@ Eigen::VectorXd modal_damping_from_ratio(const Eigen::VectorXd& omega2, double z
 // All modes of dense symmetric (K, M), M positive definite; damping c_r = α + β ω_r².
 LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
                                        double alpha, double beta);
+// All modes of dense symmetric (K, M) with a general dense damping matrix C (ndof x ndof,
+// symmetric, PSD): modal_damping_matrix = ΦᵀCΦ (symmetrised), modal_damping = its diagonal
+// (informative only; the matrix is used).
+LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                       const Eigen::MatrixXd& C);
 
 struct ContactPair {
   std::vector<int> dofs_a{};  // k master-DOF indices of node A; empty = ground
@@ -162,8 +177,10 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   struct CondensedOperator {
     double omega = 0.0;
     bool has_derivative = false;
-    std::vector<Eigen::MatrixXcd> G;                                  // per harmonic position
-    std::vector<Eigen::VectorXcd> dh;                                 // dh_k/dΩ per position
+    std::vector<Eigen::MatrixXcd> G;   // per harmonic position
+    std::vector<Eigen::VectorXcd> dh;  // dh_k/dΩ per position (diagonal damping)
+    // Dense damping: LU of the modal impedance Z_k = H_k⁻¹ per position (empty for k = 0).
+    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> modal_lu;
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
     Eigen::VectorXd ulin, dulin;
   };
@@ -178,7 +195,14 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::shared_ptr<const CondensedOperator> last;
   };
   std::shared_ptr<const CondensedOperator> condensed_operator(double omega, bool derivative) const;
-  Eigen::VectorXcd modal_receptance(int k, double omega) const;  // h_k (nm)
+  Eigen::VectorXcd modal_receptance(int k, double omega) const;  // h_k (nm), diagonal damping
+  bool dense_damping() const { return model_.modal_damping_matrix.size() > 0; }
+  // Dense damping, k ≥ 1: LU of Z_k(Ω) = diag(ω_r²) − (kΩ)² I + i kΩ C_m.
+  Eigen::PartialPivLU<Eigen::MatrixXcd> modal_impedance_lu(int k, double omega) const;
+  // H_k(Ω) rhs for a complex nm x c rhs, either damping model.
+  Eigen::MatrixXcd modal_flexibility_times(int k, double omega, const Eigen::MatrixXcd& rhs) const;
+  // Dense damping: G, u_lin (and du_lin/dΩ) of harmonic k at position pos (offset o) into op.
+  void dense_damping_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
   void solve_static();
 
   LinearModel model_;
