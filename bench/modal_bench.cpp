@@ -1,14 +1,20 @@
 // Benchmark of assembly and modal analysis on structured 8-node hexahedral meshes (issue 2).
 //
 // A box with the proportions of the reference beam (0.25 x 0.05 x 0.03 m, steel), nx x ny x nz
-// C3D8I elements (nx : ny : nz ≈ 5 : 1 : 0.6), clamped at x = 0. For each size it times:
+// C3D8I elements (nx : ny : nz ≈ 5 : 1 : 0.6), clamped at x = 0, or one of two slender 1M-DOF
+// shapes whose nested-dissection separators are small (a rod's cross-section, a plate's line):
+//   rod:   2.75 x 0.04 x 0.04 m, 1100 x 16 x 16 C3D8I (954k DOFs; recovery_bench's large rod),
+//   plate: a blade-like plate 0.24 x 0.12 x 0.006 m, 400 x 200 x 4 C3D8I (1.21M DOFs),
+// both clamped at x = 0. For each size it times:
 // mesh generation, assembly of K and M (fe/assembly.h, both triangles), elimination of the clamped
 // DOFs (DofMap), and solve_modes for the lowest 60 modes (factorisation and Lanczos separately).
 //
-// Usage: modal_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [max_factor_gb] [block]
-//   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs. The modal part is skipped when the
-//   Cholesky factor would exceed max_factor_gb (default 8 GB); its size is printed anyway. Peak
-//   memory: run under /usr/bin/time -v (docs/performance.md has the commands and the results).
+// Usage: modal_bench [small|medium|large|rod|plate|<nx> <ny> <nz>] [num_modes] [max_factor_gb]
+//                    [block]
+//   small ≈ 10k DOFs, medium ≈ 100k DOFs, large ≈ 1M DOFs (box); rod, plate ≈ 1M DOFs. The modal
+//   part is skipped when the Cholesky factor would exceed max_factor_gb (default 8 GB); its size is
+//   printed anyway. Peak memory: run under /usr/bin/time -v (docs/performance.md has the commands
+//   and the results).
 // A plain main rather than Google Benchmark: each size runs once (the large one takes minutes)
 // and peak memory is measured per process.
 #include <chrono>
@@ -33,10 +39,9 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The beam's 0.25 x 0.05 x 0.03 m box, C3D8I; `clamped` gets the nodes of the face x = 0.
-Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped) {
-  Mesh mesh =
-      structured_hex_box(nx, ny, nz, Eigen::Vector3d(0.25, 0.05, 0.03), ElementType::kC3D8I);
+// A box of the given size (m), C3D8I; `clamped` gets the nodes of the face x = 0.
+Mesh box_mesh(int nx, int ny, int nz, const Eigen::Vector3d& size, std::vector<int>* clamped) {
+  Mesh mesh = structured_hex_box(nx, ny, nz, size, ElementType::kC3D8I);
   for (int n = 0; n < mesh.num_nodes(); n += nx + 1) clamped->push_back(n);  // i = 0
   return mesh;
 }
@@ -45,16 +50,28 @@ Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped) {
 
 int main(int argc, char** argv) {
   int nx = 50, ny = 10, nz = 6;  // small: 11.8k DOFs
+  Eigen::Vector3d size(0.25, 0.05, 0.03);
+  std::string shape = "box";
   int arg = 1;
   if (argc > arg) {
-    const std::string size = argv[arg];
-    if (size == "small") {
+    const std::string size_name = argv[arg];
+    if (size_name == "small") {
       ++arg;
-    } else if (size == "medium") {
+    } else if (size_name == "medium") {
       nx = 110, ny = 22, nz = 13;  // 107k DOFs
       ++arg;
-    } else if (size == "large") {
+    } else if (size_name == "large") {
       nx = 240, ny = 48, nz = 29;  // 1.06M DOFs
+      ++arg;
+    } else if (size_name == "rod") {
+      nx = 1100, ny = 16, nz = 16;  // 954k DOFs
+      size = Eigen::Vector3d(2.75, 0.04, 0.04);
+      shape = "rod";
+      ++arg;
+    } else if (size_name == "plate") {
+      nx = 400, ny = 200, nz = 4;  // 1.21M DOFs
+      size = Eigen::Vector3d(0.24, 0.12, 0.006);
+      shape = "plate";
       ++arg;
     } else if (argc > arg + 2) {
       nx = std::atoi(argv[arg]), ny = std::atoi(argv[arg + 1]), nz = std::atoi(argv[arg + 2]);
@@ -71,7 +88,7 @@ int main(int argc, char** argv) {
 
   auto start = std::chrono::steady_clock::now();
   std::vector<int> clamped;
-  const Mesh mesh = box_mesh(nx, ny, nz, &clamped);
+  const Mesh mesh = box_mesh(nx, ny, nz, size, &clamped);
   const double t_mesh = seconds_since(start);
 
   stickslip::IsotropicMaterial steel{2.0e11, 0.3, 7800.0};
@@ -89,9 +106,12 @@ int main(int argc, char** argv) {
   K.resize(0, 0);  // free the full matrices before the eigensolver's peak
   M.resize(0, 0);
 
-  std::printf("mesh %dx%dx%d C3D8I: %d nodes, %d elements, %d DOFs (%d free), nnz(K_ff) = %lld\n",
-              nx, ny, nz, mesh.num_nodes(), mesh.num_elements(), mesh.num_dofs(), dofs.num_free(),
-              static_cast<long long>(Kff.nonZeros()));
+  std::printf(
+      "%s %.3g x %.3g x %.3g m, mesh %dx%dx%d C3D8I: %d nodes, %d elements, %d DOFs (%d free), "
+      "nnz(K_ff) = %lld\n",
+      shape.c_str(), size.x(), size.y(), size.z(), nx, ny, nz, mesh.num_nodes(),
+      mesh.num_elements(), mesh.num_dofs(), dofs.num_free(),
+      static_cast<long long>(Kff.nonZeros()));
   std::printf("mesh generation      %8.2f s\n", t_mesh);
   std::printf("assembly (K and M)   %8.2f s\n", t_assembly);
   std::printf("clamp (DofMap)       %8.2f s\n", t_restrict);

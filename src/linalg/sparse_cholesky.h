@@ -11,10 +11,18 @@
 // column of the permuted matrix where the factorisation broke down). A size mismatch in solve()
 // or solving with a failed factor throws InvalidInput.
 //
+// Trailing ordering (factorize(A, last, ...)): the indices `last` are eliminated after all
+// others, in the order given, so that P puts them at positions n − m .. n − 1 (m = |last|). Then
+// for b supported on `last`, G⁻¹ b = L⁻¹ P b is zero in its first n − m entries and its last m
+// entries are L_ll⁻¹ b_last with L_ll the trailing m x m block of L (one dense triangular solve;
+// the sparse forward half solve is skipped). Craig–Bampton uses it for the constraint modes:
+// K_ib is nonzero only in the interior rows coupled to the boundary.
+//
 // Not thread-safe: solve() reuses internal CHOLMOD workspace. Movable, not copyable.
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include <Eigen/Core>
@@ -28,6 +36,13 @@ struct CholeskyEstimate {
   double factor_nonzeros = 0;  // nnz(L)
   double flops = 0;            // floating-point operations of the numerical factorisation
   std::string ordering;        // the ordering CHOLMOD would select
+};
+
+// How factorize(A, last, ...) orders the indices `last`.
+enum class LastOrdering {
+  kAuto,    // at the end when the cost estimate below says that is cheaper, else as factorize(A)
+  kAlways,  // at the end (tests, benchmarks)
+  kNever,   // as factorize(A): CHOLMOD's own ordering
 };
 
 class SparseCholesky {
@@ -45,12 +60,22 @@ class SparseCholesky {
 
   // Analyses and factorises A (any previous factor is dropped). Returns ok().
   bool factorize(const SparseMatrix& A);
+  // The same with the trailing ordering of `last` (distinct indices in 0..n−1; see above).
+  // kAuto compares the estimated flops of the two orderings (CHOLMOD's symbolic analysis, the
+  // ordering of the other indices is CHOLMOD's own for A with `last` removed from it) for
+  //   factorisation + trailing_solves · (forward over the trailing block + backward half solve)
+  //                 + full_solves · (two half solves),
+  // trailing_solves being right-hand sides supported on `last`. Returns ok(); num_last() tells
+  // which ordering was used. Bad indices throw InvalidInput.
+  bool factorize(const SparseMatrix& A, std::span<const int> last, LastOrdering mode,
+                 double trailing_solves = 0, double full_solves = 0);
 
   bool ok() const;
   const std::string& message() const;  // "" when ok
   int size() const;                    // n of the factorised n x n matrix; 0 before factorize
   double factor_nonzeros() const;      // nnz(L), for diagnostics and benchmarks
   std::string ordering() const;        // ordering CHOLMOD selected: "AMD", "METIS", ...
+  int num_last() const;  // m if `last` is ordered at the end (factorize with last), else 0
 
   // X = A⁻¹ B for B of size n x k (k >= 1 right-hand sides).
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
@@ -64,6 +89,10 @@ class SparseCholesky {
   // The same half solves for n x k blocks (k >= 1 columns at once: supernodal BLAS-3 kernels).
   Eigen::MatrixXd solve_lower(const Eigen::MatrixXd& B) const;
   Eigen::MatrixXd solve_upper(const Eigen::MatrixXd& B) const;
+  // For num_last() = m > 0: the last m rows of G⁻¹ b for the n x k right-hand side b that is
+  // zero outside `last` and has b(last[j], :) = B_last(j, :) (B_last: m x k). The first n − m
+  // rows of G⁻¹ b are zero. Dense triangular solve with L's trailing block (BLAS dtrsm).
+  Eigen::MatrixXd solve_lower_last(const Eigen::MatrixXd& B_last) const;
 
  private:
   struct Impl;

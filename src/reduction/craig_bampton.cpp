@@ -62,6 +62,15 @@ Eigen::MatrixXd transpose_times_rows(const SparseMatrix& A, const RowMatrix& X) 
   return G;
 }
 
+// Column blocks of the symmetric product Φ_cᵀ M_ii Φ_c.
+constexpr int kSymmetricBlock = 128;
+
+std::vector<int> all_columns(int n) {
+  std::vector<int> c(static_cast<size_t>(n));
+  for (int j = 0; j < n; ++j) c[static_cast<size_t>(j)] = j;
+  return c;
+}
+
 void check_dof_list(std::span<const int> dofs, int n, const char* field, std::vector<char>& mark,
                     char tag) {
   for (size_t k = 0; k < dofs.size(); ++k) {
@@ -140,8 +149,22 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   const SparseMatrix M_ib = submatrix(M, interior, boundary);
   const Eigen::MatrixXd K_bb(submatrix(K, boundary, boundary));
   const Eigen::MatrixXd M_bb(submatrix(M, boundary, boundary));
+  // The interior DOFs coupled to the boundary (rows of K_ib with entries). Ordered last in the
+  // factor G Gᵀ = K_ii, G⁻¹ K_ib is zero but in its last m rows, Z: the forward half solves of
+  // the constraint modes reduce to one dense m x m triangular solve.
+  std::vector<int> coupled;
+  {
+    std::vector<char> flag(static_cast<size_t>(ni), 0);
+    for (int j = 0; j < K_ib.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(K_ib, j); it; ++it) flag[it.row()] = 1;
+    for (int r = 0; r < ni; ++r)
+      if (flag[r]) coupled.push_back(r);
+  }
+  // Cost model of the choice: nb constraint modes, and the block Lanczos's solves over the same
+  // factor (typically about 6 per mode).
+  const double lanczos_solves = nm > 0 && options.modal.shift == 0.0 ? 6.0 * nm : 0.0;
   SparseCholesky cholesky;
-  if (ni > 0 && !cholesky.factorize(K_ii)) {
+  if (ni > 0 && !cholesky.factorize(K_ii, coupled, options.coupled_last, nb, lanczos_solves)) {
     summary.termination = CraigBamptonTermination::kFactorizationFailed;
     summary.message = "Cholesky factorisation of K_ii failed: " + cholesky.message() +
                       ". The boundary and constrained DOFs must prevent every rigid-body motion "
@@ -150,13 +173,32 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     return result;
   }
   summary.factor_nonzeros = ni > 0 ? cholesky.factor_nonzeros() : 0.0;
+  summary.coupled_last = ni > 0 ? cholesky.num_last() : 0;
   summary.seconds_factor = seconds_since(start);
 
   // Psi = [Φ_c Φ_n] (n_i x n_r), row-major so that rows are contiguous for the sparse products
   // and for scattering into T.
   start = std::chrono::steady_clock::now();
   RowMatrix Psi(ni, nr);
-  if (ni > 0) {
+  // K_bi Φ_c = −(G⁻¹K_ib)ᵀ(G⁻¹K_ib) = −ZᵀZ with the trailing ordering (symmetric by
+  // construction); otherwise formed in the projection from Φ_c.
+  Eigen::MatrixXd KbiPhic;
+  const int m = ni > 0 ? cholesky.num_last() : 0;
+  if (m > 0) {
+    const Eigen::MatrixXd Z =
+        cholesky.solve_lower_last(Eigen::MatrixXd(submatrix(K_ib, coupled, all_columns(nb))));
+    KbiPhic = Eigen::MatrixXd(nb, nb);
+    KbiPhic.setZero();
+    KbiPhic.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
+    KbiPhic = KbiPhic.selfadjointView<Eigen::Lower>();
+    Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(ni, std::min(options.block_size, nb));
+    for (int c0 = 0; c0 < nb; c0 += options.block_size) {
+      const int bs = std::min(options.block_size, nb - c0);
+      if (bs < padded.cols()) padded = Eigen::MatrixXd::Zero(ni, bs);
+      padded.bottomRows(m) = -Z.middleCols(c0, bs);  // Φ_c = G⁻ᵀ [0; −Z]
+      Psi.middleCols(c0, bs) = cholesky.solve_upper(padded);
+    }
+  } else if (ni > 0) {
     for (int c0 = 0; c0 < nb; c0 += options.block_size) {
       const int bs = std::min(options.block_size, nb - c0);
       const Eigen::MatrixXd rhs = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
@@ -198,17 +240,22 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   body.K = Eigen::MatrixXd::Zero(nr, nr);
   body.M = Eigen::MatrixXd::Zero(nr, nr);
   {
-    const Eigen::MatrixXd KbiPsi = transpose_times_rows(K_ib, Psi);  // nb x nr
-    body.K.topLeftCorner(nb, nb) = K_bb + KbiPsi.leftCols(nb);
+    if (m == 0) KbiPhic = transpose_times_rows(K_ib, Psi).leftCols(nb);  // nb x nb
+    body.K.topLeftCorner(nb, nb) = K_bb + KbiPhic;
     body.K.bottomRightCorner(nm, nm).diagonal() = result.mode_eigenvalues;
 
     const Eigen::MatrixXd G = transpose_times_rows(M_ib, Psi);  // nb x nr: M_bi [Φ_c Φ_n]
     RowMatrix V;
     sparse_times_rows(RowSparse(M_ii), Psi, nb, V);  // n_i x nb, row-major
-    // Row-major n_i x k blocks are column-major k x n_i: Φ_cᵀ V = (Psiᵀ)[0:nb, :] (Vᵀ)ᵀ.
+    // Row-major n_i x k blocks are column-major k x n_i: Φ_cᵀ V = (Psiᵀ)[0:nb, :] (Vᵀ)ᵀ. It is
+    // symmetric: only the blocks on and above the diagonal are formed (half the flops).
     Eigen::MatrixXd S(nb, nb);
-    gemm('N', 'T', nb, nb, ni, Psi.data(), std::max(nr, 1), V.data(), std::max(nb, 1), S.data(),
-         std::max(nb, 1));
+    for (int c0 = 0; c0 < nb; c0 += kSymmetricBlock) {
+      const int bs = std::min(kSymmetricBlock, nb - c0);
+      gemm('N', 'T', c0 + bs, bs, ni, Psi.data(), std::max(nr, 1), V.data() + c0, std::max(nb, 1),
+           S.data() + static_cast<size_t>(c0) * nb, std::max(nb, 1));
+    }
+    S = S.selfadjointView<Eigen::Upper>();
     body.M.topLeftCorner(nb, nb) = M_bb + G.leftCols(nb) + G.leftCols(nb).transpose() + S;
     if (nm > 0) {
       Eigen::MatrixXd R(nb, nm);  // Φ_cᵀ M_ii Φ_n = Vᵀ Φ_n

@@ -19,11 +19,12 @@
 // zero) for the expansion x = T q.
 //
 // Cost: one sparse Cholesky of K_ii (SparseCholesky, CHOLMOD) solving all n_b constraint modes
-// in blocks of `block_size` right-hand sides, one shift-invert Lanczos solve of (K_ii, M_ii) over
-// that same factor (shift 0, the default here; another modal.shift factorises K_ii − σM_ii), one
-// pass of M_ii over Φ_c and dense products of size n_b x n_i x n_b (BLAS). No n x n dense matrix
-// is formed. Bad input throws InvalidInput; a failed factorisation or eigen-solve is reported in
-// the summary (no exception).
+// in blocks of `block_size` right-hand sides (only the backward half solves when the interior DOFs
+// coupled to the boundary are ordered last, see coupled_last), one shift-invert Lanczos solve of
+// (K_ii, M_ii) over that same factor (shift 0, the default here; another modal.shift factorises
+// K_ii − σM_ii), one pass of M_ii over Φ_c and dense products of size n_b x n_i x n_b (BLAS). No n
+// x n dense matrix is formed. Bad input throws InvalidInput; a failed factorisation or eigen-solve
+// is reported in the summary (no exception).
 #pragma once
 
 #include <span>
@@ -34,6 +35,7 @@
 
 #include "core/types.h"
 #include "linalg/modal.h"
+#include "linalg/sparse_cholesky.h"
 #include "reduction/reduced_body.h"
 
 namespace stickslip {
@@ -42,6 +44,10 @@ struct CraigBamptonOptions {
   int num_modes = 60;      // fixed-interface modes kept; 0 = Guyan (static) reduction
   int block_size = 128;    // constraint modes solved per block (memory ~ 16 n_i block_size bytes)
   bool keep_basis = true;  // keep T in the result (n x (n_b + num_modes) doubles)
+  // Order the interior DOFs coupled to the boundary (rows of K_ib with entries) last in the
+  // Cholesky of K_ii: G⁻¹K_ib is then Z in the trailing rows only, the constraint modes need only
+  // the backward half solves, and K_bi Φ_c = −ZᵀZ. kAuto: when the flop estimate says it pays.
+  LastOrdering coupled_last = LastOrdering::kAuto;
   // Fixed-interface eigen-solve settings; modal.num_modes is ignored. Shift 0 (default): the
   // Lanczos reuses the Cholesky of K_ii (positive definite once the interior is held); any other
   // shift costs a second factorisation, of K_ii − σM_ii.
@@ -69,6 +75,7 @@ struct CraigBamptonSummary {
   int num_interior = 0;
   int num_modes = 0;
   double factor_nonzeros = 0.0;     // nnz of the Cholesky factor of K_ii
+  int coupled_last = 0;             // interior DOFs ordered last (0: CHOLMOD's own ordering)
   double seconds_factor = 0.0;      // partition and Cholesky of K_ii
   double seconds_constraint = 0.0;  // constraint-mode solves
   double seconds_modes = 0.0;       // fixed-interface eigen-solve

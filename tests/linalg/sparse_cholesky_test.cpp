@@ -130,6 +130,81 @@ TEST(SparseCholesky, SizeMismatchThrows) {
   EXPECT_THROW(SparseCholesky(SparseMatrix(3, 4)), InvalidInput);
 }
 
+// 7-point Laplacian of a g x g x g grid plus the identity (SPD, sparse: many supernodes).
+SparseMatrix grid_laplacian(int g) {
+  auto id = [g](int i, int j, int k) { return i + g * (j + g * k); };
+  std::vector<Triplet> t;
+  for (int k = 0; k < g; ++k)
+    for (int j = 0; j < g; ++j)
+      for (int i = 0; i < g; ++i) {
+        const int a = id(i, j, k);
+        t.emplace_back(a, a, 7.0);
+        const int neighbours[3] = {i + 1 < g ? id(i + 1, j, k) : -1,
+                                   j + 1 < g ? id(i, j + 1, k) : -1,
+                                   k + 1 < g ? id(i, j, k + 1) : -1};
+        for (int b : neighbours) {
+          if (b < 0) continue;
+          t.emplace_back(a, b, -1.0);
+          t.emplace_back(b, a, -1.0);
+        }
+      }
+  SparseMatrix A(g * g * g, g * g * g);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+TEST(SparseCholesky, TrailingOrderingSkipsTheForwardSolveExactly) {
+  const int g = 9, n = g * g * g;
+  const SparseMatrix A = grid_laplacian(g);
+  // `last`: the nodes of the face k = g − 1, in a scrambled order.
+  std::vector<int> last;
+  for (int a = 0; a < g * g; ++a) last.push_back(n - g * g + (a * 7) % (g * g));
+  const int m = static_cast<int>(last.size());
+  SparseCholesky cholesky;
+  ASSERT_TRUE(cholesky.factorize(A, last, LastOrdering::kAlways)) << cholesky.message();
+  ASSERT_EQ(cholesky.num_last(), m);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  Eigen::MatrixXd B_last(m, 4);
+  for (Eigen::Index i = 0; i < B_last.size(); ++i) B_last.data()[i] = value(rng);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, 4);
+  for (int j = 0; j < m; ++j) B.row(last[j]) = B_last.row(j);
+
+  // G⁻¹ b: zero above the trailing block (exactly: the forward solve of zeros), and the
+  // trailing rows from the dense triangular solve.
+  const Eigen::MatrixXd Y = cholesky.solve_lower(B);
+  EXPECT_EQ(Y.topRows(n - m).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::MatrixXd Z = cholesky.solve_lower_last(B_last);
+  EXPECT_LT((Z - Y.bottomRows(m)).norm(), kSolveTolerance * Z.norm());
+  // G⁻ᵀ [0; Z] = A⁻¹ b, against a dense Cholesky.
+  Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(n, 4);
+  padded.bottomRows(m) = Z;
+  const Eigen::MatrixXd X = cholesky.solve_upper(padded);
+  const Eigen::MatrixXd reference = Eigen::MatrixXd(A).llt().solve(B);
+  EXPECT_LT((X - reference).norm(), kSolveTolerance * reference.norm());
+  // bᵀ A⁻¹ b = Zᵀ Z (the Craig–Bampton Schur-complement identity).
+  EXPECT_LT((Z.transpose() * Z - B.transpose() * reference).norm(),
+            kSolveTolerance * (Z.transpose() * Z).norm());
+}
+
+TEST(SparseCholesky, TrailingOrderingCanBeRefusedAndChecksItsIndices) {
+  const SparseMatrix A = grid_laplacian(5);
+  const std::vector<int> last = {3, 17, 60};
+  SparseCholesky never;
+  ASSERT_TRUE(never.factorize(A, last, LastOrdering::kNever));
+  EXPECT_EQ(never.num_last(), 0);
+  EXPECT_THROW(never.solve_lower_last(Eigen::MatrixXd::Ones(3, 1)), InvalidInput);
+  SparseCholesky automatic;
+  ASSERT_TRUE(automatic.factorize(A, last, LastOrdering::kAuto, 100.0, 0.0));
+  EXPECT_TRUE(automatic.num_last() == 0 || automatic.num_last() == 3);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.rows(), 1.0, 2.0);
+  EXPECT_LT((A * automatic.solve(Eigen::MatrixXd(b)) - b).norm() / b.norm(), kSolveTolerance);
+  SparseCholesky bad;
+  const std::vector<int> repeated = {3, 3}, outside = {125};
+  EXPECT_THROW(bad.factorize(A, repeated, LastOrdering::kAlways), InvalidInput);
+  EXPECT_THROW(bad.factorize(A, outside, LastOrdering::kAlways), InvalidInput);
+}
+
 TEST(ScopedBlasThreads, NestsAndRestores) {
   // A no-op without OpenBLAS; with it, solves still work inside the scope.
   const SparseMatrix A = random_spd(40, 12);

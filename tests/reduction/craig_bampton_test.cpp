@@ -179,10 +179,12 @@ int expect_resolved_below_cutoff(const Eigen::VectorXd& full, const Eigen::Vecto
   return checked;
 }
 
-CraigBamptonResult reduce(const Body& b, int modes, int block = 128) {
+CraigBamptonResult reduce(const Body& b, int modes, int block = 128,
+                          LastOrdering ordering = LastOrdering::kAuto) {
   CraigBamptonOptions o;
   o.num_modes = modes;
   o.block_size = block;
+  o.coupled_last = ordering;
   CraigBamptonResult r = craig_bampton(b.K, b.M, b.constrained, b.boundary, o);
   EXPECT_TRUE(r.summary.ok()) << r.summary.message;
   return r;
@@ -194,9 +196,16 @@ constexpr double kProjectionTolerance = 1e-10;
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(CraigBampton, ReducedMatricesEqualTransposeProjectionsThroughT) {
+// Both factor orderings of K_ii: CHOLMOD's own, and the interior DOFs coupled to the boundary
+// last (constraint modes by backward half solves only, K_bi Φ_c = −ZᵀZ).
+class CraigBamptonOrdering : public ::testing::TestWithParam<LastOrdering> {};
+INSTANTIATE_TEST_SUITE_P(BothOrderings, CraigBamptonOrdering,
+                         ::testing::Values(LastOrdering::kNever, LastOrdering::kAlways));
+
+TEST_P(CraigBamptonOrdering, ReducedMatricesEqualTransposeProjectionsThroughT) {
   const Body b = default_lattice();
-  const CraigBamptonResult r = reduce(b, 20);
+  const CraigBamptonResult r = reduce(b, 20, 4, GetParam());
+  EXPECT_EQ(r.summary.coupled_last > 0, GetParam() == LastOrdering::kAlways);
   const int nr = 9 + 20;
   ASSERT_EQ(r.T.rows(), b.K.rows());
   ASSERT_EQ(r.T.cols(), nr);
@@ -220,9 +229,9 @@ TEST(CraigBampton, ReducedMatricesEqualTransposeProjectionsThroughT) {
   for (int d : b.constrained) EXPECT_EQ(r.T.row(d).cwiseAbs().maxCoeff(), 0.0);
 }
 
-TEST(CraigBampton, StaticBoundaryLoadGivesTheFullSolutionExactly) {
+TEST_P(CraigBamptonOrdering, StaticBoundaryLoadGivesTheFullSolutionExactly) {
   const Body b = default_lattice();
-  const CraigBamptonResult r = reduce(b, 30);
+  const CraigBamptonResult r = reduce(b, 30, 128, GetParam());
   const int n = static_cast<int>(b.K.rows()), nb = static_cast<int>(b.boundary.size());
   std::mt19937 rng(7);
   std::normal_distribution<double> g;
@@ -325,6 +334,18 @@ TEST(CraigBampton, DofMapNamesNodesDirectionsModesAndFixedInterfaceFrequencies) 
   EXPECT_EQ(r.summary.num_interior, static_cast<int>(interior.size()));
   EXPECT_EQ(r.summary.num_constrained, 27);
   EXPECT_GT(r.summary.factor_nonzeros, 0.0);
+}
+
+TEST(CraigBampton, BothOrderingsGiveTheSameGuyanReductionToRoundOff) {
+  const Body b = default_lattice();
+  const CraigBamptonResult never = reduce(b, 0, 2, LastOrdering::kNever);
+  const CraigBamptonResult last = reduce(b, 0, 2, LastOrdering::kAlways);
+  EXPECT_EQ(never.summary.coupled_last, 0);
+  // The DOFs coupled to the 3 masters: their lattice neighbours (up to 26 nodes each).
+  EXPECT_GT(last.summary.coupled_last, 9);
+  EXPECT_LE(max_abs(never.body.K - last.body.K), kProjectionTolerance * max_abs(never.body.K));
+  EXPECT_LE(max_abs(never.body.M - last.body.M), kProjectionTolerance * max_abs(never.body.M));
+  EXPECT_LE(max_abs(never.T - last.T), kProjectionTolerance * max_abs(never.T));
 }
 
 TEST(CraigBampton, BlockSizeDoesNotChangeTheResult) {
