@@ -1,12 +1,13 @@
 #include "recovery/stress_envelope.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <exception>
 #include <limits>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "core/errors.h"
 #include "core/types.h"
@@ -50,13 +51,186 @@ int max_harmonic(std::span<const int> harmonics) {
   return harmonics.empty() ? 0 : *std::max_element(harmonics.begin(), harmonics.end());
 }
 
+// Invariants of σ: I1 = tr σ; deviator d = σ − I1/3 I; J2 = ½ d:d (= σ_vm² / 3); J3 = det d;
+// q = sqrt(J2 / 3) (the deviatoric principal stresses are 2 q cos(φ − 2πm/3), m = 0, 1, 2).
+struct Invariants {
+  double I1 = 0.0, J2 = 0.0, J3 = 0.0, q = 0.0;
+};
+
+template <class V>
+Invariants invariants(const V& s) {
+  Invariants out;
+  out.I1 = s[0] + s[1] + s[2];
+  const double m = out.I1 / 3.0;
+  const double d0 = s[0] - m, d1 = s[1] - m, d2 = s[2] - m;
+  const double xy = s[3], xz = s[4], yz = s[5];
+  out.J2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + xy * xy + xz * xz + yz * yz;
+  out.J3 = d0 * (d1 * d2 - yz * yz) - xy * (xy * d2 - yz * xz) + xz * (xy * yz - d1 * xz);
+  out.q = std::sqrt(out.J2 / 3.0);
+  return out;
+}
+
+// φ in [0, π/3] with cos 3φ = J3 / (2 q³): the largest deviatoric principal stress is 2 q cos φ.
+double principal_angle(const Invariants& inv) {
+  const double r = inv.J3 / (2.0 * inv.q * inv.q * inv.q);
+  return std::acos(std::clamp(r, -1.0, 1.0)) / 3.0;
+}
+
+double max_principal(const Invariants& inv) {
+  if (!(inv.q > 0.0)) return inv.I1 / 3.0;
+  return inv.I1 / 3.0 + 2.0 * inv.q * std::cos(principal_angle(inv));
+}
+
+// Sign of σ_1 + σ_3 (+1 on a tie) without an eigen-solve: σ_1 + σ_3 = c − s_2 with c = 2 I1 / 3
+// and s_2 the middle deviatoric principal stress, |s_2| <= q <= s_1, s_3 <= −q. If |c| > q the
+// sign is that of c; otherwise s_3 <= c <= s_1 and the characteristic polynomial
+// g(c) = c³ − J2 c − J3 = (c − s_1)(c − s_2)(c − s_3) has the sign of −(c − s_2).
+double svm_sign(const Invariants& inv) {
+  const double c = 2.0 * inv.I1 / 3.0;
+  if (c > inv.q) return 1.0;
+  if (c < -inv.q) return -1.0;
+  const double g = (c * c - inv.J2) * c - inv.J3;
+  return g > 0.0 ? -1.0 : 1.0;
+}
+
+// σ_vm² = σᵀPσ as a symmetric bilinear form, for the derivatives along the period.
+template <class V, class W>
+double vm_dot(const V& x, const W& y) {
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2] -
+         0.5 * (x[0] * y[1] + x[1] * y[0] + x[1] * y[2] + x[2] * y[1] + x[0] * y[2] + x[2] * y[0]) +
+         3.0 * (x[3] * y[3] + x[4] * y[4] + x[5] * y[5]);
+}
+
+// One node's stress cycle σ(θ) = Σ_h A_h cos k_h θ + B_h sin k_h θ (θ = Ωt), A = Re S, B = −Im S.
+struct Cycle {
+  int nh = 0;
+  const int* k = nullptr;
+  const double* A = nullptr;  // 6 per harmonic
+  const double* B = nullptr;
+
+  void at(double theta, double* s, double* ds = nullptr, double* dds = nullptr) const {
+    for (int i = 0; i < 6; ++i) s[i] = 0.0;
+    if (ds) {
+      for (int i = 0; i < 6; ++i) ds[i] = dds[i] = 0.0;
+    }
+    for (int h = 0; h < nh; ++h) {
+      const double kk = k[h];
+      const double c = std::cos(kk * theta), sn = std::sin(kk * theta);
+      const double* a = A + 6 * h;
+      const double* b = B + 6 * h;
+      for (int i = 0; i < 6; ++i) s[i] += a[i] * c + b[i] * sn;
+      if (ds) {
+        for (int i = 0; i < 6; ++i) {
+          ds[i] += kk * (b[i] * c - a[i] * sn);
+          dds[i] -= kk * kk * (a[i] * c + b[i] * sn);
+        }
+      }
+    }
+  }
+};
+
+// Result of a search: the best value of the objective found at an evaluated instant.
+// Objective: dir · σ_vm²(θ) (dir = +1 maximise, −1 minimise), restricted to instants where the
+// sign of σ_svm equals `sign` (sign = 0: no restriction), searched in [lo, hi] from theta0
+// (whose value f0 is known and admissible) by safeguarded Newton steps on σ_vm².
+double newton_vm2(const Cycle& cycle, double theta0, double f0, double lo, double hi, double dir,
+                  double sign) {
+  constexpr int kMaxSteps = 8;
+  constexpr double kStepTolerance = 1e-13;  // radians; beyond this the value is at round-off
+  double theta = theta0, best = f0;
+  double s[6], ds[6], dds[6];
+  for (int it = 0; it < kMaxSteps; ++it) {
+    cycle.at(theta, s, ds, dds);
+    const double g = 2.0 * dir * vm_dot(s, ds);
+    const double h = 2.0 * dir * (vm_dot(ds, ds) + vm_dot(s, dds));
+    double next;
+    if (h < 0.0) {
+      next = theta - g / h;
+    } else {  // not concave here: move to the end of the bracket that the slope points to
+      next = g > 0.0 ? hi : lo;
+    }
+    next = std::clamp(next, lo, hi);
+    if (std::abs(next - theta) < kStepTolerance) break;
+    theta = next;
+    cycle.at(theta, s);
+    const double f = dir * vm_dot(s, s);
+    if (sign != 0.0 && svm_sign(invariants(s)) != sign) break;
+    best = std::max(best, f);
+  }
+  return best;
+}
+
+// Boundary of the region where sign(σ_svm) = sign between `inside` (sign holds) and `outside`
+// (it does not): the last admissible instant found by bisection.
+double sign_boundary(const Cycle& cycle, double inside, double outside, double sign) {
+  constexpr int kBisections = 40;  // (2π/N) 2^-40: far below any stress resolution
+  double s[6];
+  for (int it = 0; it < kBisections; ++it) {
+    const double mid = 0.5 * (inside + outside);
+    cycle.at(mid, s);
+    (svm_sign(invariants(s)) == sign ? inside : outside) = mid;
+  }
+  return inside;
+}
+
+// Maximum of σ_1 in [theta0 − delta, theta0 + delta] from sample theta0 (value f0 >= the values
+// fm, fp at the ends): successive parabolic interpolation, with a golden-section step whenever
+// the parabola's vertex is unusable; returns the best value evaluated.
+double refine_principal(const Cycle& cycle, double theta0, double delta, double fm, double f0,
+                        double fp) {
+  constexpr int kMaxSteps = 24;
+  constexpr double kBracket = 1e-7;  // radians: the value error is then ~ H² A 1e-14
+  constexpr double kGolden = 0.3819660112501051;
+  double x[3] = {theta0 - delta, theta0, theta0 + delta};
+  double f[3] = {fm, f0, fp};
+  double best = f0;
+  double s[6];
+  for (int it = 0; it < kMaxSteps && x[2] - x[0] > kBracket; ++it) {
+    const double a = x[1] - x[0], b = x[1] - x[2];
+    const double fa = f[1] - f[0], fb = f[1] - f[2];
+    const double den = a * fb - b * fa;
+    double v = den != 0.0 ? x[1] - 0.5 * (a * a * fb - b * b * fa) / den : x[1];
+    const double tiny = 1e-3 * (x[2] - x[0]);
+    if (!(v > x[0] + tiny && v < x[2] - tiny) || std::abs(v - x[1]) < tiny) {
+      // Golden-section step into the larger side.
+      v = (x[1] - x[0] > x[2] - x[1]) ? x[1] - kGolden * (x[1] - x[0])
+                                      : x[1] + kGolden * (x[2] - x[1]);
+    }
+    cycle.at(v, s);
+    const double fv = max_principal(invariants(s));
+    best = std::max(best, fv);
+    if (v < x[1]) {
+      if (fv >= f[1]) {
+        x[2] = x[1], f[2] = f[1], x[1] = v, f[1] = fv;
+      } else {
+        x[0] = v, f[0] = fv;
+      }
+    } else {
+      if (fv >= f[1]) {
+        x[0] = x[1], f[0] = f[1], x[1] = v, f[1] = fv;
+      } else {
+        x[2] = v, f[2] = fv;
+      }
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 void validate(const StressEnvelopeOptions& options, int max_harmonic) {
-  require(options.time_samples >= 2 * (2 * max_harmonic + 1), "StressEnvelopeOptions::time_samples",
-          std::to_string(options.time_samples),
-          "time_samples >= 2 (2 H + 1) = " + std::to_string(2 * (2 * max_harmonic + 1)) +
+  require(options.time_samples == 0 || options.time_samples >= 2 * (2 * max_harmonic + 1),
+          "StressEnvelopeOptions::time_samples", std::to_string(options.time_samples),
+          "0 (automatic) or time_samples >= 2 (2 H + 1) = " +
+              std::to_string(2 * (2 * max_harmonic + 1)) +
               " for the highest harmonic H = " + std::to_string(max_harmonic));
+  require(options.num_threads >= 0, "StressEnvelopeOptions::num_threads",
+          std::to_string(options.num_threads), "num_threads >= 0 (0 = one per hardware thread)");
+}
+
+int envelope_time_samples(const StressEnvelopeOptions& options, int max_harmonic) {
+  validate(options, max_harmonic);
+  return options.time_samples > 0 ? options.time_samples : std::max(16, 8 * (2 * max_harmonic + 1));
 }
 
 double von_mises_stress(const Voigt& s) {
@@ -66,20 +240,18 @@ double von_mises_stress(const Voigt& s) {
 }
 
 Eigen::Vector3d principal_stresses(const Voigt& s) {
-  Eigen::Matrix3d t;
-  t << s(0), s(3), s(4),  //
-      s(3), s(1), s(5),   //
-      s(4), s(5), s(2);
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(t, Eigen::EigenvaluesOnly);
-  const Eigen::Vector3d ascending = solver.eigenvalues();
-  return {ascending(2), ascending(1), ascending(0)};
+  const Invariants inv = invariants(s);
+  const double mean = inv.I1 / 3.0;
+  if (!(inv.q > 0.0)) return Eigen::Vector3d::Constant(mean);
+  const double phi = principal_angle(inv);
+  const double s1 = 2.0 * inv.q * std::cos(phi);
+  const double s3 = 2.0 * inv.q * std::cos(phi + 2.0 * kPi / 3.0);
+  return {mean + s1, mean - s1 - s3, mean + s3};
 }
 
 double signed_von_mises_stress(const Voigt& s) {
-  const Eigen::Vector3d p = principal_stresses(s);
-  const double sign = std::abs(p(2)) > std::abs(p(0)) ? -1.0 : 1.0;
-  return sign * von_mises_stress(s);
+  const Invariants inv = invariants(s);
+  return svm_sign(inv) * std::sqrt(3.0 * inv.J2);
 }
 
 std::vector<ComplexStressMatrix> harmonic_stresses(const Mesh& mesh,
@@ -118,14 +290,20 @@ std::vector<ComplexStressMatrix> ModalStressBasis::stresses(const ModalRecovery&
   if (c.rows() != S_.cols()) {
     throw InvalidInput("ModalStressBasis::stresses: built for another modal recovery");
   }
-  Eigen::MatrixXd re = S_ * c.real(), im = S_ * c.imag();
+  // One pass over S_ for all harmonics, real and imaginary parts: S_ [Re c, Im c].
+  const Eigen::Index m = c.cols();
+  Eigen::MatrixXd c_split(c.rows(), 2 * m);
+  c_split.leftCols(m) = c.real();
+  c_split.rightCols(m) = c.imag();
+  const Eigen::MatrixXd y = S_ * c_split;
   std::vector<ComplexStressMatrix> out;
-  for (Eigen::Index j = 0; j < c.cols(); ++j) {
+  for (Eigen::Index j = 0; j < m; ++j) {
     ComplexStressMatrix s(6, num_nodes_);
-    s.real() = Eigen::Map<const StressMatrix>(re.col(j).data(), 6, num_nodes_);
-    s.imag() = harmonics[static_cast<size_t>(j)] == 0
-                   ? StressMatrix::Zero(6, num_nodes_)
-                   : StressMatrix(Eigen::Map<const StressMatrix>(im.col(j).data(), 6, num_nodes_));
+    s.real() = Eigen::Map<const StressMatrix>(y.col(j).data(), 6, num_nodes_);
+    s.imag() =
+        harmonics[static_cast<size_t>(j)] == 0
+            ? StressMatrix::Zero(6, num_nodes_)
+            : StressMatrix(Eigen::Map<const StressMatrix>(y.col(m + j).data(), 6, num_nodes_));
     out.push_back(std::move(s));
   }
   return out;
@@ -134,7 +312,8 @@ std::vector<ComplexStressMatrix> ModalStressBasis::stresses(const ModalRecovery&
 std::vector<StressMatrix> stress_time_history(std::span<const ComplexStressMatrix> amplitudes,
                                               std::span<const int> harmonics, int time_samples) {
   check_amplitudes(amplitudes, harmonics);
-  validate(StressEnvelopeOptions{.time_samples = time_samples}, max_harmonic(harmonics));
+  require(time_samples >= 2 * (2 * max_harmonic(harmonics) + 1), "time_samples",
+          std::to_string(time_samples), "time_samples >= 2 (2 H + 1)");
   std::vector<StressMatrix> out;
   out.reserve(static_cast<size_t>(time_samples));
   for (int j = 0; j < time_samples; ++j) {
@@ -153,52 +332,210 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
                                std::span<const int> harmonics,
                                const StressEnvelopeOptions& options) {
   check_amplitudes(amplitudes, harmonics);
-  validate(options, max_harmonic(harmonics));
-  const int N = options.time_samples;
+  const int H = max_harmonic(harmonics);
+  const int N = envelope_time_samples(options, H);
   const Eigen::Index num_nodes = amplitudes[0].cols();
-  const size_t nh = harmonics.size();
-  // cos/sin of every harmonic at every sample.
-  Eigen::MatrixXd c(static_cast<Eigen::Index>(nh), N), s(static_cast<Eigen::Index>(nh), N);
-  for (size_t h = 0; h < nh; ++h) {
-    for (int j = 0; j < N; ++j) {
-      // Reduce k j mod N first: exact sample angles for large k j.
+  const int nh = static_cast<int>(harmonics.size());
+  // cos/sin of every harmonic at every sample (k j reduced mod N first: exact sample angles).
+  std::vector<double> cs(static_cast<size_t>(2 * nh * N));
+  for (int j = 0; j < N; ++j) {
+    for (int h = 0; h < nh; ++h) {
       const double theta = 2.0 * kPi * ((static_cast<long long>(harmonics[h]) * j) % N) / N;
-      c(static_cast<Eigen::Index>(h), j) = std::cos(theta);
-      s(static_cast<Eigen::Index>(h), j) = std::sin(theta);
+      cs[static_cast<size_t>(2 * (j * nh + h))] = std::cos(theta);
+      cs[static_cast<size_t>(2 * (j * nh + h) + 1)] = std::sin(theta);
     }
   }
+  const double delta = 2.0 * kPi / N;
+  // Sampling shortfall bound of σ_vm² (degree 2H): g = (2H)² δ² / 8 of its maximum. Sample local
+  // maxima within 2g of the best one may hide the true maximum and are refined too.
+  const double gap = std::min(1.0, 2.0 * (2.0 * H) * (2.0 * H) * delta * delta / 8.0);
+  // The same for σ_1 (a maximum of degree-H functionals n·σn): H² δ² / 8 of the dynamic
+  // amplitude, doubled as for σ_vm².
+  const double p_gap = 2.0 * H * H * delta * delta / 8.0;
   StressEnvelope env;
   env.von_mises_max.resize(num_nodes);
   env.max_principal_max.resize(num_nodes);
   env.von_mises_alternating.resize(num_nodes);
   env.von_mises_mean.resize(num_nodes);
   env.von_mises_static = Eigen::VectorXd::Zero(num_nodes);
-  const double inf = std::numeric_limits<double>::infinity();
-  for (Eigen::Index n = 0; n < num_nodes; ++n) {
-    double vm_max = 0.0, p1_max = -inf, svm_max = -inf, svm_min = inf;
-    for (int j = 0; j < N; ++j) {
-      Voigt sigma = Voigt::Zero();
-      for (size_t h = 0; h < nh; ++h) {
-        const auto hi = static_cast<Eigen::Index>(h);
-        sigma += amplitudes[h].col(n).real() * c(hi, j) - amplitudes[h].col(n).imag() * s(hi, j);
+  const bool refine = options.refine;
+  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  int threads = std::clamp(options.num_threads == 0 ? hardware : options.num_threads, 1, 64);
+  constexpr Eigen::Index kNodesPerThread = 2000;  // below this a thread costs more than it saves
+  threads = static_cast<int>(std::min<Eigen::Index>(threads, num_nodes / kNodesPerThread + 1));
+
+  auto work = [&](Eigen::Index n0, Eigen::Index n1) {
+    std::vector<double> coef(static_cast<size_t>(12 * nh));
+    std::vector<double> vm2(static_cast<size_t>(N)), sign(static_cast<size_t>(N)),
+        upper(static_cast<size_t>(N)), p1(static_cast<size_t>(N));
+    std::vector<Invariants> inv(static_cast<size_t>(N));
+    Cycle cycle{nh, harmonics.data(), coef.data(), coef.data() + 6 * nh};
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (Eigen::Index n = n0; n < n1; ++n) {
+      for (int h = 0; h < nh; ++h) {
+        for (int i = 0; i < 6; ++i) {
+          const std::complex<double> a = amplitudes[static_cast<size_t>(h)](i, n);
+          coef[static_cast<size_t>(6 * h + i)] = a.real();
+          coef[static_cast<size_t>(6 * (nh + h) + i)] = harmonics[h] == 0 ? 0.0 : -a.imag();
+        }
       }
-      const double vm = von_mises_stress(sigma);
-      const Eigen::Vector3d p = principal_stresses(sigma);
-      const double svm = std::abs(p(2)) > std::abs(p(0)) ? -vm : vm;
-      vm_max = std::max(vm_max, vm);
-      p1_max = std::max(p1_max, p(0));
-      svm_max = std::max(svm_max, svm);
-      svm_min = std::min(svm_min, svm);
+      // Samples: σ_vm², sign of σ_svm, the bound on σ_1.
+      int j_vm = 0;
+      for (int j = 0; j < N; ++j) {
+        double s[6] = {0, 0, 0, 0, 0, 0};
+        const double* t = cs.data() + 2 * j * nh;
+        for (int h = 0; h < nh; ++h) {
+          const double* a = cycle.A + 6 * h;
+          const double* b = cycle.B + 6 * h;
+          for (int i = 0; i < 6; ++i) s[i] += a[i] * t[2 * h] + b[i] * t[2 * h + 1];
+        }
+        const Invariants v = invariants(s);
+        inv[static_cast<size_t>(j)] = v;
+        vm2[static_cast<size_t>(j)] = 3.0 * v.J2;
+        sign[static_cast<size_t>(j)] = svm_sign(v);
+        upper[static_cast<size_t>(j)] = v.I1 / 3.0 + 2.0 * v.q;
+        p1[static_cast<size_t>(j)] = nan;
+        if (vm2[static_cast<size_t>(j)] > vm2[static_cast<size_t>(j_vm)]) j_vm = j;
+      }
+      auto theta = [&](int j) { return delta * j; };
+      auto wrap = [&](int j) { return (j % N + N) % N; };
+      // Bound on |n·(σ(t) − S_0)n| over unit n: Σ_k>0 |S_k| (Frobenius <= √2 Voigt norm).
+      auto dynamic_amplitude = [&] {
+        double a = 0.0;
+        for (int h = 0; h < nh; ++h) {
+          if (harmonics[h] == 0) continue;
+          double sq = 0.0;
+          for (int i = 0; i < 6; ++i) {
+            sq += cycle.A[6 * h + i] * cycle.A[6 * h + i] + cycle.B[6 * h + i] * cycle.B[6 * h + i];
+          }
+          a += std::sqrt(2.0 * sq);
+        }
+        return a;
+      };
+      auto principal_at = [&](int j) {
+        double& v = p1[static_cast<size_t>(wrap(j))];
+        if (std::isnan(v)) v = max_principal(inv[static_cast<size_t>(wrap(j))]);
+        return v;
+      };
+
+      // von Mises maximum.
+      double vm2_max = vm2[static_cast<size_t>(j_vm)];
+      if (refine && vm2_max > 0.0) {
+        const double floor = vm2_max * (1.0 - gap);
+        for (int j = 0; j < N; ++j) {
+          const double f = vm2[static_cast<size_t>(j)];
+          if (f < floor || f <= vm2[static_cast<size_t>(wrap(j - 1))] ||
+              f < vm2[static_cast<size_t>(wrap(j + 1))]) {
+            if (j != j_vm) continue;
+          }
+          vm2_max = std::max(vm2_max, newton_vm2(cycle, theta(j), f, theta(j) - delta,
+                                                 theta(j) + delta, 1.0, 0.0));
+        }
+      }
+
+      // Maximum principal stress: exact values only where the bound can beat the best (less
+      // the sampling shortfall bound when refining, so that every candidate peak is known).
+      int j_p = 0;
+      for (int j = 1; j < N; ++j) {
+        if (upper[static_cast<size_t>(j)] > upper[static_cast<size_t>(j_p)]) j_p = j;
+      }
+      double p_max = principal_at(j_p);
+      const double p_slack = refine ? p_gap * dynamic_amplitude() : 0.0;
+      for (int j = 0; j < N; ++j) {
+        if (upper[static_cast<size_t>(j)] > p_max - p_slack && principal_at(j) > p_max) {
+          p_max = principal_at(j);
+          j_p = j;
+        }
+      }
+      if (refine && vm2_max > 0.0) {
+        const double floor = p_max - p_slack;
+        for (int j = 0; j < N; ++j) {
+          const double f = p1[static_cast<size_t>(j)];
+          if (std::isnan(f) || f < floor) continue;
+          const double fm = principal_at(j - 1), fp = principal_at(j + 1);
+          if (f < fm || f < fp) continue;  // not a sampled peak
+          p_max = std::max(p_max, refine_principal(cycle, theta(j), delta, fm, f, fp));
+        }
+      }
+
+      // Signed von Mises extremes. o_j = sign_j σ_vm²(t_j) orders the samples like σ_svm;
+      // up = +1 for the maximum, −1 for the minimum, u = up o is maximised. Candidates: sampled
+      // peaks of u within the shortfall bound (polished by Newton on σ_vm² inside their sign
+      // region), and, where the sign flips between two samples, the boundary on the side that
+      // helps (the supremum there is approached at the jump).
+      auto extreme = [&](double up) {
+        auto u = [&](int j) {
+          return up * sign[static_cast<size_t>(wrap(j))] * vm2[static_cast<size_t>(wrap(j))];
+        };
+        int jb = 0;
+        for (int j = 1; j < N; ++j) {
+          if (u(j) > u(jb)) jb = j;
+        }
+        double best = u(jb);
+        if (refine && vm2_max > 0.0) {
+          const double slack = gap * vm2_max;
+          for (int j = 0; j < N; ++j) {
+            if (u(j) < best - slack || (j != jb && (u(j) <= u(j - 1) || u(j) < u(j + 1)))) {
+              continue;
+            }
+            const double sg = sign[static_cast<size_t>(j)];
+            // Within the sign region of sample j the objective u is (up sg) σ_vm².
+            best = std::max(best, newton_vm2(cycle, theta(j), u(j), theta(j) - delta,
+                                             theta(j) + delta, up * sg, sg));
+          }
+          // Jumps: vm² on [t_j, t_j+1] is below its end values plus H δ max σ_vm² (Bernstein).
+          const double rise = H * delta * vm2_max / (1.0 - std::min(gap, 0.5));
+          for (int j = 0; j < N; ++j) {
+            const double a = sign[static_cast<size_t>(j)],
+                         b = sign[static_cast<size_t>(wrap(j + 1))];
+            if (a == b) continue;
+            const double side = up * a > 0.0 ? a : b;  // the sign whose σ_svm helps
+            const double bound =
+                std::max(vm2[static_cast<size_t>(j)], vm2[static_cast<size_t>(wrap(j + 1))]) + rise;
+            if (bound <= best) continue;
+            const double inside = side == a ? theta(j) : theta(j + 1);
+            const double outside = side == a ? theta(j + 1) : theta(j);
+            double s[6];
+            cycle.at(sign_boundary(cycle, inside, outside, side), s);
+            const Invariants v = invariants(s);
+            if (svm_sign(v) == side) best = std::max(best, 3.0 * v.J2);
+          }
+        }
+        const double o = up * best;  // sign · σ_vm²
+        return o >= 0.0 ? std::sqrt(o) : -std::sqrt(-o);
+      };
+      const double svm_max = extreme(1.0);
+      const double svm_min = extreme(-1.0);
+
+      env.von_mises_max(n) = std::sqrt(vm2_max);
+      env.max_principal_max(n) = p_max;
+      env.von_mises_alternating(n) = 0.5 * (svm_max - svm_min);
+      env.von_mises_mean(n) = 0.5 * (svm_max + svm_min);
+      for (int h = 0; h < nh; ++h) {
+        if (harmonics[h] == 0) {
+          env.von_mises_static(n) =
+              von_mises_stress(Voigt(Eigen::Map<const Voigt>(cycle.A + 6 * h)));
+        }
+      }
     }
-    env.von_mises_max(n) = vm_max;
-    env.max_principal_max(n) = p1_max;
-    env.von_mises_alternating(n) = 0.5 * (svm_max - svm_min);
-    env.von_mises_mean(n) = 0.5 * (svm_max + svm_min);
-  }
-  for (size_t h = 0; h < nh; ++h) {
-    if (harmonics[h] != 0) continue;
-    for (Eigen::Index n = 0; n < num_nodes; ++n) {
-      env.von_mises_static(n) = von_mises_stress(amplitudes[h].col(n).real());
+  };
+  if (threads <= 1) {
+    work(0, num_nodes);
+  } else {
+    std::vector<std::thread> pool;
+    std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
+    for (int t = 0; t < threads; ++t) {
+      pool.emplace_back([&, t] {
+        try {
+          work(num_nodes * t / threads, num_nodes * (t + 1) / threads);
+        } catch (...) {
+          errors[static_cast<size_t>(t)] = std::current_exception();
+        }
+      });
+    }
+    for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors) {
+      if (e) std::rethrow_exception(e);
     }
   }
   return env;
