@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/errors.h"
@@ -40,13 +41,36 @@ void gemm(char transa, char transb, int m, int n, int k, const double* a, int ld
 }
 
 // Y (rows of A x cols) = A X for A sparse row-major and X, Y dense row-major: one pass over A,
-// each nonzero an axpy on a contiguous row (cols = first `cols` columns of X).
+// each nonzero an axpy on a contiguous row (cols = first `cols` columns of X). The rows are split
+// between two threads (the machine's two cores; the product is memory-bound).
 void sparse_times_rows(const RowSparse& A, const RowMatrix& X, int cols, RowMatrix& Y) {
-  Y.setZero(A.rows(), cols);
-  for (int r = 0; r < A.outerSize(); ++r) {
-    auto y = Y.row(r);
-    for (RowSparse::InnerIterator it(A, r); it; ++it) {
-      y.noalias() += it.value() * X.row(it.col()).head(cols);
+  Y.resize(A.rows(), cols);
+  auto rows = [&](int r0, int r1) {
+    for (int r = r0; r < r1; ++r) {
+      auto y = Y.row(r);
+      y.setZero();
+      for (RowSparse::InnerIterator it(A, r); it; ++it) {
+        y.noalias() += it.value() * X.row(it.col()).head(cols);
+      }
+    }
+  };
+  const int half = static_cast<int>(A.outerSize()) / 2;
+  std::thread helper(rows, half, static_cast<int>(A.outerSize()));
+  rows(0, half);
+  helper.join();
+}
+
+// T(rows[r], :) = Psi(r, :) for column-major T and row-major Psi, in column strips so that
+// both are walked with short strides.
+void scatter_rows(const RowMatrix& Psi, const std::vector<int>& rows, Eigen::MatrixXd& T) {
+  constexpr int kStrip = 8;
+  const int nr = static_cast<int>(Psi.cols());
+  for (int c0 = 0; c0 < nr; c0 += kStrip) {
+    const int cs = std::min(kStrip, nr - c0);
+    for (size_t r = 0; r < rows.size(); ++r) {
+      const double* source = Psi.data() + r * static_cast<size_t>(nr) + c0;
+      double* target = T.data() + static_cast<size_t>(c0) * T.rows() + rows[r];
+      for (int c = 0; c < cs; ++c) target[static_cast<size_t>(c) * T.rows()] = source[c];
     }
   }
 }
@@ -288,7 +312,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   if (options.keep_basis) {
     result.T = Eigen::MatrixXd::Zero(n, nr);
     for (int k = 0; k < nb; ++k) result.T(boundary[k], k) = 1.0;
-    for (int r = 0; r < ni; ++r) result.T.row(interior[r]) = Psi.row(r);
+    scatter_rows(Psi, interior, result.T);
   }
   summary.seconds_projection = seconds_since(start);
   return result;
