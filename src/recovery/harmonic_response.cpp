@@ -2,11 +2,14 @@
 
 #include <Eigen/UmfPackSupport>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "core/errors.h"
 #include "linalg/sparse_cholesky.h"
@@ -62,6 +65,10 @@ Eigen::MatrixXcd join(const Eigen::MatrixXd& split) {
   return out;
 }
 
+// Below this many rows per thread a thread costs more than it saves.
+constexpr Eigen::Index kRowsPerThread = 20000;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -78,6 +85,8 @@ void validate(const RayleighDamping& damping) {
 void validate(const ModalRecoveryOptions& options) {
   require(options.num_modes >= 1, "ModalRecoveryOptions::num_modes",
           std::to_string(options.num_modes), "num_modes >= 1");
+  require(options.num_threads >= 0, "ModalRecoveryOptions::num_threads",
+          std::to_string(options.num_threads), "num_threads >= 0 (0 = one per hardware thread)");
   ModalOptions modal = options.modal;
   modal.num_modes = options.num_modes;
   validate(modal);
@@ -98,7 +107,8 @@ Eigen::VectorXcd complex_nodal_force_vector(int num_nodes,
 }
 
 Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::MatrixXcd& loads,
-                                   std::span<const int> harmonics, double omega) {
+                                   std::span<const int> harmonics, double omega,
+                                   RecoverySummary* summary) {
   if (loads.cols() != static_cast<Eigen::Index>(harmonics.size())) {
     throw InvalidInput("harmonic_response: loads has " + std::to_string(loads.cols()) +
                        " columns but " + std::to_string(harmonics.size()) + " harmonics");
@@ -113,19 +123,39 @@ Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::Ma
                          ") has an imaginary part; the mean must be real");
     }
   }
-  Eigen::MatrixXcd x = solver.solve_harmonics(loads, harmonics, omega);
+  Eigen::MatrixXcd x = solver.solve_harmonics(loads, harmonics, omega, summary);
   for (Eigen::Index j = 0; j < loads.cols(); ++j) {
-    if (harmonics[static_cast<size_t>(j)] == 0) x.col(j).imag().setZero();
+    if (harmonics[static_cast<size_t>(j)] == 0 && !std::isnan(x.col(j).real().sum())) {
+      x.col(j).imag().setZero();
+    }
   }
   return x;
 }
 
+namespace {
+
+// Adds a failed harmonic to a summary (the first failure sets the termination type).
+void record_failure(RecoverySummary* summary, RecoveryTermination termination, int harmonic,
+                    const std::string& message) {
+  if (summary == nullptr) return;
+  if (summary->ok()) summary->termination = termination;
+  summary->failed_harmonics.push_back(harmonic);
+  summary->message += (summary->message.empty() ? "" : "; ") + message;
+}
+
+}  // namespace
+
 Eigen::MatrixXcd HarmonicSolver::solve_harmonics(const Eigen::MatrixXcd& loads,
-                                                 std::span<const int> harmonics,
-                                                 double omega) const {
+                                                 std::span<const int> harmonics, double omega,
+                                                 RecoverySummary* summary) const {
+  if (summary != nullptr) *summary = RecoverySummary{};
   Eigen::MatrixXcd x(num_dofs(), loads.cols());
   for (Eigen::Index j = 0; j < loads.cols(); ++j) {
-    x.col(j) = solve(loads.col(j), harmonics[static_cast<size_t>(j)], omega);
+    RecoverySummary one;
+    x.col(j) = solve(loads.col(j), harmonics[static_cast<size_t>(j)], omega, &one);
+    if (!one.ok()) {
+      record_failure(summary, one.termination, harmonics[static_cast<size_t>(j)], one.message);
+    }
   }
   return x;
 }
@@ -162,8 +192,9 @@ DirectRecovery::~DirectRecovery() = default;
 bool DirectRecovery::ok() const { return impl_->static_factor.ok(); }
 const std::string& DirectRecovery::message() const { return impl_->message; }
 
-Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic,
-                                       double omega) const {
+Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
+                                       RecoverySummary* summary) const {
+  if (summary != nullptr) *summary = RecoverySummary{};
   check_loads(F, dofs_.num_dofs(), harmonic, omega, "DirectRecovery::solve");
   if (!ok()) throw InvalidInput("DirectRecovery::solve: setup failed: " + impl_->message);
   const double w = harmonic * omega;
@@ -182,13 +213,17 @@ Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic,
   lu.compute(D);
   if (lu.info() != Eigen::Success) {
     const long status = lu.info() == Eigen::InvalidInput ? -999 : lu.umfpackFactorizeReturncode();
-    const std::string what = status == UMFPACK_WARNING_singular_matrix
-                                 ? "D_k is singular (undamped resonance?)"
+    const bool singular = status == UMFPACK_WARNING_singular_matrix;
+    const std::string what = singular ? "D_k is singular (undamped resonance)"
                              : status == UMFPACK_ERROR_out_of_memory
                                  ? "UMFPACK ran out of memory"
                                  : "UMFPACK failed (status " + std::to_string(status) + ")";
-    throw InvalidInput("DirectRecovery::solve: " + what + " for harmonic " +
-                       std::to_string(harmonic) + " at omega = " + to_text(omega) + " rad/s");
+    record_failure(summary,
+                   singular ? RecoveryTermination::kSingular : RecoveryTermination::kFailure,
+                   harmonic,
+                   what + " for harmonic " + std::to_string(harmonic) +
+                       " at omega = " + to_text(omega) + " rad/s");
+    return Eigen::MatrixXcd::Constant(dofs_.num_dofs(), F.cols(), kNaN);
   }
   const Eigen::MatrixXcd x_free = lu.solve(join(Ff));
   return expand_columns(dofs_, x_free);
@@ -210,6 +245,7 @@ struct ModalRecovery::Impl {
   std::string message;
   bool ok = false;
   double setup_seconds = 0.0;
+  int num_threads = 1;
 };
 
 ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
@@ -238,6 +274,9 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
     return;
   }
   impl_->damping_rates = (damping.alpha + damping.beta * impl_->modes.eigenvalues.array()).matrix();
+  impl_->num_threads = options.num_threads > 0
+                           ? options.num_threads
+                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (impl_->residual) {
     if (!impl_->static_factor.factorize(K_ff)) {
       impl_->message =
@@ -292,15 +331,18 @@ const Eigen::MatrixXd& ModalRecovery::modes() const { return impl_->modes.modes;
 const ModalSummary& ModalRecovery::modal_summary() const { return impl_->modes.summary; }
 double ModalRecovery::setup_seconds() const { return impl_->setup_seconds; }
 
-Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const {
+Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
+                                      RecoverySummary* summary) const {
   check_loads(F, dofs_.num_dofs(), harmonic, omega, "ModalRecovery::solve");
   if (!ok()) throw InvalidInput("ModalRecovery::solve: setup failed: " + impl_->message);
-  return solve_columns(F, Eigen::VectorXd::Constant(F.cols(), harmonic * omega));
+  const std::vector<int> harmonics(static_cast<size_t>(F.cols()), harmonic);
+  return solve_columns(F, Eigen::VectorXd::Constant(F.cols(), harmonic * omega), harmonics,
+                       summary);
 }
 
 Eigen::MatrixXcd ModalRecovery::solve_harmonics(const Eigen::MatrixXcd& loads,
-                                                std::span<const int> harmonics,
-                                                double omega) const {
+                                                std::span<const int> harmonics, double omega,
+                                                RecoverySummary* summary) const {
   Eigen::VectorXd w(loads.cols());
   for (Eigen::Index j = 0; j < loads.cols(); ++j) {
     const int k = harmonics[static_cast<size_t>(j)];
@@ -308,12 +350,14 @@ Eigen::MatrixXcd ModalRecovery::solve_harmonics(const Eigen::MatrixXcd& loads,
     w(j) = k * omega;
   }
   if (!ok()) throw InvalidInput("ModalRecovery::solve: setup failed: " + impl_->message);
-  return solve_columns(loads, w);
+  return solve_columns(loads, w, harmonics, summary);
 }
 
 // One pass over Φ (and R) for all columns: column j at angular frequency w(j).
-Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F,
-                                              const Eigen::VectorXd& w) const {
+Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F, const Eigen::VectorXd& w,
+                                              std::span<const int> harmonics,
+                                              RecoverySummary* summary) const {
+  if (summary != nullptr) *summary = RecoverySummary{};
   const Eigen::MatrixXd& Phi = impl_->modes.modes;
   const Eigen::VectorXd& lambda = impl_->modes.eigenvalues;
   const Eigen::Index m = F.cols();
@@ -343,10 +387,18 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F,
   const Eigen::MatrixXcd q = join(q_split);
   // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added.
   Eigen::MatrixXcd eta(q.rows(), m);
+  std::vector<char> singular(static_cast<size_t>(m), 0);
   for (Eigen::Index j = 0; j < m; ++j) {
     for (Eigen::Index r = 0; r < q.rows(); ++r) {
-      const std::complex<double> h =
-          1.0 / std::complex<double>(lambda(r) - w(j) * w(j), w(j) * impl_->damping_rates(r));
+      const std::complex<double> den(lambda(r) - w(j) * w(j), w(j) * impl_->damping_rates(r));
+      if (den == 0.0 && !singular[static_cast<size_t>(j)]) {
+        singular[static_cast<size_t>(j)] = 1;
+        const int k = harmonics[static_cast<size_t>(j)];
+        record_failure(summary, RecoveryTermination::kSingular, k,
+                       "undamped mode " + std::to_string(r + 1) + " at resonance for harmonic " +
+                           std::to_string(k) + " (k omega = omega_r)");
+      }
+      const std::complex<double> h = 1.0 / den;
       const std::complex<double> g = impl_->residual ? h - 1.0 / lambda(r) : h;
       eta(r, j) = g * q(r, j);
     }
@@ -362,13 +414,47 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F,
       eta_split.row(r).tail(m) += q_split.row(r).tail(m) / lambda(r);
     }
   }
-  Eigen::MatrixXd x_split = Phi * eta_split;  // num_free x 2m
-  if (use_R) {
-    x_split.noalias() += impl_->R * FB;
-  } else if (impl_->residual) {
-    x_split += impl_->static_factor.solve(Ff);
+  if (!use_R && impl_->residual) {
+    Eigen::MatrixXd x_split = impl_->static_factor.solve(Ff);
+    x_split.noalias() += Phi * eta_split;
+    Eigen::MatrixXcd x = expand_columns(dofs_, join(x_split));
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (singular[static_cast<size_t>(j)]) x.col(j).setConstant(kNaN);
+    }
+    return x;
   }
-  return expand_columns(dofs_, join(x_split));
+  // x = Φ η (+ R F_B): memory bound (Φ and R are streamed once); rows split over threads, each
+  // writing its rows straight into the full complex result.
+  Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(dofs_.num_dofs(), m);
+  const Eigen::Index num_free = Phi.rows();
+  const int threads =
+      static_cast<int>(std::clamp<Eigen::Index>(num_free / kRowsPerThread, 1, impl_->num_threads));
+  auto rows = [&](Eigen::Index r0, Eigen::Index r1) {
+    constexpr Eigen::Index kBlock = 4096;  // rows per product: the block result stays in cache
+    Eigen::MatrixXd y;
+    for (Eigen::Index b0 = r0; b0 < r1; b0 += kBlock) {
+      const Eigen::Index len = std::min(kBlock, r1 - b0);
+      y.noalias() = Phi.middleRows(b0, len) * eta_split;
+      if (use_R) y.noalias() += impl_->R.middleRows(b0, len) * FB;
+      for (Eigen::Index i = 0; i < len; ++i) {
+        const int d = dofs_.full_dof(static_cast<int>(b0 + i));
+        for (Eigen::Index j = 0; j < m; ++j) x(d, j) = {y(i, j), y(i, m + j)};
+      }
+    }
+  };
+  if (threads <= 1) {
+    rows(0, num_free);
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) {
+      pool.emplace_back(rows, num_free * t / threads, num_free * (t + 1) / threads);
+    }
+    for (std::thread& th : pool) th.join();
+  }
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (singular[static_cast<size_t>(j)]) x.col(j).setConstant(kNaN);
+  }
+  return x;
 }
 
 int ModalRecovery::num_basis_columns() const {

@@ -28,8 +28,11 @@
 //    K_ff positive definite (no rigid-body motion). Choose n at a gap of the spectrum: a
 //    truncation inside a group of repeated frequencies (symmetric bodies) depends on the
 //    arbitrary basis the eigen-solver picked for that eigenspace (and so differs between codes).
-// A failed factorisation or eigen-solve is a numerical outcome: ok() false, message() says why;
-// solve() on a failed object, and bad sizes or options, throw InvalidInput.
+// A failed setup (factorisation of K_ff or eigen-solve) is a numerical outcome: ok() false,
+// message() says why; solve() on a failed object, and bad sizes or options, throw InvalidInput.
+// A singular D_k at solve time (kΩ exactly at an undamped natural frequency: no damping and
+// h_r = 1/0) is a numerical outcome too, reported per call in a RecoverySummary: the columns of
+// that harmonic are NaN (never a finite wrong answer), the other harmonics are solved.
 #pragma once
 
 #include <complex>
@@ -63,16 +66,33 @@ struct ComplexNodalForce {
 Eigen::VectorXcd complex_nodal_force_vector(int num_nodes,
                                             std::span<const ComplexNodalForce> forces);
 
+// Outcome of one solve (STYLE.md's second error channel). Pass a summary to learn whether every
+// harmonic was solved; without one, unsolved columns are still NaN.
+enum class RecoveryTermination {
+  kSuccess,   // every harmonic solved
+  kSingular,  // D_k singular for the harmonics listed (undamped resonance): their columns NaN
+  kFailure,   // the sparse factorisation failed otherwise (e.g. out of memory): columns NaN
+};
+struct RecoverySummary {
+  RecoveryTermination termination = RecoveryTermination::kSuccess;
+  std::vector<int> failed_harmonics;  // harmonic numbers k whose columns are NaN
+  std::string message;                // empty on success
+  bool ok() const { return termination == RecoveryTermination::kSuccess; }
+};
+
 // Solves D_k x = F for one harmonic. F: num_dofs x m complex (m load cases at the same kΩ);
 // returns num_dofs x m, clamped rows 0. harmonic >= 0, omega >= 0 (rad/s).
 class HarmonicSolver {
  public:
   virtual ~HarmonicSolver() = default;
-  virtual Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const = 0;
+  // summary (optional) is reset and filled; see RecoverySummary.
+  virtual Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
+                                 RecoverySummary* summary = nullptr) const = 0;
   // Column j of `loads` at harmonic harmonics[j] (sizes checked by harmonic_response). The
   // default calls solve() per column; ModalRecovery does all columns in one pass.
   virtual Eigen::MatrixXcd solve_harmonics(const Eigen::MatrixXcd& loads,
-                                           std::span<const int> harmonics, double omega) const;
+                                           std::span<const int> harmonics, double omega,
+                                           RecoverySummary* summary = nullptr) const;
   virtual int num_dofs() const = 0;
   virtual bool ok() const = 0;
   virtual const std::string& message() const = 0;
@@ -80,19 +100,22 @@ class HarmonicSolver {
 
 // Response to several harmonics: column j of `loads` is harmonic harmonics[j] (num_dofs x nh);
 // returns num_dofs x nh. Harmonic 0's load must be real (imaginary part <= 1e-12 max|F|, else
-// InvalidInput) and so is its response.
+// InvalidInput) and so is its response. A harmonic that cannot be solved (singular D_k) gives a
+// NaN column and is reported in *summary (if given): check summary->ok().
 Eigen::MatrixXcd harmonic_response(const HarmonicSolver& solver, const Eigen::MatrixXcd& loads,
-                                   std::span<const int> harmonics, double omega);
+                                   std::span<const int> harmonics, double omega,
+                                   RecoverySummary* summary = nullptr);
 
 class DirectRecovery final : public HarmonicSolver {
  public:
   DirectRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
                  RayleighDamping damping);
   ~DirectRecovery() override;
-  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const override;
+  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
+                         RecoverySummary* summary = nullptr) const override;
   int num_dofs() const override { return dofs_.num_dofs(); }
-  // False if the static factorisation failed (then message()); a singular D_k in solve() throws
-  // InvalidInput naming the harmonic and frequency (undamped resonance).
+  // False if the static factorisation failed (then message()). A singular D_k in solve()
+  // (UMFPACK finds a zero pivot: undamped resonance) is reported in the summary, NaN columns.
   bool ok() const override;
   const std::string& message() const override;
 
@@ -112,6 +135,9 @@ struct ModalRecoveryOptions {
   // (x = Φ (h ∘ Φ_Bᵀ F_B) + R F_B) instead of a sparse triangular solve per load case. Loads with
   // entries elsewhere use the factor as usual. Constrained DOFs in the list are ignored.
   std::vector<int> load_dofs;
+  // Threads for the per-point products with Φ and R (rows split; memory bound, so 2 is where
+  // a two-channel machine saturates). 0 = one per hardware thread.
+  int num_threads = 0;
 };
 void validate(const ModalRecoveryOptions& options);
 
@@ -120,9 +146,10 @@ class ModalRecovery final : public HarmonicSolver {
   ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
                 RayleighDamping damping, const ModalRecoveryOptions& options = {});
   ~ModalRecovery() override;
-  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega) const override;
+  Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
+                         RecoverySummary* summary = nullptr) const override;
   Eigen::MatrixXcd solve_harmonics(const Eigen::MatrixXcd& loads, std::span<const int> harmonics,
-                                   double omega) const override;
+                                   double omega, RecoverySummary* summary = nullptr) const override;
   int num_dofs() const override { return dofs_.num_dofs(); }
   bool ok() const override;
   const std::string& message() const override;
@@ -144,7 +171,8 @@ class ModalRecovery final : public HarmonicSolver {
   double setup_seconds() const;  // modes + Cholesky factor of K_ff
 
  private:
-  Eigen::MatrixXcd solve_columns(const Eigen::MatrixXcd& F, const Eigen::VectorXd& w) const;
+  Eigen::MatrixXcd solve_columns(const Eigen::MatrixXcd& F, const Eigen::VectorXd& w,
+                                 std::span<const int> harmonics, RecoverySummary* summary) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   DofMap dofs_;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -475,6 +476,47 @@ TEST(HarmonicResponse, BadInputThrows) {
       complex_nodal_force_vector(
           2, std::vector<ComplexNodalForce>{{.node = 2, .force = Eigen::Vector3cd::Zero()}}),
       InvalidInput);
+}
+
+// Ω exactly at an undamped resonance: one node, K = diag(4, 9, 25) N/m, M = I kg, no damping,
+// Ω = 2 rad/s, so D_1 = K − 4 M has an exact zero pivot while D_0 = K and D_2 = K − 16 M are
+// regular. The singular harmonic is a numerical outcome: reported in the summary with NaN
+// columns (nothing thrown), the other harmonics solved exactly (closed form F_i / D_ii).
+TEST(HarmonicResponse, SingularDynamicStiffnessIsReportedNotThrown) {
+  std::vector<Eigen::Triplet<double>> kt{{0, 0, 4.0}, {1, 1, 9.0}, {2, 2, 25.0}};
+  std::vector<Eigen::Triplet<double>> mt{{0, 0, 1.0}, {1, 1, 1.0}, {2, 2, 1.0}};
+  SparseMatrix K(3, 3), M(3, 3);
+  K.setFromTriplets(kt.begin(), kt.end());
+  M.setFromTriplets(mt.begin(), mt.end());
+  const DofMap free_dofs(3, std::vector<int>{});
+  const DirectRecovery direct(K, M, free_dofs, {});
+  ASSERT_TRUE(direct.ok());
+  Eigen::MatrixXcd loads(3, 3);
+  loads.col(0) << 1.0, 2.0, 3.0;
+  loads.col(1) << Complex(1, 1), Complex(0, 2), Complex(-1, 0.5);
+  loads.col(2) << Complex(2, -1), Complex(1, 0), Complex(0, 3);
+  const std::vector<int> harmonics{0, 1, 2};
+  const double omega = 2.0;
+  RecoverySummary summary;
+  Eigen::MatrixXcd x;
+  ASSERT_NO_THROW(x = harmonic_response(direct, loads, harmonics, omega, &summary));
+  EXPECT_FALSE(summary.ok());
+  EXPECT_EQ(summary.termination, RecoveryTermination::kSingular);
+  EXPECT_EQ(summary.failed_harmonics, std::vector<int>{1});
+  EXPECT_NE(summary.message.find("harmonic 1"), std::string::npos) << summary.message;
+  EXPECT_TRUE(x.col(1).real().array().isNaN().all());
+  const Eigen::Vector3d k_diag(4.0, 9.0, 25.0);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(std::abs(x(i, 0) - loads(i, 0) / k_diag(i)), 0.0, 1e-15);
+    const double d2 = k_diag(i) - 16.0;  // K − (2Ω)² M
+    EXPECT_NEAR(std::abs(x(i, 2) - loads(i, 2) / d2), 0.0, 1e-15);
+  }
+  // Without a summary the outcome is the same NaN column; off resonance everything is solved.
+  const Eigen::MatrixXcd y = harmonic_response(direct, loads, harmonics, omega);
+  EXPECT_TRUE(y.col(1).real().array().isNaN().all());
+  harmonic_response(direct, loads, harmonics, 2.2, &summary);
+  EXPECT_TRUE(summary.ok());
+  EXPECT_TRUE(summary.failed_harmonics.empty());
 }
 
 TEST(HarmonicResponse, ComplexNodalForcesAddUp) {
