@@ -282,6 +282,17 @@ ModalStressBasis::ModalStressBasis(const ModalRecovery& modal, const Mesh& mesh,
   }
 }
 
+ModalStressBasis::ModalStressBasis(const ModalRecovery& modal, const NodalStressOperator& stress)
+    : num_nodes_(stress.num_nodes()) {
+  if (!modal.ok()) throw InvalidInput("ModalStressBasis: the modal recovery failed");
+  if (modal.num_dofs() != 3 * stress.num_nodes()) {
+    throw InvalidInput("ModalStressBasis: the modal recovery and the mesh have different DOFs");
+  }
+  Eigen::MatrixXd U(modal.num_dofs(), modal.num_basis_columns());
+  for (int c = 0; c < modal.num_basis_columns(); ++c) U.col(c) = modal.basis_column(c);
+  S_ = stress.apply(U);
+}
+
 std::vector<ComplexStressMatrix> ModalStressBasis::stresses(const ModalRecovery& modal,
                                                             const Eigen::MatrixXcd& loads,
                                                             std::span<const int> harmonics,

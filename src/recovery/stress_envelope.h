@@ -87,6 +87,9 @@ class ModalStressBasis {
  public:
   ModalStressBasis(const ModalRecovery& modal, const Mesh& mesh, const IsotropicMaterial& material,
                    const AssemblyOptions& options, std::span<const int> elements = {});
+  // The same matrix through a prebuilt NodalStressOperator (one sparse product with all basis
+  // columns instead of one element-by-element pass per column).
+  ModalStressBasis(const ModalRecovery& modal, const NodalStressOperator& stress);
   // Same loads, harmonics and Ω as ModalRecovery::coordinates.
   std::vector<ComplexStressMatrix> stresses(const ModalRecovery& modal,
                                             const Eigen::MatrixXcd& loads,

@@ -420,10 +420,18 @@ TEST(HarmonicResponse, ModalStressBasisMatchesStressesOfTheResponse) {
     const std::vector<ComplexStressMatrix> reference = harmonic_stresses(mesh, kSteel, {}, x);
     const ModalStressBasis basis(modal, mesh, kSteel, {});
     const std::vector<ComplexStressMatrix> fast = basis.stresses(modal, loads, harmonics, omega);
+    // The same basis through the sparse operator, and the operator on x directly.
+    const NodalStressOperator G(mesh, kSteel, {});
+    const ModalStressBasis basis_g(modal, G);
+    const std::vector<ComplexStressMatrix> fast_g =
+        basis_g.stresses(modal, loads, harmonics, omega);
+    const std::vector<ComplexStressMatrix> direct_g = G.apply(x);
     for (int h = 0; h < 3; ++h) {
       EXPECT_LT(max_relative(x_basis.col(h), x.col(h)), kLinearity);
       const double scale = reference[h].cwiseAbs().maxCoeff();
       EXPECT_LT((fast[h] - reference[h]).cwiseAbs().maxCoeff(), kLinearity * scale);
+      EXPECT_LT((fast_g[h] - reference[h]).cwiseAbs().maxCoeff(), kLinearity * scale);
+      EXPECT_LT((direct_g[h] - reference[h]).cwiseAbs().maxCoeff(), kLinearity * scale);
     }
     // A load off the declared DOFs cannot use the modal form.
     Eigen::MatrixXcd off = loads;
