@@ -1,19 +1,40 @@
-// The subcommands of the stickslip program. Each returns the process exit code
-// (0 success, 1 numerical failure reported to the user); bad input throws InvalidInput.
+// The subcommands of the stickslip program (docs/command-line.md). Each returns the process exit
+// code (0 success, 1 numerical failure reported to the user); bad input, and missing or stale
+// files of an earlier stage, throw InvalidInput naming the file and the command to run first.
+//
+// Stages and the files they share, in an output folder DIR (docs/output-files.md):
+//   mesh     DIR/mesh/<body>.inp, .vtu          the bodies' meshes as the case builds them
+//   reduce   DIR/reduced/<body>_K.hb, _M.hb, .mapping, [<body>_T.bin], manifest.txt
+//   modes    DIR/modes/frequencies.csv, modes_<body>.vtu (stuck assembly)
+//   solve    DIR/points.csv, master_response.csv, contact_forces.csv, contact_state.csv,
+//            histories.csv, summary.json
+//   recover  the recovery files of run (reads the solve files)
+//   export   DIR/loads_p<N>_<body>.mac | recovery_p<N>_<body>.inp (reads the solve files)
+//   plot     the pictures, from the CSV files
+//   run      all of the above in sequence (without reusing earlier files)
+// With a study, solve/recover/export/plot work per study folder DIR/<parameter>_<value>/.
 #pragma once
 
+#include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
+
+#include "cli/pipeline.h"
+#include "cli/results_files.h"
+#include "io/case_file.h"
 
 namespace stickslip {
 
 struct ModesCommand {
+  std::string case_file;  // empty: the reference two-beam joint (options below)
   std::string arrangement = "butt";
   int num_modes = 8;
   bool thesis_coarse = false;
   std::string element = "C3D8I";
-  double k_t = 4.467e9;   // N/m per pair (the thesis)
-  double k_n = 5.6309e9;  // N/m per pair (the thesis)
-  std::string output_dir = ".";
+  double k_t = 4.467e9;    // N/m per pair (the thesis)
+  double k_n = 5.6309e9;   // N/m per pair (the thesis)
+  std::string output_dir;  // empty: "." (no case) or the case's output.directory
   bool quiet = false;
 };
 int run_modes(const ModesCommand& command);
@@ -26,17 +47,104 @@ struct RunCommand {
 // Exit code 1 when some frequency points did not converge (they are still written).
 int run_case(const RunCommand& command);
 
-}  // namespace stickslip
-
-namespace stickslip {
-
-struct ReduceCommand {
+// Options shared by the stage commands that read a case.
+struct StageCommand {
   std::string case_file;
-  std::string output_dir = ".";
+  std::string output_dir;  // empty: the case file's output.directory
   bool quiet = false;
 };
+
+// Writes DIR/mesh/<body>.inp (sets included) and <body>.vtu (with clamped / master markers).
+int run_mesh(const StageCommand& command);
+
 // Reduces every mesh body of the case (Craig–Bampton onto its master nodes, as `run` would) and
-// writes <body>_K.hb, <body>_M.hb (Harwell–Boeing RSA, as ANSYS HBMAT) with their .mapping files.
-int run_reduce(const ReduceCommand& command);
+// writes DIR/reduced/<body>_K.hb, <body>_M.hb (Harwell–Boeing RSA, as ANSYS HBMAT) with their
+// .mapping files, the basis T (<body>_T.bin) when recovery.method is expansion, and manifest.txt.
+int run_reduce(const StageCommand& command);
+
+// The harmonic balance; writes the CSV/JSON files of run (no recovery, no plots).
+int run_solve(const StageCommand& command);
+
+struct RecoverCommand {
+  StageCommand stage;
+  std::string point;  // empty: recovery.points of the case; "peak", "all" or a point index
+};
+int run_recover(const RecoverCommand& command);
+
+struct ExportCommand {
+  StageCommand stage;
+  int point = -1;
+  std::string format;  // apdl | calculix
+};
+int run_export(const ExportCommand& command);
+
+struct PlotCommand {
+  std::string dir;
+  bool quiet = false;
+};
+int run_plot(const PlotCommand& command);
+
+// --- plumbing shared by the stage commands -------------------------------------------------------
+
+using ProgressFn = std::function<void(const std::string&)>;
+
+// One analysis of a case: the case itself, or one value of its study (folder "<param>_<value>").
+struct StageRun {
+  std::string folder;  // empty without a study
+  CaseDefinition definition;
+  std::filesystem::path dir;  // output folder of this analysis
+};
+std::vector<StageRun> stage_runs(const CaseDefinition& base, const std::filesystem::path& out_dir);
+std::filesystem::path stage_output_dir(const CaseDefinition& base, const std::string& output_dir);
+// "stickslip <stage> <case> -o <dir>", for messages that say what to run first.
+std::string stage_hint(const std::string& stage, const CaseDefinition& base,
+                       const std::filesystem::path& out_dir);
+
+// Fingerprint of everything the harmonic balance depends on (the case without its recovery and
+// output-format settings, plus the bytes of the mesh and matrix files it reads). Written to
+// summary.json by the solve; recover and export refuse solve files with another fingerprint.
+std::string solve_fingerprint(const CaseDefinition& definition);
+
+// The bodies of a case as cli/pipeline.cpp resolves them, without reducing anything.
+struct CaseBody {
+  std::string name;
+  bool from_mesh = false;
+  Mesh mesh;                   // from_mesh: the body's part of its mesh, with its sets
+  IsotropicMaterial material;  // from_mesh
+  std::vector<int> clamp;      // from_mesh: clamped node indices
+  std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
+  std::string fingerprint;     // from_mesh: of what its reduction depends on
+};
+struct CaseBodies {
+  std::vector<CaseBody> bodies;                                // CaseDefinition::bodies order
+  std::vector<std::vector<std::array<int, 2>>> contact_pairs;  // per contact: ids (0 = ground)
+  std::vector<std::vector<int>> excitation_ids;                // per excitation entry: node ids
+};
+CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressFn& progress);
+
+// The reduced model of `run` (cli/pipeline.h), reusing the reduced matrices of `reduce` when
+// DIR/<folder>/reduced/ or DIR/reduced/ holds a manifest: their fingerprints must match this
+// case's bodies (InvalidInput naming the manifest and `reduce` otherwise). Without reduced files
+// the bodies are reduced again. Reused mesh bodies get their mesh, material and clamps back;
+// `full_matrices` also assembles their full K and M (for the recovery) and loads T (expansion).
+PreparedModel prepare_stage_model(const StageRun& run, const std::filesystem::path& out_dir,
+                                  const std::string& case_file, bool full_matrices,
+                                  const ProgressFn& progress);
+
+// The solve files of `run` (read_solve_results), refused (InvalidInput naming summary.json and
+// the solve command) if their fingerprint is not the case's.
+SolveResults read_stage_solve(const StageRun& run, const CaseDefinition& base,
+                              const std::filesystem::path& out_dir);
+// Refuses solve files whose contact pairs (contact, nodes, order) or harmonics are not those of
+// the prepared model.
+void check_solve_matches_model(const SolveResults& results, const PreparedModel& model,
+                               const CaseDefinition& definition, const StageRun& run,
+                               const std::string& hint);
+
+// Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
+// and summary.json (docs/output-files.md) atomically.
+void write_solve_results(const std::filesystem::path& dir, const CaseDefinition& definition,
+                         const PreparedModel& model, const SolvedCase& solved,
+                         double seconds_total);
 
 }  // namespace stickslip

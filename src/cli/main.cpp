@@ -1,7 +1,12 @@
-// stickslip: the command-line program. Subcommands:
-//   run     a case file through the whole pipeline (cli/pipeline.h).
-//   reduce  Craig-Bampton reduction of the bodies of a case, to Harwell-Boeing files.
-//   modes   modal analysis of the reference two-beam joint with stuck contact (issue 2).
+// stickslip: the command-line program (docs/command-line.md). Subcommands:
+//   run      a case file through the whole pipeline.
+//   mesh     the bodies' meshes as the case builds them.
+//   modes    modes of the stuck assembly (of a case, or of the reference two-beam joint).
+//   reduce   Craig-Bampton reduction of a case's mesh bodies, to Harwell-Boeing files.
+//   solve    the harmonic balance, reusing reduce's files.
+//   recover  full-model recovery from solve's files.
+//   export   APDL macro / CalculiX deck of one solved point.
+//   plot     the plots, from solve's files.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -17,58 +22,138 @@
 #define STICKSLIP_VERSION "unknown"
 #endif
 
+namespace {
+
+using namespace stickslip;
+
+constexpr const char* kCaseHelp = "case file (YAML, docs/case-file.md)";
+constexpr const char* kOutputHelp = "output folder (default: the case file's output.directory)";
+
+CLI::App* add_stage(CLI::App& app, const std::string& name, const std::string& description,
+                    StageCommand& stage) {
+  CLI::App* cmd = app.add_subcommand(name, description);
+  cmd->add_option("case", stage.case_file, kCaseHelp)->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", stage.output_dir, kOutputHelp);
+  cmd->add_flag("-q,--quiet", stage.quiet, "print nothing but errors");
+  return cmd;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace stickslip;
-  CLI::App app{"stickslip: vibration and stresses of friction-damped structures"};
+  CLI::App app{
+      "stickslip: vibration and stresses of friction-damped structures.\n"
+      "`stickslip run CASE` runs everything; the other subcommands run one stage and reuse the "
+      "files of earlier stages in the output folder (docs/command-line.md)."};
   app.set_version_flag("--version", std::string("stickslip ") + STICKSLIP_VERSION);
   app.require_subcommand(1);
 
+  RunCommand run;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "Run a case file: reduction, harmonic balance, recovery, plots (all stages)");
+  run_cmd->add_option("case", run.case_file, kCaseHelp)->required()->check(CLI::ExistingFile);
+  run_cmd->add_option("-o,--output", run.output_dir, kOutputHelp);
+  run_cmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
+
+  StageCommand mesh;
+  CLI::App* mesh_cmd = add_stage(
+      app, "mesh", "Write the bodies' meshes as the case builds them: DIR/mesh/<body>.inp, .vtu",
+      mesh);
+
   ModesCommand modes;
   CLI::App* modes_cmd = app.add_subcommand(
-      "modes", "Modal analysis of the reference two-beam joint with stuck contact");
-  modes_cmd->add_option("--arrangement", modes.arrangement, "butt or lap")
-      ->check(CLI::IsMember({"butt", "lap"}))
-      ->capture_default_str();
+      "modes",
+      "Modes of the stuck assembly: of a case's reduced model (DIR/modes/), or without a case "
+      "of the reference two-beam joint's full model");
+  modes_cmd->add_option("case", modes.case_file, "case file (optional)")->check(CLI::ExistingFile);
   modes_cmd->add_option("--modes", modes.num_modes, "number of lowest modes")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  modes_cmd->add_flag("--coarse", modes.thesis_coarse,
-                      "the thesis's coarse mesh (240 nodes, 115 elements per beam)");
-  modes_cmd->add_option("--element", modes.element, "hexahedron type: C3D8, C3D8I, C3D20, C3D20R")
-      ->capture_default_str();
-  modes_cmd->add_option("--kt", modes.k_t, "tangential contact stiffness per pair, N/m")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  modes_cmd->add_option("--kn", modes.k_n, "normal contact stiffness per pair, N/m")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  modes_cmd->add_option("-o,--output", modes.output_dir, "output folder")->capture_default_str();
+  CLI::Option* arrangement =
+      modes_cmd->add_option("--arrangement", modes.arrangement, "without a case: butt or lap")
+          ->check(CLI::IsMember({"butt", "lap"}))
+          ->capture_default_str();
+  CLI::Option* coarse =
+      modes_cmd->add_flag("--coarse", modes.thesis_coarse,
+                          "without a case: the thesis's coarse mesh (240 nodes, 115 elements "
+                          "per beam)");
+  CLI::Option* element =
+      modes_cmd
+          ->add_option("--element", modes.element,
+                       "without a case: hexahedron type C3D8, C3D8I, C3D20, C3D20R")
+          ->capture_default_str();
+  CLI::Option* kt =
+      modes_cmd->add_option("--kt", modes.k_t, "without a case: tangential stiffness per pair, N/m")
+          ->check(CLI::PositiveNumber)
+          ->capture_default_str();
+  CLI::Option* kn =
+      modes_cmd->add_option("--kn", modes.k_n, "without a case: normal stiffness per pair, N/m")
+          ->check(CLI::PositiveNumber)
+          ->capture_default_str();
+  modes_cmd->add_option("-o,--output", modes.output_dir,
+                        "output folder (default: the case's output.directory, or . without a "
+                        "case)");
   modes_cmd->add_flag("-q,--quiet", modes.quiet, "print nothing but errors");
 
-  RunCommand run;
-  CLI::App* run_cmd =
-      app.add_subcommand("run", "Run a case file: reduction, harmonic balance, results");
-  run_cmd->add_option("case", run.case_file, "case file (YAML, docs/case-file.md)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  run_cmd->add_option("-o,--output", run.output_dir,
-                      "output folder (default: the case file's output.directory)");
-  run_cmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
+  StageCommand reduce;
+  CLI::App* reduce_cmd = add_stage(
+      app, "reduce",
+      "Craig-Bampton reduction of the case's mesh bodies: DIR/reduced/ (HBMAT-style files and "
+      "a manifest that solve, recover, export and modes check before reusing them)",
+      reduce);
 
-  ReduceCommand reduce;
-  CLI::App* reduce_cmd = app.add_subcommand(
-      "reduce", "Craig-Bampton reduction of a case's mesh bodies, written as HBMAT-style files");
-  reduce_cmd->add_option("case", reduce.case_file, "case file (YAML, docs/case-file.md)")
+  StageCommand solve;
+  CLI::App* solve_cmd =
+      add_stage(app, "solve",
+                "Harmonic balance: points.csv, master_response.csv, contact_forces.csv, "
+                "contact_state.csv, histories.csv, summary.json (reuses DIR/reduced/ when fresh)",
+                solve);
+
+  RecoverCommand recover;
+  CLI::App* recover_cmd =
+      add_stage(app, "recover", "Full-model recovery of solved points, from the solve files in DIR",
+                recover.stage);
+  recover_cmd->add_option("--point", recover.point,
+                          "peak, all or a point number of points.csv (default: the case's "
+                          "recovery.points)");
+
+  ExportCommand export_;
+  CLI::App* export_cmd = add_stage(
+      app, "export",
+      "The loads of one solved point on the full bodies as an ANSYS APDL macro or a CalculiX "
+      "deck, from the solve files in DIR",
+      export_.stage);
+  export_cmd->add_option("--point", export_.point, "point number of points.csv")->required();
+  export_cmd->add_option("--format", export_.format, "apdl or calculix")
       ->required()
-      ->check(CLI::ExistingFile);
-  reduce_cmd->add_option("-o,--output", reduce.output_dir, "output folder")->capture_default_str();
-  reduce_cmd->add_flag("-q,--quiet", reduce.quiet, "print nothing but errors");
+      ->check(CLI::IsMember({"apdl", "calculix"}));
+
+  PlotCommand plot;
+  CLI::App* plot_cmd = app.add_subcommand(
+      "plot", "(Re)render the plots (PNG, SVG with gnuplot) from the CSV files in DIR");
+  plot_cmd->add_option("dir", plot.dir, "output folder of a solve")->required();
+  plot_cmd->add_flag("-q,--quiet", plot.quiet, "print nothing but errors");
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*modes_cmd) return run_modes(modes);
     if (*run_cmd) return run_case(run);
+    if (*mesh_cmd) return run_mesh(mesh);
+    if (*modes_cmd) {
+      if (!modes.case_file.empty()) {
+        for (const CLI::Option* o : {arrangement, coarse, element, kt, kn}) {
+          if (o->count() > 0) {
+            throw InvalidInput({"", 0, o->get_name()},
+                               "only for the reference joint (modes without a case file)");
+          }
+        }
+      }
+      return run_modes(modes);
+    }
     if (*reduce_cmd) return run_reduce(reduce);
+    if (*solve_cmd) return run_solve(solve);
+    if (*recover_cmd) return run_recover(recover);
+    if (*export_cmd) return run_export(export_);
+    if (*plot_cmd) return run_plot(plot);
   } catch (const InvalidInput& e) {
     std::fprintf(stderr, "stickslip: error: %s\n", e.what());
     return 2;

@@ -1,15 +1,20 @@
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+
+#include <Eigen/Eigenvalues>
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
 #include "cli/commands.h"
+#include "cli/pipeline.h"
 #include "cli/stuck_assembly.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
+#include "io/case_file.h"
 #include "io/two_beam_model.h"
 #include "io/vtu_writer.h"
 #include "linalg/modal.h"
@@ -22,9 +27,78 @@ constexpr double kYoungsModulus = 2e11;  // Pa
 constexpr double kPoissonRatio = 0.3;
 constexpr double kDensity = 7800.0;  // kg/m^3
 
+// `stickslip modes CASE`: modes of the case's assembled reduced model with every contact stuck
+// (the frequencies `analysis.frequency.around_mode` centres on), and their shapes on the full
+// meshes (x = T q) when the Craig–Bampton basis is at hand.
+int run_case_modes(const ModesCommand& command) {
+  namespace fs = std::filesystem;
+  const CaseDefinition base = read_case_file(command.case_file);
+  const bool quiet = command.quiet || base.output.quiet;
+  const auto progress = [&](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
+  };
+  const fs::path out_dir = stage_output_dir(base, command.output_dir);
+  for (const StageRun& run : stage_runs(base, out_dir)) {
+    const CaseDefinition& def = run.definition;
+    const PreparedModel model = prepare_stage_model(run, out_dir, command.case_file,
+                                                    /*full_matrices=*/false, progress);
+    // K with every pair as its stuck springs (PreparedPair::stuck_stiffness, local rows).
+    Eigen::MatrixXd K = model.K;
+    for (size_t i = 0; i < model.pairs.size(); ++i) {
+      const ContactPair& pair = model.pairs[i];
+      const Eigen::VectorXd& k = model.pair_info[i].stuck_stiffness;
+      Eigen::MatrixXd Bp = Eigen::MatrixXd::Zero(pair.frame.rows(), model.num_dofs);
+      for (int d = 0; d < 3; ++d) {
+        if (!pair.dofs_a.empty()) Bp.col(pair.dofs_a[d]) += pair.frame.col(d);
+        if (!pair.dofs_b.empty()) Bp.col(pair.dofs_b[d]) -= pair.frame.col(d);
+      }
+      K += Bp.transpose() * k.asDiagonal() * Bp;
+    }
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, model.M);
+    if (eig.info() != Eigen::Success) {
+      throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
+    }
+    const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues().size()));
+    const Eigen::VectorXd f = eig.eigenvalues().head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
+    const fs::path dir = run.dir / "modes";
+    fs::create_directories(dir);
+    write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
+      out << "mode,frequency_hz\n";
+      for (int j = 0; j < n; ++j) fmt::print(out, "{},{:.17g}\n", j + 1, f(j));
+    });
+    for (const PreparedBody& body : model.bodies) {
+      if (!body.from_mesh) continue;
+      if (body.T.size() == 0) {
+        progress("mode shapes of " + body.name +
+                 " not written: the reused reduced matrices carry no Craig–Bampton basis");
+        continue;
+      }
+      VtuData data;
+      for (int j = 0; j < n; ++j) {
+        const Eigen::VectorXd full =
+            body.T * eig.eigenvectors().col(j).segment(body.offset, body.reduced.size());
+        data.point_data.push_back(
+            {fmt::format("mode_{}", j + 1),
+             Eigen::Map<const Eigen::MatrixXd>(full.data(), 3, body.mesh.num_nodes())});
+        data.field_data.emplace_back(fmt::format("mode_{}_frequency_hz", j + 1), f(j));
+      }
+      write_vtu((dir / ("modes_" + body.name + ".vtu")).string(), body.mesh, data);
+    }
+    if (!quiet) {
+      fmt::print("{}stuck assembly, {} reduced DOFs, {} contact pairs\n",
+                 run.folder.empty() ? "" : run.folder + ": ", model.num_dofs, model.pairs.size());
+      fmt::print("{:>5} {:>14}\n", "mode", "frequency_Hz");
+      for (int j = 0; j < n; ++j) fmt::print("{:>5} {:>14.3f}\n", j + 1, f(j));
+      fmt::print("wrote {}\n", (dir / "frequencies.csv").string());
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_modes(const ModesCommand& command) {
+  if (!command.case_file.empty()) return run_case_modes(command);
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   TwoBeamOptions options;
@@ -49,8 +123,8 @@ int run_modes(const ModesCommand& command) {
   }
   const Eigen::VectorXd f = modes.frequencies_hz();
 
-  std::filesystem::create_directories(command.output_dir);
-  const std::filesystem::path dir(command.output_dir);
+  const std::filesystem::path dir(command.output_dir.empty() ? "." : command.output_dir);
+  std::filesystem::create_directories(dir);
   write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
     out << "mode,frequency_hz\n";
     for (int j = 0; j < f.size(); ++j) fmt::print(out, "{},{:.9g}\n", j + 1, f(j));

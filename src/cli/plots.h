@@ -4,8 +4,11 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include "cli/results_files.h"
 
 namespace stickslip {
 
@@ -21,5 +24,27 @@ struct PlotSeries {
 bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
                  const std::string& title, const std::string& xlabel, const std::string& ylabel,
                  const std::vector<PlotSeries>& series, std::string* warning);
+
+// Runs gnuplot on an existing <stem>.gp in dir (re-rendering a plot); false + warning if not.
+bool render_plot_script(const std::filesystem::path& dir, const std::string& stem,
+                        std::string* warning);
+
+using WarnFn = std::function<void(const std::string&)>;
+
+// Amplitude of the first dynamic harmonic of each output.frf DOF over the converged points,
+// labelled "<prefix><body> node <id> <axis>".
+std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix);
+
+// The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json),
+// contact_state (mean stick / slip / separation fractions over the pairs along the sweep) and
+// hysteresis (first local axis of the histories.csv pairs at the most dissipative point).
+void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
+                        const std::vector<PlotSeries>& frf, const WarnFn& warn);
+
+// The thesis's validation plot frf_full_vs_reduced: the reduced nonlinear FRF curves and the
+// full-model recovery at the recovered points (drawn when there are at least two).
+void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
+                          const std::vector<PlotSeries>& frf,
+                          const std::vector<PlotSeries>& full_frf, const WarnFn& warn);
 
 }  // namespace stickslip

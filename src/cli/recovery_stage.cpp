@@ -46,8 +46,8 @@ double peak_measure(const CaseDefinition& def, const PreparedModel& model,
 }  // namespace
 
 std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
-                                 const SolvedCase& solved) {
-  const auto& points = solved.response.points;
+                                 const FrequencyResponse& response) {
+  const auto& points = response.points;
   std::vector<int> out;
   const std::string& mode = def.recovery.points;
   if (mode == "none" || points.empty()) return out;
@@ -81,13 +81,89 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
   return out;
 }
 
+Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
+                                const std::vector<int>& harmonics, const FrequencyPoint& p) {
+  const int nh = static_cast<int>(harmonics.size());
+  // Master DOFs of this body in the full numbering, and their reduced (global) index.
+  std::vector<int> full_dofs, reduced_dofs;
+  for (int j = 0; j < body.reduced.size(); ++j) {
+    const ReducedDof& d = body.reduced.dofs[j];
+    if (d.kind == ReducedDof::Kind::kPhysical) {
+      full_dofs.push_back(d.full_dof);
+      reduced_dofs.push_back(body.offset + j);
+    }
+  }
+  // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
+  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(body.mesh.num_dofs(), nh);
+  for (int h = 0; h < nh; ++h) {
+    const auto it = model.excitation.harmonics.find(harmonics[h]);
+    if (it == model.excitation.harmonics.end()) continue;
+    for (size_t i = 0; i < full_dofs.size(); ++i) {
+      F(full_dofs[i], h) += it->second(reduced_dofs[i]);
+    }
+  }
+  for (size_t q = 0; q < model.pairs.size(); ++q) {
+    const ContactPair& pair = model.pairs[q];
+    const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
+    for (int d = 0; d < 3; ++d) {
+      for (int side = 0; side < 2; ++side) {
+        const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
+        if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + body.reduced.size()) {
+          continue;
+        }
+        const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
+        const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
+        F.row(full) += sign * fg.row(d);
+      }
+    }
+  }
+  // Harmonic 0 is real by construction; drop round-off in its imaginary part.
+  for (int h = 0; h < nh; ++h) {
+    if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
+  }
+  return F;
+}
+
+std::string write_apdl_loads(const std::filesystem::path& dir, const CaseDefinition& def,
+                             const PreparedBody& body, int point, double f_hz,
+                             const std::vector<int>& harmonics, const Eigen::MatrixXcd& F) {
+  ApdlMacroOptions o;
+  o.frequency_hz = f_hz;
+  o.harmonics = harmonics;
+  o.alpha = def.damping.alpha;
+  o.beta = def.damping.beta;
+  const std::string path = (dir / fmt::format("loads_p{}_{}.mac", point, body.name)).string();
+  write_apdl_macro(path, body.mesh, F, o);
+  return path;
+}
+
+std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDefinition& def,
+                                 const PreparedBody& body, int point, double f_hz,
+                                 const std::vector<int>& harmonics, const Eigen::MatrixXcd& F) {
+  CalculixDeckOptions o;
+  o.youngs_modulus = body.material.youngs_modulus;
+  o.poisson_ratio = body.material.poisson_ratio;
+  o.density = body.material.density;
+  for (int node = 0; node < body.mesh.num_nodes(); ++node) {
+    if (body.constraints.is_constrained(dof_of(node, 0))) o.clamped_nodes.push_back(node);
+  }
+  o.alpha = def.damping.alpha;
+  o.beta = def.damping.beta;
+  o.frequency_hz = f_hz;
+  o.harmonics = harmonics;
+  o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
+  const std::string path = (dir / fmt::format("recovery_p{}_{}.inp", point, body.name)).string();
+  write_calculix_deck(path, body.mesh, F, o);
+  return path;
+}
+
 void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
-                  const PreparedModel& model, const SolvedCase& solved,
+                  const PreparedModel& model, const FrequencyResponse& response,
+                  const std::vector<int>& points,
                   const std::function<void(const std::string&)>& progress,
                   std::vector<PlotSeries>* full_frf) {
-  const std::vector<int> points = recovery_points(def, model, solved);
   if (points.empty()) return;
-  const std::vector<int>& harmonics = solved.response.harmonics;
+  const std::vector<int>& harmonics = response.harmonics;
   const int nh = static_cast<int>(harmonics.size());
   const std::string& method = def.recovery.method;
   const RayleighDamping damping{def.damping.alpha, def.damping.beta};
@@ -147,61 +223,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     }
     const int n = body.mesh.num_dofs();
     for (int pi : points) {
-      const FrequencyPoint& p = solved.response.points[pi];
-      // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
-      Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
-      for (int h = 0; h < nh; ++h) {
-        const auto it = model.excitation.harmonics.find(harmonics[h]);
-        if (it == model.excitation.harmonics.end()) continue;
-        for (size_t i = 0; i < full_dofs.size(); ++i) {
-          F(full_dofs[i], h) += it->second(reduced_dofs[i]);
-        }
-      }
-      for (size_t q = 0; q < model.pairs.size(); ++q) {
-        const ContactPair& pair = model.pairs[q];
-        const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
-        for (int d = 0; d < 3; ++d) {
-          for (int side = 0; side < 2; ++side) {
-            const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
-            if (dofs.empty() || dofs[d] < body.offset ||
-                dofs[d] >= body.offset + body.reduced.size()) {
-              continue;
-            }
-            const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
-            const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
-            F.row(full) += sign * fg.row(d);
-          }
-        }
-      }
-      // Harmonic 0 is real by construction; drop round-off in its imaginary part.
-      for (int h = 0; h < nh; ++h) {
-        if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
-      }
+      const FrequencyPoint& p = response.points[pi];
+      const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
       const double f_hz = rad_s_to_hz(p.omega);
-      if (def.output.apdl_macro) {
-        ApdlMacroOptions o;
-        o.frequency_hz = f_hz;
-        o.harmonics = harmonics;
-        o.alpha = def.damping.alpha;
-        o.beta = def.damping.beta;
-        write_apdl_macro((dir / fmt::format("loads_p{}_{}.mac", pi, body.name)).string(), body.mesh,
-                         F, o);
-      }
+      if (def.output.apdl_macro) write_apdl_loads(dir, def, body, pi, f_hz, harmonics, F);
       if (def.output.calculix_deck) {
-        CalculixDeckOptions o;
-        o.youngs_modulus = body.material.youngs_modulus;
-        o.poisson_ratio = body.material.poisson_ratio;
-        o.density = body.material.density;
-        for (int node = 0; node < body.mesh.num_nodes(); ++node) {
-          if (body.constraints.is_constrained(dof_of(node, 0))) o.clamped_nodes.push_back(node);
-        }
-        o.alpha = def.damping.alpha;
-        o.beta = def.damping.beta;
-        o.frequency_hz = f_hz;
-        o.harmonics = harmonics;
-        o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
-        write_calculix_deck((dir / fmt::format("recovery_p{}_{}.inp", pi, body.name)).string(),
-                            body.mesh, F, o);
+        write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
       const Eigen::MatrixXcd x =
           method == "expansion" ? expand_reduced_response(
@@ -230,7 +257,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int d = 0; d < 3; ++d) {
           for (int h = 0; h < nh; ++h) {
             const std::complex<double> v = x(dof_of(node, d), h);
-            nodes_csv += fmt::format("{},{},{},{},{},{:.10e},{:.10e}\n", pi, body.name, id,
+            nodes_csv += fmt::format("{},{},{},{},{},{:.17g},{:.17g}\n", pi, body.name, id,
                                      kAxes[d], harmonics[h], v.real(), v.imag());
           }
         }
@@ -293,8 +320,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative\n";
     for (const Row& r : check) {
       fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e}\n", r.point,
-                 rad_s_to_hz(solved.response.points[r.point].omega), model.bodies[r.body].name,
-                 r.harmonic, r.reference_max, r.max_rel, r.rms_rel);
+                 rad_s_to_hz(response.points[r.point].omega), model.bodies[r.body].name, r.harmonic,
+                 r.reference_max, r.max_rel, r.rms_rel);
     }
   });
   if (!def.recovery.nodes.empty()) {

@@ -29,13 +29,31 @@
 namespace stickslip {
 
 // Indices of the points to recover (recovery.points: peak | all | none | frequencies).
+// `response` needs omega, converged and master of every point.
 std::vector<int> recovery_points(const CaseDefinition& definition, const PreparedModel& model,
-                                 const SolvedCase& solved);
+                                 const FrequencyResponse& response);
 
-// full_frf (may be null) receives, per output.frf DOF of a mesh body, the full-model amplitude
-// of the first dynamic harmonic at each recovered point.
+// Loads of one mesh body at one point (3 num_nodes x harmonics, full DOF numbering): the
+// excitation and static preload loads on its master DOFs plus the contact forces it receives
+// (force_global of each pair: +f on B, -f on A). Harmonic 0 is made exactly real.
+Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
+                                const std::vector<int>& harmonics, const FrequencyPoint& point);
+
+// The APDL macro loads_p<point>_<body>.mac / the CalculiX deck recovery_p<point>_<body>.inp of
+// one body at one point, in dir; returns the path written.
+std::string write_apdl_loads(const std::filesystem::path& dir, const CaseDefinition& definition,
+                             const PreparedBody& body, int point, double frequency_hz,
+                             const std::vector<int>& harmonics, const Eigen::MatrixXcd& loads);
+std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDefinition& definition,
+                                 const PreparedBody& body, int point, double frequency_hz,
+                                 const std::vector<int>& harmonics, const Eigen::MatrixXcd& loads);
+
+// Recovers `points` (indices into response.points; each converged, with master and
+// pairs[q].force_global). full_frf (may be null) receives, per output.frf DOF of a mesh body,
+// the full-model amplitude of the first dynamic harmonic at each recovered point.
 void run_recovery(const std::filesystem::path& dir, const CaseDefinition& definition,
-                  const PreparedModel& model, const SolvedCase& solved,
+                  const PreparedModel& model, const FrequencyResponse& response,
+                  const std::vector<int>& points,
                   const std::function<void(const std::string&)>& progress,
                   std::vector<PlotSeries>* full_frf = nullptr);
 

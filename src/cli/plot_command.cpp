@@ -1,0 +1,78 @@
+// `stickslip plot DIR`: (re)renders the plots of a solve from the files in DIR (or in each study
+// folder DIR/<parameter>_<value>/, plus the overlay frf_study), and frf_full_vs_reduced from the
+// data and script the recovery left (the recovered full-model amplitudes are in no CSV).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "cli/plots.h"
+#include "cli/results_files.h"
+#include "core/errors.h"
+
+namespace stickslip {
+
+int run_plot(const PlotCommand& command) {
+  namespace fs = std::filesystem;
+  const fs::path dir(command.dir);
+  const auto warn = [](const std::string& w) {
+    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
+  };
+  const auto say = [&](const std::string& s) {
+    if (!command.quiet) std::fprintf(stderr, "stickslip: %s\n", s.c_str());
+  };
+  const std::string hint = "stickslip solve CASE -o " + dir.string();
+  if (!fs::is_directory(dir)) {
+    throw InvalidInput({dir.string(), 0, ""}, "no such folder: run `" + hint + "` first");
+  }
+  const auto plot_folder = [&](const fs::path& folder, const std::string& prefix) {
+    const SolveResults results = read_solve_results(folder, hint);
+    const std::vector<PlotSeries> frf = frf_series(results, prefix);
+    plot_solve_results(folder, results, frf, warn);
+    std::string warning;
+    if (fs::exists(folder / "frf_full_vs_reduced.gp") &&
+        !render_plot_script(folder, "frf_full_vs_reduced", &warning)) {
+      warn(warning);
+    }
+    say("plots in " + folder.string());
+    return std::make_pair(results.title, frf);
+  };
+  if (fs::exists(dir / "points.csv")) {
+    plot_folder(dir, "");
+    return 0;
+  }
+  // A study: every sub-folder with solve files, in the order of the studied value.
+  std::vector<std::pair<double, fs::path>> folders;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    if (!e.is_directory() || !fs::exists(e.path() / "points.csv")) continue;
+    const std::string name = e.path().filename().string();
+    const size_t underscore = name.rfind('_');
+    const double value =
+        underscore == std::string::npos ? 0.0 : std::atof(name.c_str() + underscore + 1);
+    folders.emplace_back(value, e.path());
+  }
+  if (folders.empty()) require_stage_file(dir / "points.csv", hint);
+  std::sort(folders.begin(), folders.end());
+  std::vector<PlotSeries> overlay;
+  std::string title, parameter;
+  for (const auto& [value, folder] : folders) {
+    const std::string name = folder.filename().string();
+    auto [folder_title, frf] = plot_folder(folder, name + ": ");
+    title = folder_title;
+    parameter = name.substr(0, name.rfind('_'));
+    overlay.insert(overlay.end(), frf.begin(), frf.end());
+  }
+  if (folders.size() > 1 && !overlay.empty()) {
+    std::string warning;
+    if (!plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
+                     "amplitude of harmonic 1 (m)", overlay, &warning)) {
+      warn(warning);
+    }
+  }
+  return 0;
+}
+
+}  // namespace stickslip

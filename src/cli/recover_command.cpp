@@ -1,0 +1,133 @@
+// `stickslip recover CASE -o DIR [--point N|peak|all]`: the full-model recovery (cli/
+// recovery_stage.h) of points of a solve whose files are in DIR. The master-DOF harmonics of the
+// reduced model are rebuilt from the contact forces in contact_forces.csv exactly as the solve
+// made them (HarmonicBalanceSystem::master_response), so the recovery equals run's to round-off.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include <fmt/core.h>
+
+#include "cli/commands.h"
+#include "cli/pipeline.h"
+#include "cli/plots.h"
+#include "cli/recovery_stage.h"
+#include "cli/results_files.h"
+#include "core/errors.h"
+#include "hbm/harmonic_balance.h"
+#include "io/case_file.h"
+
+namespace stickslip {
+
+namespace fs = std::filesystem;
+
+SolveResults read_stage_solve(const StageRun& run, const CaseDefinition& base,
+                              const fs::path& out_dir) {
+  const std::string hint = stage_hint("solve", base, out_dir);
+  SolveResults results = read_solve_results(run.dir, hint);
+  if (results.fingerprint != solve_fingerprint(run.definition)) {
+    throw InvalidInput({(run.dir / "summary.json").string(), 0, "fingerprint"},
+                       "the solve files in " + run.dir.string() +
+                           " were made from a different case (or its mesh or matrix files "
+                           "changed since): run `" +
+                           hint + "` again");
+  }
+  return results;
+}
+
+void check_solve_matches_model(const SolveResults& results, const PreparedModel& model,
+                               const CaseDefinition& def, const StageRun& run,
+                               const std::string& hint) {
+  const std::string path = (run.dir / "contact_forces.csv").string();
+  bool same = results.pairs.size() == model.pairs.size();
+  for (size_t q = 0; same && q < model.pairs.size(); ++q) {
+    const SolvedPairId& s = results.pairs[q];
+    const PreparedPair& m = model.pair_info[q];
+    same = s.contact == def.contacts[m.contact].name && s.node_a == m.node_a_id &&
+           s.node_b == m.node_b_id && s.local_rows == static_cast<int>(model.pairs[q].frame.rows());
+  }
+  if (!same) {
+    throw InvalidInput({path, 0, ""}, fmt::format("the contact pairs of the file ({}) are not the "
+                                                  "case's ({}): run `{}` again",
+                                                  results.pairs.size(), model.pairs.size(), hint));
+  }
+  std::vector<int> harmonics{0};
+  for (int h : def.analysis.harmonics) harmonics.push_back(h);
+  if (results.response.harmonics != harmonics) {
+    throw InvalidInput({path, 0, ""},
+                       "the harmonics of the file are not the case's: run `" + hint + "` again");
+  }
+}
+
+int run_recover(const RecoverCommand& command) {
+  const CaseDefinition base = read_case_file(command.stage.case_file);
+  const bool quiet = command.stage.quiet || base.output.quiet;
+  const auto progress = [&](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
+  };
+  const auto warn = [](const std::string& w) {
+    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
+  };
+  const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
+  const std::string hint = stage_hint("solve", base, out_dir);
+  for (const StageRun& stage_run : stage_runs(base, out_dir)) {
+    StageRun run = stage_run;
+    if (command.point == "peak" || command.point == "all") {
+      run.definition.recovery.points = command.point;
+    }
+    const CaseDefinition& def = run.definition;
+    if (!run.folder.empty()) progress("study: " + run.folder);
+    SolveResults results = read_stage_solve(run, base, out_dir);
+    const PreparedModel model = prepare_stage_model(run, out_dir, command.stage.case_file,
+                                                    /*full_matrices=*/true, progress);
+    check_solve_matches_model(results, model, def, run, hint);
+    // The reduced model's response at every reduced DOF from the contact forces of the files.
+    const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);
+    FrequencyResponse& response = results.response;
+    if (system.output_harmonics() != response.harmonics) {
+      throw InvalidInput({(run.dir / "contact_forces.csv").string(), 0, ""},
+                         "the harmonics of the file are not the case's: run `" + hint + "` again");
+    }
+    const int nh = static_cast<int>(response.harmonics.size());
+    for (FrequencyPoint& p : response.points) {
+      Eigen::MatrixXcd f(system.contact_rows(), nh);
+      for (size_t q = 0; q < p.pairs.size(); ++q) {
+        f.middleRows(system.pair_row(static_cast<int>(q)), p.pairs[q].force_local.rows()) =
+            p.pairs[q].force_local;
+      }
+      p.master = system.master_response(f, p.omega);
+    }
+    std::vector<int> points;
+    if (command.point.empty() || command.point == "peak" || command.point == "all") {
+      points = recovery_points(def, model, response);
+    } else {
+      char* end = nullptr;
+      const long n = std::strtol(command.point.c_str(), &end, 10);
+      if (command.point.empty() || *end != '\0' || n < 0 ||
+          n >= static_cast<long>(response.points.size())) {
+        throw InvalidInput({"", 0, "--point"},
+                           fmt::format("'{}' is not peak, all or a point of points.csv (0..{})",
+                                       command.point, response.points.size() - 1));
+      }
+      if (!response.points[n].converged) {
+        throw InvalidInput({"", 0, "--point"},
+                           fmt::format("point {} did not converge (points.csv)", n));
+      }
+      points.push_back(static_cast<int>(n));
+    }
+    if (points.empty()) {
+      progress("nothing to recover (recovery.points: " + def.recovery.points + ")");
+      continue;
+    }
+    std::vector<PlotSeries> full_frf;
+    run_recovery(run.dir, def, model, response, points, progress, &full_frf);
+    if (def.output.plots) {
+      const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, warn);
+    }
+    progress(fmt::format("recovered {} point(s); results in {}", points.size(), run.dir.string()));
+  }
+  return 0;
+}
+
+}  // namespace stickslip

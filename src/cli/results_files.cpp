@@ -1,0 +1,534 @@
+#include "cli/results_files.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/core.h>
+#include <fmt/ostream.h>
+
+#include "core/errors.h"
+#include "core/types.h"
+#include "io/atomic_file.h"
+
+namespace stickslip {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
+constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+
+std::uint64_t fnv1a(std::uint64_t h, const char* data, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= kFnvPrime;
+  }
+  return h;
+}
+
+// A CSV file of ours (no quoting, ',' separated, one header line) read row by row; every error
+// names the file and the line.
+class CsvReader {
+ public:
+  CsvReader(const fs::path& path, const std::vector<std::string>& required, const std::string& hint)
+      : path_(path.string()) {
+    require_stage_file(path, hint);
+    in_.open(path);
+    if (!in_) throw InvalidInput({path_, 0, ""}, "cannot open the file");
+    std::string header;
+    if (!std::getline(in_, header)) fail("empty file (no header line)");
+    line_ = 1;
+    const std::vector<std::string> names = split(header);
+    for (size_t i = 0; i < names.size(); ++i) columns_[names[i]] = static_cast<int>(i);
+    for (const std::string& name : required) {
+      if (!columns_.count(name)) fail("no column '" + name + "' in the header");
+    }
+    width_ = names.size();
+  }
+
+  bool has(const std::string& name) const { return columns_.count(name) > 0; }
+  int column(const std::string& name) const { return columns_.at(name); }
+
+  bool next() {
+    std::string text;
+    while (std::getline(in_, text)) {
+      ++line_;
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      if (text.empty()) continue;
+      cells_ = split(text);
+      if (cells_.size() != width_) {
+        fail(fmt::format("{} fields, the header has {}", cells_.size(), width_));
+      }
+      return true;
+    }
+    return false;
+  }
+
+  const std::string& text(int col) const { return cells_[col]; }
+  double number(int col) const {
+    const std::string& s = cells_[col];
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE) {
+      fail("'" + s + "' is not a number");
+    }
+    return v;
+  }
+  int integer(int col) const {
+    const std::string& s = cells_[col];
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || v < -2147483647L ||
+        v > 2147483647L) {
+      fail("'" + s + "' is not an integer");
+    }
+    return static_cast<int>(v);
+  }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InvalidInput({path_, line_, ""}, message);
+  }
+  int line() const { return line_; }
+
+ private:
+  static std::vector<std::string> split(const std::string& s) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (true) {
+      const size_t comma = s.find(',', start);
+      out.push_back(
+          s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    return out;
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  int line_ = 0;
+  size_t width_ = 0;
+  std::map<std::string, int> columns_;
+  std::vector<std::string> cells_;
+};
+
+int axis_row(const std::string& axis, bool global) {
+  if (global) {
+    if (axis == "x") return 0;
+    if (axis == "y") return 1;
+    if (axis == "z") return 2;
+    return -1;
+  }
+  if (axis == "t1" || axis == "u") return 0;
+  if (axis == "t2") return 1;
+  if (axis == "n") return 2;
+  return -1;
+}
+
+// The string value of `"key": "..."` on a line of our summary.json (JSON escapes undone).
+bool json_string_line(const std::string& line, const std::string& key, std::string* value) {
+  const std::string prefix = "\"" + key + "\": \"";
+  const size_t at = line.find(prefix);
+  if (at == std::string::npos) return false;
+  std::string out;
+  for (size_t i = at + prefix.size(); i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"') {
+      *value = out;
+      return true;
+    }
+    if (c == '\\' && i + 1 < line.size()) {
+      const char e = line[++i];
+      if (e == 'n') {
+        out += '\n';
+      } else if (e == 't') {
+        out += '\t';
+      } else if (e == 'u' && i + 4 < line.size()) {
+        out += static_cast<char>(std::strtol(line.substr(i + 1, 4).c_str(), nullptr, 16));
+        i += 4;
+      } else {
+        out += e;
+      }
+    } else {
+      out += c;
+    }
+  }
+  return false;
+}
+
+// All strings of a one-line JSON array `"key": ["a", "b"]`.
+bool json_string_array_line(const std::string& line, const std::string& key,
+                            std::vector<std::string>* values) {
+  const std::string prefix = "\"" + key + "\": [";
+  const size_t at = line.find(prefix);
+  if (at == std::string::npos) return false;
+  values->clear();
+  size_t i = at + prefix.size();
+  while (true) {
+    const size_t open = line.find('"', i);
+    const size_t close_bracket = line.find(']', i);
+    if (open == std::string::npos || (close_bracket != std::string::npos && close_bracket < open)) {
+      break;
+    }
+    const size_t close = line.find('"', open + 1);
+    if (close == std::string::npos) return false;
+    values->push_back(line.substr(open + 1, close - open - 1));
+    i = close + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string fingerprint_hex(const std::string& text) {
+  return fmt::format("{:016x}", fnv1a(kFnvOffset, text.data(), text.size()));
+}
+
+std::string file_fingerprint_hex(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput({path, 0, ""}, "cannot read the file");
+  std::uint64_t h = kFnvOffset;
+  std::vector<char> buffer(1 << 16);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    h = fnv1a(h, buffer.data(), static_cast<size_t>(in.gcount()));
+  }
+  return fmt::format("{:016x}", h);
+}
+
+void require_stage_file(const fs::path& path, const std::string& hint) {
+  if (!fs::exists(path)) {
+    throw InvalidInput({path.string(), 0, ""}, "missing: run `" + hint + "` first");
+  }
+}
+
+SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
+  SolveResults out;
+  FrequencyResponse& fr = out.response;
+
+  // summary.json: title, fingerprint, frf DOFs (one key per line, as the solve writes it).
+  {
+    const fs::path path = dir / "summary.json";
+    require_stage_file(path, hint);
+    std::ifstream in(path);
+    std::string line;
+    int number = 0;
+    bool saw_fingerprint = false;
+    while (std::getline(in, line)) {
+      ++number;
+      std::string value;
+      std::vector<std::string> values;
+      if (line.rfind("  \"title\"", 0) == 0 && json_string_line(line, "title", &value)) {
+        out.title = value;
+      } else if (line.rfind("  \"fingerprint\"", 0) == 0 &&
+                 json_string_line(line, "fingerprint", &value)) {
+        out.fingerprint = value;
+        saw_fingerprint = true;
+      } else if (line.rfind("  \"frf\"", 0) == 0 && json_string_array_line(line, "frf", &values)) {
+        for (const std::string& v : values) {
+          // body:node:dof (the body name may itself contain ':').
+          const size_t c2 = v.rfind(':');
+          const size_t c1 =
+              c2 == std::string::npos || c2 == 0 ? std::string::npos : v.rfind(':', c2 - 1);
+          const int dir_index =
+              c2 == std::string::npos ? -1 : axis_row(v.substr(c2 + 1), /*global=*/true);
+          if (c1 == std::string::npos || dir_index < 0) {
+            throw InvalidInput({path.string(), number, "frf"},
+                               "'" + v + "' is not body:node:direction");
+          }
+          ResponseDofDefinition r;
+          r.body = v.substr(0, c1);
+          r.node = std::atoi(v.substr(c1 + 1, c2 - c1 - 1).c_str());
+          r.direction = dir_index;
+          out.frf.push_back(r);
+        }
+      }
+    }
+    if (!saw_fingerprint) {
+      throw InvalidInput({path.string(), 0, "fingerprint"},
+                         "no fingerprint: written by an older stickslip; run `" + hint + "` again");
+    }
+  }
+
+  // points.csv
+  {
+    CsvReader csv(dir / "points.csv",
+                  {"point", "frequency_hz", "converged", "iterations", "residual"}, hint);
+    const int c_point = csv.column("point"), c_f = csv.column("frequency_hz"),
+              c_conv = csv.column("converged"), c_it = csv.column("iterations"),
+              c_res = csv.column("residual");
+    while (csv.next()) {
+      const int i = csv.integer(c_point);
+      if (i != static_cast<int>(fr.points.size())) {
+        csv.fail(fmt::format("point {} where point {} was expected", i, fr.points.size()));
+      }
+      FrequencyPoint p;
+      p.omega = hz_to_rad_s(csv.number(c_f));
+      const int converged = csv.integer(c_conv);
+      if (converged != 0 && converged != 1) csv.fail("converged must be 0 or 1");
+      p.converged = converged == 1;
+      p.iterations = csv.integer(c_it);
+      p.residual_norm = csv.number(c_res);
+      fr.points.push_back(std::move(p));
+    }
+    if (fr.points.empty()) csv.fail("no frequency points");
+  }
+  const int np = static_cast<int>(fr.points.size());
+  const auto point_of = [np](const CsvReader& csv, int col) {
+    const int i = csv.integer(col);
+    if (i < 0 || i >= np) csv.fail(fmt::format("point {} is not in points.csv (0..{})", i, np - 1));
+    return i;
+  };
+
+  // contact_forces.csv: pairs in order of first appearance, harmonics sorted.
+  struct ForceRow {
+    int point, pair, row, harmonic;
+    bool global;
+    std::complex<double> value;
+    int line;
+  };
+  std::vector<ForceRow> rows;
+  std::map<std::pair<std::string, int>, int> pair_index;
+  std::set<int> harmonic_set;
+  const fs::path forces_path = dir / "contact_forces.csv";
+  {
+    CsvReader csv(forces_path,
+                  {"point", "contact", "pair", "node_a", "node_b", "frame", "axis", "harmonic",
+                   "real", "imag"},
+                  hint);
+    const int c_point = csv.column("point"), c_contact = csv.column("contact"),
+              c_pair = csv.column("pair"), c_a = csv.column("node_a"), c_b = csv.column("node_b"),
+              c_frame = csv.column("frame"), c_axis = csv.column("axis"),
+              c_h = csv.column("harmonic"), c_re = csv.column("real"), c_im = csv.column("imag");
+    while (csv.next()) {
+      ForceRow r;
+      r.point = point_of(csv, c_point);
+      const std::pair<std::string, int> id{csv.text(c_contact), csv.integer(c_pair)};
+      auto [it, inserted] = pair_index.try_emplace(id, static_cast<int>(out.pairs.size()));
+      if (inserted) {
+        out.pairs.push_back({id.first, id.second, csv.integer(c_a), csv.integer(c_b), 0});
+      } else if (out.pairs[it->second].node_a != csv.integer(c_a) ||
+                 out.pairs[it->second].node_b != csv.integer(c_b)) {
+        csv.fail(fmt::format("pair {} of contact {} changes its nodes", id.second, id.first));
+      }
+      r.pair = it->second;
+      const std::string& frame = csv.text(c_frame);
+      if (frame != "local" && frame != "global") csv.fail("frame must be local or global");
+      r.global = frame == "global";
+      r.row = axis_row(csv.text(c_axis), r.global);
+      if (r.row < 0) csv.fail("unknown axis '" + csv.text(c_axis) + "' for frame " + frame);
+      if (!r.global) {
+        SolvedPairId& pid = out.pairs[r.pair];
+        const int m = csv.text(c_axis) == "u" ? 1 : 3;
+        if (pid.local_rows != 0 && pid.local_rows != m) csv.fail("mixed 1D and 3D axes of a pair");
+        pid.local_rows = m;
+      }
+      r.harmonic = csv.integer(c_h);
+      if (r.harmonic < 0) csv.fail("negative harmonic");
+      harmonic_set.insert(r.harmonic);
+      r.value = {csv.number(c_re), csv.number(c_im)};
+      r.line = csv.line();
+      rows.push_back(r);
+    }
+  }
+  fr.harmonics.assign(harmonic_set.begin(), harmonic_set.end());
+  const int nh = static_cast<int>(fr.harmonics.size());
+  const int npairs = static_cast<int>(out.pairs.size());
+  std::map<int, int> column_of_harmonic;
+  for (int h = 0; h < nh; ++h) column_of_harmonic[fr.harmonics[h]] = h;
+  for (SolvedPairId& pid : out.pairs) {
+    if (pid.local_rows == 0) pid.local_rows = 3;
+  }
+  // Fill, checking every entry is given exactly once.
+  std::vector<Eigen::MatrixXi> seen(static_cast<size_t>(np) * npairs);
+  for (FrequencyPoint& p : fr.points) {
+    p.pairs.resize(npairs);
+    for (int q = 0; q < npairs; ++q) {
+      p.pairs[q].force_local = Eigen::MatrixXcd::Zero(out.pairs[q].local_rows, nh);
+      p.pairs[q].force_global = Eigen::MatrixXcd::Zero(3, nh);
+    }
+  }
+  for (size_t i = 0; i < seen.size(); ++i) seen[i] = Eigen::MatrixXi::Zero(6, nh);
+  for (const ForceRow& r : rows) {
+    PairResponse& pr = fr.points[r.point].pairs[r.pair];
+    const int h = column_of_harmonic.at(r.harmonic);
+    Eigen::MatrixXcd& target = r.global ? pr.force_global : pr.force_local;
+    if (r.row >= target.rows()) {
+      throw InvalidInput({forces_path.string(), r.line, ""}, "axis out of the pair's frame");
+    }
+    int& count =
+        seen[static_cast<size_t>(r.point) * npairs + r.pair](r.row + (r.global ? 3 : 0), h);
+    if (count++ > 0) {
+      throw InvalidInput({forces_path.string(), r.line, ""},
+                         "this point, pair, frame, axis and harmonic is given twice");
+    }
+    target(r.row, h) = r.value;
+  }
+  const size_t expected_rows = [&] {
+    size_t n = 0;
+    for (const SolvedPairId& pid : out.pairs) n += static_cast<size_t>(pid.local_rows + 3) * nh;
+    return n * np;
+  }();
+  if (rows.size() != expected_rows) {
+    throw InvalidInput({forces_path.string(), 0, ""},
+                       fmt::format("{} force rows where {} points x {} pairs x {} harmonics need "
+                                   "{}: the file is incomplete; run `{}` again",
+                                   rows.size(), np, npairs, nh, expected_rows, hint));
+  }
+
+  // contact_state.csv
+  {
+    CsvReader csv(dir / "contact_state.csv",
+                  {"point", "contact", "pair", "stick", "slip", "separation", "dissipated_energy"},
+                  hint);
+    const int c_point = csv.column("point"), c_contact = csv.column("contact"),
+              c_pair = csv.column("pair"), c_stick = csv.column("stick"),
+              c_slip = csv.column("slip"), c_sep = csv.column("separation"),
+              c_e = csv.column("dissipated_energy");
+    size_t count = 0;
+    while (csv.next()) {
+      const int i = point_of(csv, c_point);
+      const auto it = pair_index.find({csv.text(c_contact), csv.integer(c_pair)});
+      if (it == pair_index.end()) csv.fail("pair not in contact_forces.csv");
+      CycleStatistics& c = fr.points[i].pairs[it->second].cycle;
+      c.stick_fraction = csv.number(c_stick);
+      c.slip_fraction = csv.number(c_slip);
+      c.separation_fraction = csv.number(c_sep);
+      c.dissipated_energy = csv.number(c_e);
+      ++count;
+    }
+    if (count != static_cast<size_t>(np) * npairs) {
+      csv.fail(fmt::format("{} rows where {} points x {} pairs are needed", count, np, npairs));
+    }
+  }
+
+  // histories.csv (optional): one row per point, pair, sample, axis.
+  if (fs::exists(dir / "histories.csv")) {
+    CsvReader csv(dir / "histories.csv",
+                  {"point", "contact", "pair", "sample", "axis", "displacement", "force"}, hint);
+    const int c_point = csv.column("point"), c_contact = csv.column("contact"),
+              c_pair = csv.column("pair"), c_sample = csv.column("sample"),
+              c_axis = csv.column("axis"), c_u = csv.column("displacement"),
+              c_f = csv.column("force");
+    while (csv.next()) {
+      const int i = point_of(csv, c_point);
+      const auto it = pair_index.find({csv.text(c_contact), csv.integer(c_pair)});
+      if (it == pair_index.end()) csv.fail("pair not in contact_forces.csv");
+      const int j = csv.integer(c_sample);
+      const int row = axis_row(csv.text(c_axis), false);
+      const int m = out.pairs[it->second].local_rows;
+      if (row < 0 || row >= m) csv.fail("unknown axis '" + csv.text(c_axis) + "'");
+      if (j < 0 || j > 1000000) csv.fail("sample out of range");
+      AftSamples& s = fr.points[i].pairs[it->second].history;
+      if (s.u.cols() <= j) {
+        const Eigen::Index old = s.u.cols();
+        s.u.conservativeResize(m, j + 1);
+        s.f.conservativeResize(m, j + 1);
+        s.u.rightCols(j + 1 - old).setZero();
+        s.f.rightCols(j + 1 - old).setZero();
+      }
+      s.u(row, j) = csv.number(c_u);
+      s.f(row, j) = csv.number(c_f);
+    }
+  }
+
+  // master_response.csv
+  {
+    CsvReader csv(dir / "master_response.csv",
+                  {"point", "body", "node", "dof", "harmonic", "real", "imag"}, hint);
+    const int c_point = csv.column("point"), c_body = csv.column("body"),
+              c_node = csv.column("node"), c_dof = csv.column("dof"), c_h = csv.column("harmonic"),
+              c_re = csv.column("real"), c_im = csv.column("imag");
+    while (csv.next()) {
+      const int i = point_of(csv, c_point);
+      const int d = axis_row(csv.text(c_dof), true);
+      if (d < 0) csv.fail("dof must be x, y or z");
+      const auto h = column_of_harmonic.find(csv.integer(c_h));
+      if (h == column_of_harmonic.end()) csv.fail("harmonic not in contact_forces.csv");
+      auto [it, inserted] = out.master.try_emplace(
+          MasterDofKey{csv.text(c_body), csv.integer(c_node), d}, Eigen::MatrixXcd());
+      if (inserted) it->second = Eigen::MatrixXcd::Zero(np, nh);
+      it->second(i, h->second) = {csv.number(c_re), csv.number(c_im)};
+    }
+  }
+  fr.completed = true;
+  return out;
+}
+
+void write_reduce_manifest(const fs::path& path, const ReduceManifest& manifest) {
+  write_file_atomically(path.string(), [&](std::ostream& out) {
+    out << "# stickslip reduce: what the matrices of this folder were made from. A body's\n"
+           "# fingerprint hashes its mesh, element set, material, clamps, master nodes and\n"
+           "# modes; solve, recover, export and modes reuse the files only if it still matches.\n";
+    fmt::print(out, "case {}\n", manifest.case_file);
+    for (const auto& [body, hash] : manifest.body_fingerprint) {
+      fmt::print(out, "body {} {}\n", body, hash);
+    }
+  });
+}
+
+ReduceManifest read_reduce_manifest(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InvalidInput({path.string(), 0, ""}, "cannot read the manifest");
+  ReduceManifest m;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    std::string key;
+    ss >> key;
+    if (key == "case") {
+      std::getline(ss >> std::ws, m.case_file);
+    } else if (key == "body") {
+      std::string name, hash;
+      if (!(ss >> name >> hash)) {
+        throw InvalidInput({path.string(), number, "body"}, "expected: body <name> <fingerprint>");
+      }
+      m.body_fingerprint[name] = hash;
+    } else {
+      throw InvalidInput({path.string(), number, key}, "unknown manifest key");
+    }
+  }
+  return m;
+}
+
+void write_dense_matrix(const fs::path& path, const Eigen::MatrixXd& matrix) {
+  static_assert(sizeof(double) == 8);
+  write_file_atomically(path.string(), [&](std::ostream& out) {
+    fmt::print(out, "stickslip-dense-matrix 1 {} {}\n", matrix.rows(), matrix.cols());
+    out.write(reinterpret_cast<const char*>(matrix.data()),
+              static_cast<std::streamsize>(matrix.size() * sizeof(double)));
+  });
+}
+
+Eigen::MatrixXd read_dense_matrix(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput({path.string(), 0, ""}, "cannot read the matrix file");
+  std::string header;
+  std::getline(in, header);
+  std::istringstream ss(header);
+  std::string magic;
+  int version = 0;
+  long rows = -1, cols = -1;
+  ss >> magic >> version >> rows >> cols;
+  if (magic != "stickslip-dense-matrix" || version != 1 || rows < 0 || cols < 0) {
+    throw InvalidInput({path.string(), 1, ""}, "not a stickslip dense matrix file");
+  }
+  Eigen::MatrixXd m(rows, cols);
+  in.read(reinterpret_cast<char*>(m.data()),
+          static_cast<std::streamsize>(m.size() * sizeof(double)));
+  if (in.gcount() != static_cast<std::streamsize>(m.size() * sizeof(double))) {
+    throw InvalidInput({path.string(), 0, ""}, "the matrix file is truncated");
+  }
+  return m;
+}
+
+}  // namespace stickslip

@@ -1,0 +1,77 @@
+// Reading back the files the stages write into an output folder (docs/output-files.md), so that
+// one stage can start from the files of an earlier one:
+//   solve   -> points.csv, contact_forces.csv, contact_state.csv, master_response.csv,
+//              histories.csv (optional), summary.json (title, frf DOFs, fingerprint)
+//   reduce  -> reduced/manifest.txt (what the reduced matrices were made from)
+// Every error (missing file, missing column, bad number, unknown pair, missing or repeated
+// rows) throws InvalidInput naming the file and line; a missing file also names the command that
+// makes it (`hint`, e.g. "stickslip solve case.yaml -o out").
+//
+// Numbers: the solve writes frequencies, master responses and contact forces with 17 significant
+// digits, so doubles read back exactly (a recovery from the files equals the one in memory to
+// round-off).
+#pragma once
+
+#include <complex>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hbm/frequency_response.h"
+#include "io/case_file.h"
+
+namespace stickslip {
+
+// 64-bit FNV-1a hash of `text`, as 16 hexadecimal digits (not cryptographic: detects changes).
+std::string fingerprint_hex(const std::string& text);
+// Same of a file's bytes; InvalidInput{path} if it cannot be read.
+std::string file_fingerprint_hex(const std::string& path);
+
+// An existing file, or InvalidInput{path}: "missing: run `<hint>` first".
+void require_stage_file(const std::filesystem::path& path, const std::string& hint);
+
+// Identity of a contact pair in the solve outputs.
+struct SolvedPairId {
+  std::string contact;
+  int pair = 0;  // 0-based within the contact
+  int node_a = 0, node_b = 0;
+  int local_rows = 0;  // 3 (t1, t2, n) or 1 (u)
+};
+
+// A master DOF of master_response.csv: (body, external node id, direction 0..2).
+using MasterDofKey = std::tuple<std::string, int, int>;
+
+struct SolveResults {
+  std::string title;
+  std::string fingerprint;                 // of the solve's inputs (summary.json)
+  std::vector<ResponseDofDefinition> frf;  // output.frf of the solved case (summary.json)
+  // points: omega, converged, iterations, residual_norm, per pair force_local (local_rows x nh),
+  // force_global (3 x nh), cycle statistics and (histories.csv) the sampled cycle. `master` and
+  // `unknowns` stay empty (the files hold only the physical master DOFs: see `master` below).
+  FrequencyResponse response;
+  std::vector<SolvedPairId> pairs;  // in the order of the solve (the model's pair order)
+  std::map<MasterDofKey, Eigen::MatrixXcd> master;  // points x harmonics
+};
+
+SolveResults read_solve_results(const std::filesystem::path& dir, const std::string& hint);
+
+// reduce's manifest: `key value` lines ('#' comments). Keys: "case" (the case file) and
+// "body <name>" -> the fingerprint of what the body's reduction was made from.
+struct ReduceManifest {
+  std::string case_file;
+  std::map<std::string, std::string> body_fingerprint;
+};
+void write_reduce_manifest(const std::filesystem::path& path, const ReduceManifest& manifest);
+ReduceManifest read_reduce_manifest(const std::filesystem::path& path);
+
+// Dense matrix as binary: a text line "stickslip-dense-matrix 1 <rows> <cols>\n" and then the
+// values as little-endian IEEE doubles, column-major (the Craig–Bampton basis T).
+void write_dense_matrix(const std::filesystem::path& path, const Eigen::MatrixXd& matrix);
+Eigen::MatrixXd read_dense_matrix(const std::filesystem::path& path);
+
+}  // namespace stickslip

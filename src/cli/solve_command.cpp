@@ -1,0 +1,254 @@
+// `stickslip solve CASE -o DIR`: the harmonic balance of the case (cli/pipeline.h) and its CSV
+// and JSON outputs (docs/output-files.md), reusing reduce's matrices when they belong to the case.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include <fmt/core.h>
+#include <fmt/ostream.h>
+
+#include "cli/commands.h"
+#include "cli/pipeline.h"
+#include "cli/progress.h"
+#include "core/errors.h"
+#include "core/types.h"
+#include "io/atomic_file.h"
+#include "io/case_file.h"
+
+#ifndef STICKSLIP_VERSION
+#define STICKSLIP_VERSION "unknown"
+#endif
+
+namespace stickslip {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kLocalAxes[3] = {"t1", "t2", "n"};
+const char* kGlobalAxes[3] = {"x", "y", "z"};
+
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          out += fmt::format("\\u{:04x}", static_cast<int>(c));
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
+double total_dissipation(const FrequencyPoint& p) {
+  double e = 0;
+  for (const PairResponse& r : p.pairs) e += r.cycle.dissipated_energy;
+  return e;
+}
+
+// Name of the contact pair's axis rows: 3D contacts t1, t2, n; 1D laws "u".
+std::string local_axis(const PreparedModel& model, int pair, int row) {
+  return model.pairs[pair].frame.rows() == 3 ? kLocalAxes[row] : "u";
+}
+
+}  // namespace
+
+void write_solve_results(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
+                         const SolvedCase& solved, double seconds_total) {
+  fs::create_directories(dir);
+  const FrequencyResponse& fr = solved.response;
+  const std::vector<int>& harmonics = fr.harmonics;
+
+  write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
+    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative\n";
+    for (size_t i = 0; i < fr.points.size(); ++i) {
+      const FrequencyPoint& p = fr.points[i];
+      fmt::print(out, "{},{:.17g},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
+                 p.converged ? 1 : 0, p.iterations, p.residual_norm, total_dissipation(p),
+                 p.residual_norm / solved.system->residual_scale());
+    }
+  });
+
+  write_file_atomically((dir / "master_response.csv").string(), [&](std::ostream& out) {
+    out << "point,body,node,dof,harmonic,real,imag\n";
+    for (size_t i = 0; i < fr.points.size(); ++i) {
+      const FrequencyPoint& p = fr.points[i];
+      for (const PreparedBody& body : model.bodies) {
+        for (const auto& [key, g] : body.master_dof) {
+          for (size_t h = 0; h < harmonics.size(); ++h) {
+            const std::complex<double> x = p.master(g, static_cast<int>(h));
+            fmt::print(out, "{},{},{},{},{},{:.17g},{:.17g}\n", i, body.name, key.first,
+                       kGlobalAxes[key.second], harmonics[h], x.real(), x.imag());
+          }
+        }
+      }
+    }
+  });
+
+  // Pair numbering within each contact.
+  std::vector<int> pair_in_contact(model.pairs.size());
+  {
+    std::map<int, int> count;
+    for (size_t q = 0; q < model.pairs.size(); ++q) {
+      pair_in_contact[q] = count[model.pair_info[q].contact]++;
+    }
+  }
+  write_file_atomically((dir / "contact_forces.csv").string(), [&](std::ostream& out) {
+    out << "point,contact,pair,node_a,node_b,frame,axis,harmonic,real,imag\n";
+    for (size_t i = 0; i < fr.points.size(); ++i) {
+      const FrequencyPoint& p = fr.points[i];
+      for (size_t q = 0; q < p.pairs.size(); ++q) {
+        const PreparedPair& info = model.pair_info[q];
+        const std::string& contact = def.contacts[info.contact].name;
+        const PairResponse& r = p.pairs[q];
+        for (int row = 0; row < r.force_local.rows(); ++row) {
+          for (size_t h = 0; h < harmonics.size(); ++h) {
+            const std::complex<double> f = r.force_local(row, static_cast<int>(h));
+            fmt::print(out, "{},{},{},{},{},local,{},{},{:.17g},{:.17g}\n", i, contact,
+                       pair_in_contact[q], info.node_a_id, info.node_b_id,
+                       local_axis(model, static_cast<int>(q), row), harmonics[h], f.real(),
+                       f.imag());
+          }
+        }
+        for (int row = 0; row < r.force_global.rows(); ++row) {
+          for (size_t h = 0; h < harmonics.size(); ++h) {
+            const std::complex<double> f = r.force_global(row, static_cast<int>(h));
+            fmt::print(out, "{},{},{},{},{},global,{},{},{:.17g},{:.17g}\n", i, contact,
+                       pair_in_contact[q], info.node_a_id, info.node_b_id, kGlobalAxes[row],
+                       harmonics[h], f.real(), f.imag());
+          }
+        }
+      }
+    }
+  });
+
+  write_file_atomically((dir / "contact_state.csv").string(), [&](std::ostream& out) {
+    out << "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n";
+    for (size_t i = 0; i < fr.points.size(); ++i) {
+      const FrequencyPoint& p = fr.points[i];
+      for (size_t q = 0; q < p.pairs.size(); ++q) {
+        const PreparedPair& info = model.pair_info[q];
+        const CycleStatistics& c = p.pairs[q].cycle;
+        fmt::print(out, "{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9e}\n", i,
+                   def.contacts[info.contact].name, pair_in_contact[q], info.node_a_id,
+                   info.node_b_id, c.stick_fraction, c.slip_fraction, c.separation_fraction,
+                   c.dissipated_energy);
+      }
+    }
+  });
+
+  if (!def.output.histories.empty()) {
+    write_file_atomically((dir / "histories.csv").string(), [&](std::ostream& out) {
+      out << "point,contact,pair,sample,t_over_period,axis,displacement,force\n";
+      for (size_t i = 0; i < fr.points.size(); ++i) {
+        const FrequencyPoint& p = fr.points[i];
+        for (size_t q = 0; q < p.pairs.size(); ++q) {
+          const AftSamples& s = p.pairs[q].history;
+          if (s.u.size() == 0) continue;
+          const int n = static_cast<int>(s.u.cols());
+          for (int j = 0; j < n; ++j) {
+            for (int row = 0; row < s.u.rows(); ++row) {
+              fmt::print(out, "{},{},{},{},{:.8f},{},{:.10e},{:.10e}\n", i,
+                         def.contacts[model.pair_info[q].contact].name, pair_in_contact[q], j,
+                         static_cast<double>(j) / n, local_axis(model, static_cast<int>(q), row),
+                         s.u(row, j), s.f(row, j));
+            }
+          }
+        }
+      }
+    });
+  }
+
+  int converged = 0;
+  for (const FrequencyPoint& p : fr.points) converged += p.converged ? 1 : 0;
+  write_file_atomically((dir / "summary.json").string(), [&](std::ostream& out) {
+    out << "{\n";
+    fmt::print(out, "  \"program\": \"stickslip\",\n  \"version\": \"{}\",\n", STICKSLIP_VERSION);
+    fmt::print(out, "  \"case_file\": \"{}\",\n", json_escape(def.file));
+    fmt::print(out, "  \"title\": \"{}\",\n", json_escape(def.title));
+    fmt::print(out, "  \"fingerprint\": \"{}\",\n", solve_fingerprint(def));
+    out << "  \"frf\": [";
+    for (size_t i = 0; i < def.output.frf.size(); ++i) {
+      const ResponseDofDefinition& r = def.output.frf[i];
+      fmt::print(out, "{}\"{}:{}:{}\"", i ? ", " : "", json_escape(r.body), r.node,
+                 kGlobalAxes[r.direction]);
+    }
+    out << "],\n";
+    fmt::print(out, "  \"reduced_dofs\": {},\n  \"contact_pairs\": {},\n  \"unknowns\": {},\n",
+               model.num_dofs, model.pairs.size(), solved.system->size());
+    fmt::print(out, "  \"points\": {},\n  \"converged_points\": {},\n  \"completed\": {},\n",
+               fr.points.size(), converged, fr.completed ? "true" : "false");
+    fmt::print(out, "  \"message\": \"{}\",\n", json_escape(fr.message));
+    out << "  \"bodies\": [";
+    for (size_t b = 0; b < model.bodies.size(); ++b) {
+      const PreparedBody& body = model.bodies[b];
+      fmt::print(out,
+                 "{}\n    {{\"name\": \"{}\", \"full_dofs\": {}, \"reduced_dofs\": {}, "
+                 "\"masters\": {}, \"seconds_reduction\": {:.3f}}}",
+                 b ? "," : "", json_escape(body.name), body.from_mesh ? body.mesh.num_dofs() : 0,
+                 body.reduced.size(), body.master_dof.size() / 3, body.seconds_reduction);
+    }
+    out << "\n  ],\n";
+    fmt::print(
+        out,
+        "  \"timings\": {{\"prepare_s\": {:.3f}, \"solve_s\": {:.3f}, \"total_s\": {:.3f}}},\n",
+        model.seconds_prepare, solved.seconds_solve, seconds_total);
+    fmt::print(out, "  \"inputs\": \"{}\"\n", json_escape(describe_case(def)));
+    out << "}\n";
+  });
+}
+
+int run_solve(const StageCommand& command) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const CaseDefinition base = read_case_file(command.case_file);
+  const bool quiet = command.quiet || base.output.quiet;
+  const auto progress = [&](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
+  };
+  ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
+  const fs::path out_dir = stage_output_dir(base, command.output_dir);
+  int failed_points = 0;
+  for (const StageRun& run : stage_runs(base, out_dir)) {
+    if (!run.folder.empty()) progress("study: " + run.folder);
+    const auto t_run = Clock::now();
+    const PreparedModel model =
+        prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress);
+    const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
+    write_solve_results(run.dir, run.definition, model, solved,
+                        std::chrono::duration<double>(Clock::now() - t_run).count());
+    int bad = 0;
+    for (const FrequencyPoint& p : solved.response.points) bad += p.converged ? 0 : 1;
+    failed_points += bad;
+    progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
+                         solved.response.points.size(), bad, solved.seconds_solve,
+                         run.dir.string()));
+  }
+  progress(
+      fmt::format("done in {:.1f} s", std::chrono::duration<double>(Clock::now() - t0).count()));
+  if (failed_points > 0) {
+    std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
+                 failed_points);
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace stickslip

@@ -1,0 +1,444 @@
+// End-to-end: the stage subcommands (mesh, modes, reduce, solve, recover, export, plot) through
+// the real program on a small two-beam joint. What they are checked against:
+//  - `run` (the whole pipeline in one process): solve + recover from the files must give the
+//    same solve files and recovery to round-off (the CSVs carry 17 significant digits);
+//    reduce + solve through Harwell–Boeing text (16 digits) to 1e-8;
+//  - physics: the full-model recovery reproduces the reduced response at the master DOFs
+//    (Craig–Bampton truncation only); the Craig–Bampton stuck frequencies of `modes CASE` lie
+//    at or above the full-model stuck frequencies of `modes` on the same mesh (Rayleigh–Ritz)
+//    and within 1 %; the mesh files read back with the node count of the generator's formula;
+//  - missing, stale or damaged stage files stop with the file (and line) and the command to run.
+#include <gtest/gtest.h>
+
+#include "cli_test_support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/inp_reader.h"
+
+namespace {
+
+using namespace stickslip::cli_test;
+
+// Round-off of a recovery repeated from 17-digit files: the loads are bit-identical, the
+// factorisation and Craig–Bampton reduction are repeated (same inputs, same order of operations)
+// but BLAS may sum in another order; 1e-9 of the largest value leaves six orders of margin.
+constexpr double kRoundOff = 1e-9;
+// Through Harwell–Boeing text (16 significant digits) the reduced matrices change by ~1e-16
+// relative; the lightly damped resonance (ζ ≈ 2e-4) amplifies that by ~1/ζ at most.
+constexpr double kThroughHb = 1e-8;
+
+// The small butt joint of run_cli_test.cpp, with recovered nodes 200 (in beam 1) and 550 (in
+// beam 2) and one FRF DOF. Node ids of the generator: beam 1 holds ids 1..366.
+std::string small_case(const std::string& replace_from = "", const std::string& replace_to = "") {
+  std::string s = R"(stickslip: 1
+title: small joint
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam, arrangement: butt, element: C3D8I, box: [10, 5, 4], end_block: [2, 5, 2]}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, masters: [FORCE1], modes: 20}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 20}
+contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 20}
+excitation:
+  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}
+  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}
+damping: {alpha: 5.0, beta: 0.0}
+analysis:
+  frequency: {around_mode: 4, half_width_hz: 4, step_hz: 1}
+  harmonics: 1
+  time_samples: 64
+recovery: {points: peak, method: direct, fields: [displacement, stress], nodes: [200, 550]}
+output:
+  vtu: true
+  plots: false
+  histories: {joint: [0]}
+  frf: [{body: beam1, node: 200, direction: y}]
+)";
+  if (!replace_from.empty()) {
+    const size_t at = s.find(replace_from);
+    EXPECT_NE(at, std::string::npos) << replace_from;
+    if (at != std::string::npos) s.replace(at, replace_from.size(), replace_to);
+  }
+  return s;
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+fs::path write_case(const fs::path& dir, const std::string& text) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.yaml") << text;
+  return dir / "case.yaml";
+}
+
+// Numbers of column `value` of a CSV keyed by the other listed columns.
+std::map<std::string, double> csv_values(const fs::path& file,
+                                         const std::vector<std::string>& key_columns,
+                                         const std::string& value) {
+  std::map<std::string, double> out;
+  for (const auto& r : read_csv(file)) {
+    std::string key;
+    for (const std::string& k : key_columns) key += r.at(k) + "/";
+    out[key] = std::stod(r.at(value));
+  }
+  return out;
+}
+
+// max |a − b| over the common keys, relative to max |a|; all keys must be common.
+double relative_difference(const std::map<std::string, double>& a,
+                           const std::map<std::string, double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double scale = 0, diff = 0;
+  for (const auto& [k, v] : a) {
+    scale = std::max(scale, std::abs(v));
+    const auto it = b.find(k);
+    if (it == b.end()) {
+      ADD_FAILURE() << "missing " << k;
+      continue;
+    }
+    diff = std::max(diff, std::abs(v - it->second));
+  }
+  return scale > 0 ? diff / scale : diff;
+}
+
+class StagesCli : public ::testing::Test {
+ protected:
+  // One run, one solve + recover, one reduce + solve + recover of the same case, shared by the
+  // tests (each takes a few seconds).
+  static void SetUpTestSuite() {
+    root_ = fresh_dir("stages");
+    case_ = write_case(root_, small_case());
+    ok_ = run("run -q " + case_.string() + " -o " + (root_ / "run").string(), root_ / "run.log") ==
+              0 &&
+          run("solve -q " + case_.string() + " -o " + (root_ / "staged").string(),
+              root_ / "solve.log") == 0 &&
+          run("recover -q " + case_.string() + " -o " + (root_ / "staged").string(),
+              root_ / "recover.log") == 0 &&
+          run("reduce -q " + case_.string() + " -o " + (root_ / "reduced").string(),
+              root_ / "reduce.log") == 0 &&
+          run("solve " + case_.string() + " -o " + (root_ / "reduced").string(),
+              root_ / "solve_reduced.log") == 0 &&
+          run("recover -q " + case_.string() + " -o " + (root_ / "reduced").string(),
+              root_ / "recover_reduced.log") == 0;
+  }
+  void SetUp() override {
+    ASSERT_TRUE(ok_) << slurp(root_ / "run.log") << slurp(root_ / "solve.log")
+                     << slurp(root_ / "recover.log") << slurp(root_ / "reduce.log")
+                     << slurp(root_ / "solve_reduced.log") << slurp(root_ / "recover_reduced.log");
+  }
+  static fs::path root_, case_;
+  static bool ok_;
+};
+fs::path StagesCli::root_, StagesCli::case_;
+bool StagesCli::ok_ = false;
+
+const std::vector<std::string> kMasterKey{"point", "body", "node", "dof", "harmonic"};
+const std::vector<std::string> kForceKey{"point", "contact", "pair", "frame", "axis", "harmonic"};
+
+TEST_F(StagesCli, SolveWritesRunsFilesAndRecoverFromThemEqualsRunsRecovery) {
+  const fs::path a = root_ / "run", b = root_ / "staged";
+  for (const char* value : {"real", "imag"}) {
+    EXPECT_LT(relative_difference(csv_values(a / "master_response.csv", kMasterKey, value),
+                                  csv_values(b / "master_response.csv", kMasterKey, value)),
+              kRoundOff);
+    EXPECT_LT(relative_difference(csv_values(a / "contact_forces.csv", kForceKey, value),
+                                  csv_values(b / "contact_forces.csv", kForceKey, value)),
+              kRoundOff);
+    EXPECT_LT(relative_difference(csv_values(a / "recovered_nodes.csv", kMasterKey, value),
+                                  csv_values(b / "recovered_nodes.csv", kMasterKey, value)),
+              kRoundOff);
+  }
+  // Both recovered nodes are there (one per body), three directions, harmonics 0 and 1.
+  EXPECT_EQ(read_csv(b / "recovered_nodes.csv").size(), 2u * 3 * 2);
+  const auto check_a =
+      csv_values(a / "recovery_check.csv", {"point", "body", "harmonic"}, "max_relative");
+  const auto check_b =
+      csv_values(b / "recovery_check.csv", {"point", "body", "harmonic"}, "max_relative");
+  ASSERT_EQ(check_a.size(), 4u);  // the peak point, two bodies, harmonics 0 and 1
+  for (const auto& [k, v] : check_a) {
+    // Printed with 7 digits: equal to that precision.
+    EXPECT_NEAR(check_b.at(k), v, 1e-6 * v + 1e-15) << k;
+    // The full model reproduces the reduced response (Craig–Bampton truncation only).
+    if (k.find("/1/") != std::string::npos) {
+      EXPECT_LT(v, 1e-2) << k;
+    }
+  }
+  for (const char* f : {"recovery_p", "recovery_envelope"}) {
+    bool found = false;
+    for (const auto& e : fs::directory_iterator(b)) {
+      found |= e.path().filename().string().rfind(f, 0) == 0;
+    }
+    EXPECT_EQ(found, std::string(f) == "recovery_p") << f;  // one point: no envelope
+  }
+}
+
+TEST_F(StagesCli, SolveReusesFreshReducedMatricesAndMatchesRun) {
+  EXPECT_TRUE(fs::exists(root_ / "reduced" / "reduced" / "manifest.txt"));
+  EXPECT_TRUE(fs::exists(root_ / "reduced" / "reduced" / "beam1_K.hb"));
+  EXPECT_TRUE(fs::exists(root_ / "reduced" / "reduced" / "beam2_M.mapping"));
+  const std::string log = slurp(root_ / "solve_reduced.log");
+  EXPECT_NE(log.find("reduced matrices from"), std::string::npos) << log;
+  EXPECT_EQ(log.find("reduce beam1"), std::string::npos) << log;  // no Craig–Bampton run
+  const fs::path a = root_ / "run", b = root_ / "reduced";
+  for (const char* value : {"real", "imag"}) {
+    EXPECT_LT(relative_difference(csv_values(a / "master_response.csv", kMasterKey, value),
+                                  csv_values(b / "master_response.csv", kMasterKey, value)),
+              kThroughHb);
+    EXPECT_LT(relative_difference(csv_values(a / "recovered_nodes.csv", kMasterKey, value),
+                                  csv_values(b / "recovered_nodes.csv", kMasterKey, value)),
+              kThroughHb);
+  }
+}
+
+TEST_F(StagesCli, StaleReducedMatricesAreRefusedButAPreloadChangeKeepsThem) {
+  const fs::path dir = root_ / "stale";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "out" / "reduced");
+  fs::copy(root_ / "reduced" / "reduced", dir / "out" / "reduced", fs::copy_options::recursive);
+  // Fewer fixed-interface modes: a different reduction.
+  std::string text = small_case("masters: [FORCE1], modes: 20", "masters: [FORCE1], modes: 18");
+  fs::path c = write_case(dir, text);
+  EXPECT_EQ(run("solve " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 2);
+  std::string log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("reduced/manifest.txt"), std::string::npos) << log;
+  EXPECT_NE(log.find("stale"), std::string::npos) << log;
+  EXPECT_NE(log.find("stickslip reduce " + c.string() + " -o " + (dir / "out").string()),
+            std::string::npos)
+      << log;
+  // Another FRF DOF adds a master node: stale too.
+  text = small_case("frf: [{body: beam1, node: 200, direction: y}]",
+                    "frf: [{body: beam1, node: 201, direction: y}]");
+  c = write_case(dir, text);
+  EXPECT_EQ(run("solve " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 2);
+  EXPECT_NE(slurp(dir / "log.txt").find("stale"), std::string::npos) << slurp(dir / "log.txt");
+  // The preload does not enter the reduction: the matrices are reused.
+  c = write_case(dir, small_case("preload: 20", "preload: 40"));
+  EXPECT_EQ(run("solve " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("reduced matrices from"), std::string::npos);
+}
+
+TEST_F(StagesCli, MissingStaleOrDamagedSolveFilesNameTheFileAndTheCommand) {
+  const fs::path dir = root_ / "damaged";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // Nothing solved yet.
+  EXPECT_EQ(run("recover " + case_.string() + " -o " + (dir / "empty").string(), dir / "log.txt"),
+            2);
+  std::string log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("summary.json"), std::string::npos) << log;
+  EXPECT_NE(log.find("missing: run `stickslip solve " + case_.string()), std::string::npos) << log;
+  // Solved for another preload: stale.
+  fs::copy(root_ / "staged", dir / "out", fs::copy_options::recursive);
+  const fs::path other = write_case(dir / "other", small_case("preload: 20", "preload: 30"));
+  EXPECT_EQ(
+      run("export " + other.string() + " -o " + (dir / "out").string() + " --point 4 --format apdl",
+          dir / "log.txt"),
+      2);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("summary.json"), std::string::npos) << log;
+  EXPECT_NE(log.find("different case"), std::string::npos) << log;
+  // A damaged number on line 3 of contact_forces.csv.
+  {
+    std::ifstream in(dir / "out" / "contact_forces.csv");
+    std::stringstream text;
+    std::string line;
+    for (int i = 1; std::getline(in, line); ++i) {
+      if (i == 3) line = line.substr(0, line.rfind(',')) + ",1.2.3";
+      text << line << "\n";
+    }
+    std::ofstream(dir / "out" / "contact_forces.csv") << text.str();
+  }
+  EXPECT_EQ(run("recover " + case_.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 2);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("contact_forces.csv:3"), std::string::npos) << log;
+  EXPECT_NE(log.find("not a number"), std::string::npos) << log;
+  // A truncated file.
+  {
+    std::ifstream in(root_ / "staged" / "contact_forces.csv");
+    std::stringstream text;
+    std::string line;
+    for (int i = 1; std::getline(in, line) && i < 50; ++i) text << line << "\n";
+    std::ofstream(dir / "out" / "contact_forces.csv") << text.str();
+  }
+  EXPECT_EQ(run("recover " + case_.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 2);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("contact_forces.csv"), std::string::npos) << log;
+  EXPECT_NE(log.find("incomplete"), std::string::npos) << log;
+  // A point that is not there.
+  EXPECT_EQ(run("recover " + case_.string() + " -o " + (root_ / "staged").string() + " --point 99",
+                dir / "log.txt"),
+            2);
+  EXPECT_NE(slurp(dir / "log.txt").find("--point"), std::string::npos);
+}
+
+TEST_F(StagesCli, RecoverOnePointAndExportItsDecksAsRunWritesThem) {
+  const fs::path dir = root_ / "export";
+  fs::remove_all(dir);
+  fs::copy(root_ / "staged", dir, fs::copy_options::recursive);
+  ASSERT_EQ(
+      run("recover -q " + case_.string() + " -o " + dir.string() + " --point 2", dir / "log.txt"),
+      0)
+      << slurp(dir / "log.txt");
+  EXPECT_TRUE(fs::exists(dir / "recovery_p2_beam1.vtu"));
+  for (const auto& r : read_csv(dir / "recovery_check.csv")) EXPECT_EQ(r.at("point"), "2");
+  for (const char* format : {"apdl", "calculix"}) {
+    ASSERT_EQ(
+        run("export -q " + case_.string() + " -o " + dir.string() + " --point 2 --format " + format,
+            dir / "log.txt"),
+        0)
+        << slurp(dir / "log.txt");
+  }
+  // run with output.apdl_macro / calculix_deck and recovery of every point writes the same decks.
+  const fs::path ref = root_ / "export_run";
+  const fs::path c = write_case(
+      ref,
+      replaced(small_case("vtu: true", "vtu: false\n  apdl_macro: true\n  calculix_deck: true"),
+               "points: peak", "points: all"));
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (ref / "out").string(), ref / "log.txt"), 0)
+      << slurp(ref / "log.txt");
+  for (const char* f : {"loads_p2_beam1.mac", "loads_p2_beam2.mac", "recovery_p2_beam1.inp",
+                        "recovery_p2_beam2.inp"}) {
+    ASSERT_TRUE(fs::exists(dir / f)) << f;
+    EXPECT_EQ(slurp(dir / f), slurp(ref / "out" / f)) << f;
+  }
+  // At harmonic 1 the macro loads beam 1's 18 contact nodes (6 x 3 on the end face: pairs
+  // stuck or slipping, never open at this preload) and its forced node: 19 nodes x FX, FY, FZ.
+  const std::string mac = slurp(dir / "loads_p2_beam1.mac");
+  const size_t harfrq = mac.find("HARFRQ");
+  ASSERT_NE(harfrq, std::string::npos);
+  int f_commands = 0;
+  for (size_t at = mac.find("\nF,", harfrq); at != std::string::npos;
+       at = mac.find("\nF,", at + 1)) {
+    ++f_commands;
+  }
+  EXPECT_EQ(f_commands, 19 * 3);
+}
+
+TEST_F(StagesCli, PlotRedrawsTheFrfFromTheCsvFiles) {
+  const fs::path dir = root_ / "plot";
+  fs::remove_all(dir);
+  fs::copy(root_ / "staged", dir, fs::copy_options::recursive);
+  ASSERT_FALSE(fs::exists(dir / "frf.dat"));  // plots: false in the case
+  ASSERT_EQ(run("plot " + dir.string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  // frf.dat: |y harmonic 1| of node 200 of beam 1 at the 9 points, as in master_response.csv.
+  std::map<double, double> expected;
+  const auto points = read_csv(dir / "points.csv");
+  for (const auto& r : read_csv(dir / "master_response.csv")) {
+    if (r.at("body") == "beam1" && r.at("node") == "200" && r.at("dof") == "y" &&
+        r.at("harmonic") == "1") {
+      expected[std::stod(points[std::stoi(r.at("point"))].at("frequency_hz"))] =
+          std::abs(std::complex<double>(std::stod(r.at("real")), std::stod(r.at("imag"))));
+    }
+  }
+  ASSERT_EQ(expected.size(), 9u);
+  std::ifstream in(dir / "frf.dat");
+  std::string line;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double f = 0, a = 0;
+    ss >> f >> a;
+    auto it = expected.lower_bound(f - 1e-6);
+    ASSERT_NE(it, expected.end());
+    EXPECT_NEAR(it->first, f, 1e-6);
+    EXPECT_NEAR(it->second, a, 1e-9 * it->second);  // .dat has 10 digits
+    ++rows;
+  }
+  EXPECT_EQ(rows, 9);
+  EXPECT_TRUE(fs::exists(dir / "contact_state.dat"));
+  EXPECT_TRUE(fs::exists(dir / "hysteresis.dat"));  // histories of pair 0
+  EXPECT_EQ(run("plot " + (dir / "nowhere").string(), dir / "log.txt"), 2);
+}
+
+TEST(StagesCliSingle, MeshWritesTheBodiesWithTheirSetsThatReadBack) {
+  const fs::path dir = fresh_dir("mesh");
+  const fs::path c = write_case(dir, small_case());
+  ASSERT_EQ(run("mesh " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  // The generator's node count (io/two_beam_model.h): (bx+1)(by+1)(bz+1) + ex(by+1)(ez+1) with
+  // box 10x5x4 and end block 2x5x2; elements bx by bz + ex by ez.
+  const int nodes = 11 * 6 * 5 + 2 * 6 * 3, elements = 10 * 5 * 4 + 2 * 5 * 2;
+  for (const char* body : {"beam1", "beam2"}) {
+    const stickslip::Mesh mesh =
+        stickslip::read_inp((dir / "out" / "mesh" / (std::string(body) + ".inp")).string());
+    EXPECT_EQ(mesh.num_nodes(), nodes) << body;
+    EXPECT_EQ(mesh.num_elements(), elements) << body;
+    const std::string n = body == std::string("beam1") ? "1" : "2";
+    EXPECT_TRUE(mesh.node_sets.count("CLAMP" + n)) << body;
+    EXPECT_TRUE(mesh.node_sets.count("CONTACT" + n)) << body;
+    // (by+1)(ez+1) = 6 x 3 contact nodes on the half-thickness end face.
+    EXPECT_EQ(mesh.node_sets.at("CONTACT" + n).size(), 18u) << body;
+    const std::string vtu = slurp(dir / "out" / "mesh" / (std::string(body) + ".vtu"));
+    EXPECT_NE(vtu.find("Name=\"master\""), std::string::npos);
+    EXPECT_NE(vtu.find("Name=\"clamped\""), std::string::npos);
+  }
+}
+
+TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
+  const fs::path dir = fresh_dir("case_modes");
+  // The thesis's coarse joint; the full-model reference is `modes --coarse` (full FE assembly
+  // with contact springs, sparse eigensolver), with the same kt, kn per pair.
+  std::string text = small_case("box: [10, 5, 4], end_block: [2, 5, 2]", "coarse: true");
+  text = replaced(text, "[FORCE1], modes: 20", "[FORCE1], modes: 80");
+  text = replaced(text, "[FORCE2], modes: 20", "[FORCE2], modes: 80");
+  const fs::path c = write_case(dir, text);
+  ASSERT_EQ(
+      run("modes " + c.string() + " --modes 6 -o " + (dir / "case").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(run("modes --coarse --modes 6 -o " + (dir / "full").string(), dir / "log2.txt"), 0)
+      << slurp(dir / "log2.txt");
+  const auto reduced = read_csv(dir / "case" / "modes" / "frequencies.csv");
+  const auto full = read_csv(dir / "full" / "frequencies.csv");
+  ASSERT_EQ(reduced.size(), 6u);
+  ASSERT_EQ(full.size(), 6u);
+  for (size_t j = 0; j < 6; ++j) {
+    const double fr = std::stod(reduced[j].at("frequency_hz"));
+    const double ff = std::stod(full[j].at("frequency_hz"));
+    // Rayleigh–Ritz: a subspace never lowers an eigenvalue (up to the eigensolvers' accuracy).
+    EXPECT_GE(fr, ff * (1 - 1e-9)) << "mode " << j + 1;
+    // 80 fixed-interface modes of a 240-node beam: within 1 %.
+    EXPECT_LT(fr, ff * 1.01) << "mode " << j + 1;
+  }
+  EXPECT_TRUE(fs::exists(dir / "case" / "modes" / "modes_beam1.vtu"));
+  // Reference-joint options make no sense with a case.
+  EXPECT_EQ(run("modes " + c.string() + " --coarse", dir / "log3.txt"), 2);
+}
+
+TEST(StagesCliSingle, EverySubcommandHasHelpAndTheProgramAVersion) {
+  const fs::path dir = fresh_dir("help");
+  for (const char* sub : {"run", "mesh", "modes", "reduce", "solve", "recover", "export", "plot"}) {
+    ASSERT_EQ(run(std::string(sub) + " --help", dir / "log.txt"), 0) << sub;
+    const std::string log = slurp(dir / "log.txt");
+    EXPECT_NE(log.find(std::string("stickslip ") + sub), std::string::npos) << log;
+    EXPECT_NE(log.find("--help"), std::string::npos) << log;
+  }
+  ASSERT_EQ(run("--help", dir / "log.txt"), 0);
+  for (const char* sub : {"mesh", "modes", "reduce", "solve", "recover", "export", "plot"}) {
+    EXPECT_NE(slurp(dir / "log.txt").find(sub), std::string::npos) << sub;
+  }
+  ASSERT_EQ(run("--version", dir / "log.txt"), 0);
+  EXPECT_NE(slurp(dir / "log.txt").find("stickslip "), std::string::npos);
+}
+
+}  // namespace
