@@ -18,8 +18,10 @@
 #include "io/ansys_mapping.h"
 #include "io/gmsh_mesh.h"
 #include "io/inp_reader.h"
+#include "io/matrix_market.h"
 #include "io/two_beam_model.h"
 #include "mesh/mesh_tools.h"
+#include "mesh/surface_area.h"
 #include "reduction/craig_bampton.h"
 
 namespace stickslip {
@@ -174,24 +176,157 @@ ResolvedContact resolve_contact(const CaseDefinition& def, int c,
   return rc;
 }
 
-// Per-pair parameters (totals divided equally over the pairs).
-ContactParametersDefinition per_pair_parameters(const CaseDefinition& def,
-                                                const ContactDefinition& cd, int num_pairs) {
+// Parameters of a pair that carries `share` of the contact's totals (per_pair: as given; mu and
+// gap are never split).
+ContactParametersDefinition pair_parameters(const ContactDefinition& cd, double share) {
   ContactParametersDefinition p = cd.parameters;
   if (cd.parameters_given == ContactDefinition::Parameters::kTotal) {
-    if (cd.split != "equal") {
-      throw InvalidInput(def.where("contacts." + cd.name + ".total.split"),
-                         "split: " + cd.split + " is not supported yet; use split: equal");
-    }
-    const double n = num_pairs;
-    p.kt /= n;
-    p.kn /= n;
-    p.preload /= n;
-    p.k /= n;
-    p.k1 /= n;
-    p.k3 /= n;
+    p.kt *= share;
+    p.kn *= share;
+    p.preload *= share;
+    p.k *= share;
+    p.k1 *= share;
+    p.k3 *= share;
   }
   return p;
+}
+
+// Stiffness of a pair's local rows when stuck: friction (kt, kt, kn), jenkins kt, gap kn,
+// cubic k1 (the tangent at rest), linear k.
+Eigen::VectorXd stuck_stiffness(const ContactDefinition& cd, const ContactParametersDefinition& p) {
+  if (cd.law == "friction") return Eigen::Vector3d(p.kt, p.kt, p.kn);
+  if (cd.law == "jenkins") return Eigen::VectorXd::Constant(1, p.kt);
+  if (cd.law == "gap") return Eigen::VectorXd::Constant(1, p.kn);
+  if (cd.law == "cubic") return Eigen::VectorXd::Constant(1, p.k1);
+  return Eigen::VectorXd::Constant(1, p.k);  // linear
+}
+
+// The fraction of the contact's totals each pair carries: 1/n (equal), or its tributary area over
+// the contact face's area (split: area; `areas` receives the areas, m²). per_pair: all 1.
+std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefinition& cd,
+                                const ResolvedContact& rc, const std::vector<PreparedBody>& bodies,
+                                const std::map<std::string, const Mesh*>& geometry,
+                                std::vector<double>* areas) {
+  const size_t np = rc.node_pairs.size();
+  areas->assign(np, 0.0);
+  if (cd.parameters_given != ContactDefinition::Parameters::kTotal) {
+    return std::vector<double>(np, 1.0);
+  }
+  if (cd.split != "area") return std::vector<double>(np, 1.0 / static_cast<double>(np));
+  const std::string key = "contacts." + cd.name + ".total.split";
+  // The mesh of a body: its own, or the one it was reduced from (`geometry`), whose node ids are
+  // the body's node ids.
+  const auto mesh_of = [&](int b) -> const Mesh* {
+    if (b < 0) return nullptr;
+    if (bodies[b].from_mesh) return &bodies[b].mesh;
+    const auto it = geometry.find(bodies[b].name);
+    return it == geometry.end() ? nullptr : it->second;
+  };
+  // The face of A, or of B when A has no mesh.
+  const bool use_a = mesh_of(rc.body_a) != nullptr;
+  const Mesh* mesh = use_a ? mesh_of(rc.body_a) : mesh_of(rc.body_b);
+  if (mesh == nullptr) {
+    throw InvalidInput(def.where(key),
+                       "split: area needs the geometry of the contact face, but "
+                       "the bodies of contact " +
+                           cd.name + " are given by matrices (no mesh); use split: equal");
+  }
+  const PreparedBody& body = bodies[use_a ? rc.body_a : rc.body_b];
+  std::unordered_map<int, int> index_of_id;  // bodies given by matrices name nodes by id
+  if (!body.from_mesh) index_of_id = node_index_by_id(*mesh);
+  const auto mesh_node = [&](const std::pair<int, int>& pair) {
+    const int n = use_a ? pair.first : pair.second;
+    if (body.from_mesh) return n;
+    const auto it = index_of_id.find(n);
+    if (it == index_of_id.end()) {
+      throw InvalidInput(def.where(key),
+                         fmt::format("node {} of body {} is not in its mesh", n, body.name));
+    }
+    return it->second;
+  };
+  std::vector<int> nodes;
+  std::map<int, int> uses;  // node -> number of pairs it belongs to
+  for (const auto& pair : rc.node_pairs) {
+    const int n = mesh_node(pair);
+    if (uses[n]++ == 0) nodes.push_back(n);
+  }
+  const std::vector<double> node_area = nodal_areas(*mesh, nodes);
+  std::map<int, double> area_of;
+  double total = 0.0;
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    if (!(node_area[k] > 0.0)) {
+      throw InvalidInput(
+          def.where(key),
+          fmt::format("split: area: node {} of body {} lies on no element face whose nodes are "
+                      "all nodes of contact {}, so it has no tributary area (select whole faces, "
+                      "mid-edge nodes included for quadratic elements, or use split: equal)",
+                      mesh->node_ids[nodes[k]], body.name, cd.name));
+    }
+    area_of[nodes[k]] = node_area[k];
+    total += node_area[k];
+  }
+  std::vector<double> shares(np);
+  for (size_t i = 0; i < np; ++i) {
+    const int n = mesh_node(rc.node_pairs[i]);
+    (*areas)[i] = area_of.at(n) / uses.at(n);  // a node in several pairs shares its area
+    shares[i] = (*areas)[i] / total;
+  }
+  return shares;
+}
+
+// A body given by Matrix Market stiffness and mass plus an ANSYS mapping file: the same reduced
+// body read_ansys_reduced_body builds from Harwell–Boeing files (io/ansys_mapping.h).
+ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
+  // Symmetry of a "general" file: the tolerance of the Harwell–Boeing importer for RUA files.
+  constexpr double kSymmetryTolerance = 1e-10;
+  const AnsysMapping mapping = read_ansys_mapping(r.mapping);
+  const int n = static_cast<int>(mapping.entries.size());
+  ReducedBody body;
+  for (const std::string* path : {&r.stiffness, &r.mass}) {
+    const MatrixMarketMatrix m = read_matrix_market(*path);
+    if (m.matrix.rows() != n || m.matrix.cols() != n) {
+      throw InvalidInput({*path, 1, ""},
+                         fmt::format("matrix is {} x {} but the mapping {} has {} equations",
+                                     m.matrix.rows(), m.matrix.cols(), r.mapping, n));
+    }
+    Eigen::MatrixXd dense(m.matrix);
+    const double scale = dense.cwiseAbs().maxCoeff();
+    const double asym = (dense - dense.transpose()).cwiseAbs().maxCoeff();
+    if (asym > kSymmetryTolerance * scale) {
+      throw InvalidInput({*path, 1, ""},
+                         fmt::format("a body matrix must be symmetric: max |a_ij - a_ji| = {:g}, "
+                                     "max |a_ij| = {:g}",
+                                     asym, scale));
+    }
+    (path == &r.stiffness ? body.K : body.M) = 0.5 * (dense + dense.transpose());
+  }
+  body.dofs.resize(static_cast<size_t>(n));
+  int mode = 0;
+  for (int k = 0; k < n; ++k) {
+    const AnsysMappingEntry& e = mapping.entries[k];
+    ReducedDof& d = body.dofs[k];
+    int direction = -1;
+    switch (classify_ansys_label(e.label, &direction)) {
+      case AnsysDofKind::kTranslation:
+        d.kind = ReducedDof::Kind::kPhysical;
+        d.node_id = e.node;
+        d.direction = direction;
+        break;
+      case AnsysDofKind::kRotation:
+        throw InvalidInput({r.mapping, e.line, "DOF"},
+                           fmt::format("equation {} is the rotation {} of node {}: stickslip "
+                                       "bodies are solids with translational DOFs only",
+                                       e.equation, e.label, e.node));
+      case AnsysDofKind::kGeneralized: {
+        d.kind = ReducedDof::Kind::kModal;
+        d.mode = mode++;
+        const double k_jj = body.K(k, k), m_jj = body.M(k, k);
+        d.frequency_hz = m_jj > 0.0 && k_jj > 0.0 ? rad_s_to_hz(std::sqrt(k_jj / m_jj)) : 0.0;
+        break;
+      }
+    }
+  }
+  return body;
 }
 
 void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const BodyDefinition& bd,
@@ -249,7 +384,8 @@ int PreparedModel::body_index(const std::string& name) const {
 }
 
 PreparedModel prepare_model(const CaseDefinition& def,
-                            const std::function<void(const std::string&)>& progress) {
+                            const std::function<void(const std::string&)>& progress,
+                            const std::map<std::string, const Mesh*>& geometry) {
   const auto t0 = Clock::now();
   const auto say = [&](const std::string& s) {
     if (progress) progress(s);
@@ -282,18 +418,10 @@ PreparedModel prepare_model(const CaseDefinition& def,
       const MaterialDefinition& m = def.materials.at(bd.material);
       body.material = {m.youngs_modulus, m.poisson_ratio, m.density};
     } else {
-      if (bd.reduced.format != "harwell_boeing") {
-        throw InvalidInput(
-            def.where(key + ".reduced.format"),
-            "format " + bd.reduced.format + " is not supported by run yet; use harwell_boeing");
-      }
       body.reduced =
-          read_ansys_reduced_body(bd.reduced.stiffness, bd.reduced.mass, bd.reduced.mapping);
-    }
-    if (bd.modal_damping_ratio != 0.0) {
-      throw InvalidInput(def.where(key + ".modal_damping_ratio"),
-                         "modal damping of fixed-interface modes is not supported by run yet "
-                         "(the harmonic balance needs proportional damping C = αM + βK)");
+          bd.reduced.format == "matrix_market"
+              ? read_matrix_market_body(bd.reduced)
+              : read_ansys_reduced_body(bd.reduced.stiffness, bd.reduced.mass, bd.reduced.mapping);
     }
     body_index[name] = static_cast<int>(model.bodies.size());
     model.bodies.push_back(std::move(body));
@@ -368,28 +496,41 @@ PreparedModel prepare_model(const CaseDefinition& def,
   }
   model.K = Eigen::MatrixXd::Zero(model.num_dofs, model.num_dofs);
   model.M = Eigen::MatrixXd::Zero(model.num_dofs, model.num_dofs);
-  for (const PreparedBody& body : model.bodies) {
+  model.C = Eigen::MatrixXd::Zero(model.num_dofs, model.num_dofs);
+  bool modal_ratio = false;  // some body damps its fixed-interface modes: C is not αM + βK
+  for (const auto& [name, bd] : def.bodies) {
+    const PreparedBody& body = model.bodies[body_index.at(name)];
     const int n = body.reduced.size();
     model.K.block(body.offset, body.offset, n, n) = body.reduced.K;
     model.M.block(body.offset, body.offset, n, n) = body.reduced.M;
+    ReducedDampingOptions damping;
+    damping.alpha = def.damping.alpha;
+    damping.beta = def.damping.beta;
+    damping.modal_damping_ratio = bd.modal_damping_ratio;
+    try {
+      model.C.block(body.offset, body.offset, n, n) = reduced_damping(body.reduced, damping);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(def.where("bodies." + name + ".modal_damping_ratio"), e.message());
+    }
+    modal_ratio = modal_ratio || (bd.modal_damping_ratio > 0.0 && body.reduced.num_modal() > 0);
   }
-  say(fmt::format("modes of the reduced model ({} DOFs)", model.num_dofs));
-  model.linear = linear_model_from_matrices(model.K, model.M, def.damping.alpha, def.damping.beta);
+  say(fmt::format("modes of the reduced model ({} DOFs{})", model.num_dofs,
+                  modal_ratio ? ", non-proportional damping" : ""));
+  model.linear = modal_ratio ? linear_model_from_matrices(model.K, model.M, model.C)
+                             : linear_model_from_matrices(model.K, model.M, def.damping.alpha,
+                                                          def.damping.beta);
 
   // Contact elements on the reduced DOFs.
   for (size_t c = 0; c < def.contacts.size(); ++c) {
     const ContactDefinition& cd = def.contacts[c];
     const ResolvedContact& rc = contacts[c];
     const int np = static_cast<int>(rc.node_pairs.size());
-    const ContactParametersDefinition p = per_pair_parameters(def, cd, np);
+    std::vector<double> areas;
+    const std::vector<double> shares = pair_shares(def, cd, rc, model.bodies, geometry, &areas);
     const std::map<int, double> preload_by_node(cd.preloads.begin(), cd.preloads.end());
     const PreparedBody& A = model.bodies[rc.body_a];
     Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
     Eigen::MatrixXd row_frame;  // m x 3
-    if (cd.law == "linear") {
-      throw InvalidInput(def.where("contacts." + cd.name + ".law"),
-                         "law: linear is not supported by run yet (use friction with a large mu)");
-    }
     const bool is3d = cd.law == "friction";
     try {
       if (is3d) {
@@ -406,9 +547,14 @@ PreparedModel prepare_model(const CaseDefinition& def,
     }
     for (int i = 0; i < np; ++i) {
       const auto [a, b] = rc.node_pairs[i];
+      const ContactParametersDefinition p = pair_parameters(cd, shares[i]);
       ContactPair pair;
       PreparedPair info;
       info.contact = static_cast<int>(c);
+      info.share = shares[i];
+      info.area = areas[i];
+      info.parameters = p;
+      info.stuck_stiffness = stuck_stiffness(cd, p);
       info.node_a_id = node_id_of(A, a);
       info.node_b_id = rc.body_b >= 0 ? node_id_of(model.bodies[rc.body_b], b) : 0;
       for (int dir = 0; dir < 3; ++dir) {
@@ -438,6 +584,8 @@ PreparedModel prepare_model(const CaseDefinition& def,
             std::make_shared<UnilateralSpring>(UnilateralSpringParameters{p.kn, cd.gap, preload});
       } else if (cd.law == "cubic") {
         pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k1, p.k3});
+      } else if (cd.law == "linear") {
+        pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k, 0.0});
       } else {
         throw InvalidInput(def.where("contacts." + cd.name + ".law"), "unknown law " + cd.law);
       }
@@ -510,23 +658,9 @@ PreparedModel prepare_model(const CaseDefinition& def,
 
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
   Eigen::MatrixXd K = model.K;
-  std::vector<int> pairs_of_contact(def.contacts.size(), 0);
-  for (const PreparedPair& q : model.pair_info) ++pairs_of_contact[q.contact];
   for (size_t i = 0; i < model.pairs.size(); ++i) {
     const ContactPair& pair = model.pairs[i];
-    const int c = model.pair_info[i].contact;
-    const ContactDefinition& cd = def.contacts[c];
-    const ContactParametersDefinition p = per_pair_parameters(def, cd, pairs_of_contact[c]);
-    Eigen::VectorXd k_local;
-    if (cd.law == "friction") {
-      k_local = Eigen::Vector3d(p.kt, p.kt, p.kn);
-    } else if (cd.law == "jenkins") {
-      k_local = Eigen::VectorXd::Constant(1, p.kt);
-    } else if (cd.law == "gap") {
-      k_local = Eigen::VectorXd::Constant(1, p.kn);
-    } else {
-      k_local = Eigen::VectorXd::Constant(1, p.k1);
-    }
+    const Eigen::VectorXd& k_local = model.pair_info[i].stuck_stiffness;
     const int m = static_cast<int>(pair.frame.rows());
     Eigen::MatrixXd Bp = Eigen::MatrixXd::Zero(m, model.num_dofs);
     for (int d = 0; d < 3; ++d) {
@@ -569,7 +703,8 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
 }
 
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
-                      const std::function<void(const std::string&)>& progress) {
+                      const std::function<void(const std::string&)>& progress,
+                      ProgressReporter* reporter) {
   const auto t0 = Clock::now();
   SolvedCase solved;
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
@@ -628,7 +763,12 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
         an.method == "continuation" ? "continuation over" : std::to_string(o.omegas.size()),
         an.method == "continuation" ? "the range" : "points"));
   }
+  if (reporter) {
+    reporter->start("harmonic balance", static_cast<int>(o.omegas.size()));  // 0: continuation
+    o.sweep.on_point = o.arclength.on_point = reporter->callback();
+  }
   solved.response = frequency_response(*solved.system, o);
+  if (reporter) reporter->finish();
   solved.seconds_solve = seconds_since(t0);
   return solved;
 }

@@ -5,14 +5,29 @@
 //   model (all its modes, damping C = αM + βK) -> contact pairs and excitation on the reduced
 //   DOFs -> HarmonicBalanceSystem -> frequency response.
 //
-// Bodies given as reduced matrices (+ mapping) skip the mesh and reduction steps; their master
-// nodes are the physical DOFs of the mapping, named by external node number.
+// Bodies given as reduced matrices (Harwell–Boeing or Matrix Market, + an ANSYS mapping) skip the
+// mesh and reduction steps; their master nodes are the physical DOFs of the mapping, named by
+// external node number.
+//
+// Damping: C_r = αM_r + βK_r per body, plus 2ζω_j M_r(j,j) on each fixed-interface (modal) DOF j
+// of a body with modal_damping_ratio ζ > 0 (reduced_body.h, reduced_damping). Without ζ the
+// assembled model keeps the diagonal modal damping c_r = α + βω_r²; with it the full modal damping
+// matrix ΦᵀCΦ of the assembly is passed to the harmonic balance (non-proportional damping).
+//
+// Contact laws: friction (FrictionContact3D), jenkins, gap, cubic, and linear: a 1D linear spring
+// f = k u along `direction` (a CubicSpring with k3 = 0, so it enters the harmonic balance like any
+// other element and its force is reported and recovered like a contact force).
+// Totals (`total:`) are split over the pairs equally or, with split: area, in proportion to the
+// tributary area of each pair's A node on the A body's contact face (mesh/surface_area.h: faces
+// of the A body whose nodes are all A nodes of the contact; automatic rule); the B body's face is
+// used when A is given by matrices.
 // Problems of the case that only show once meshes are loaded (a set missing from a mesh, contact
 // nodes not coincident, a master node that is clamped) throw InvalidInput at the case-file line
 // of the key that asked for them.
 #pragma once
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -20,6 +35,7 @@
 
 #include <Eigen/Core>
 
+#include "cli/progress.h"
 #include "core/types.h"
 #include "fe/dof_map.h"
 #include "fe/material.h"
@@ -51,13 +67,17 @@ struct PreparedPair {
   int contact = 0;    // index in CaseDefinition::contacts
   int node_a_id = 0;  // external ids (0 = ground)
   int node_b_id = 0;
+  double share = 1.0;  // fraction of the contact's totals this pair carries (1 with per_pair)
+  double area = 0.0;   // tributary area of the node the share came from, m² (split: area only)
+  ContactParametersDefinition parameters;  // this pair's parameters (totals already split)
+  Eigen::VectorXd stuck_stiffness;         // stiffness of its local rows when stuck, N/m
 };
 
 struct PreparedModel {
   std::vector<PreparedBody> bodies;
-  int num_dofs = 0;      // assembled reduced DOFs
-  LinearModel linear;    // all modes of the assembled reduced model
-  Eigen::MatrixXd K, M;  // assembled reduced matrices (block diagonal)
+  int num_dofs = 0;         // assembled reduced DOFs
+  LinearModel linear;       // all modes of the assembled reduced model
+  Eigen::MatrixXd K, M, C;  // assembled reduced matrices (block diagonal); C = the damping
   std::vector<ContactPair> pairs;
   std::vector<PreparedPair> pair_info;
   std::vector<Eigen::Matrix3d> pair_frames;  // 3D contacts: rows t1, t2, n (identity otherwise)
@@ -68,11 +88,16 @@ struct PreparedModel {
 };
 
 // Builds the reduced model of the case. `progress` (may be null) receives one line per stage.
+// `geometry` (optional): for bodies given by matrices that were reduced from a mesh (a stage that
+// reuses reduced matrices), that mesh by body name, node ids = the body's node ids; used only to
+// split totals by area (split: area).
 PreparedModel prepare_model(const CaseDefinition& definition,
-                            const std::function<void(const std::string&)>& progress);
+                            const std::function<void(const std::string&)>& progress,
+                            const std::map<std::string, const Mesh*>& geometry = {});
 
 // Natural frequencies (Hz, ascending) of the assembled reduced model with every contact stuck:
-// friction pairs as springs (kt, kt, kn) in their frame, 1D laws by their tangent at rest.
+// friction pairs as springs (kt, kt, kn) in their frame, 1D laws by their tangent at rest
+// (PreparedPair::stuck_stiffness).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 
 // The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation.
@@ -86,7 +111,11 @@ struct SolvedCase {
   double seconds_solve = 0.0;
 };
 
+// `progress` (may be null) receives one line per stage. `reporter` (may be null) is started with
+// the number of points (stepped; 0 for continuation), updated after every frequency point through
+// the sweep's / continuation's on_point callback and finished when the solve ends.
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& definition,
-                      const std::function<void(const std::string&)>& progress);
+                      const std::function<void(const std::string&)>& progress,
+                      ProgressReporter* reporter = nullptr);
 
 }  // namespace stickslip

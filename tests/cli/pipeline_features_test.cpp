@@ -1,0 +1,335 @@
+// Features of the `run` pipeline (cli/pipeline.h), through the library: totals split by tributary
+// area, linear-spring contacts, bodies given as Matrix Market files, modal damping of the
+// fixed-interface modes. References, independent of the pipeline's own numbers:
+//  - tributary areas of a non-uniform grid of rectangles by hand ((w_{i−1} + w_i)/2 times
+//    (h_{j−1} + h_j)/2);
+//  - the harmonic-1 response of a model whose contacts are linear (linear springs, or friction
+//    that cannot slip) equals the dense complex solve (K + K_s − Ω²M + iΩC)⁻¹F of the assembled
+//    reduced model, with the springs K_s assembled here from the hand areas and C built here from
+//    α, β and ζ (2ζω_j on each fixed-interface DOF, ω_j² = K_jj / M_jj);
+//  - its stuck natural frequencies are the generalised eigenvalues of (K + K_s, M);
+//  - a body written as Harwell–Boeing and as Matrix Market files gives the same response.
+#include "cli/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <complex>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+
+#include "core/types.h"
+#include "io/ansys_mapping.h"
+#include "io/case_file.h"
+#include "io/inp_writer.h"
+#include "io/matrix_market.h"
+#include "mesh/mesh_tools.h"
+
+namespace stickslip {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The harmonic balance and the dense reference differ by rounding only (a linear problem solved
+// exactly by both: modal sums over all modes vs an LU), amplified by the conditioning of D(Ω)
+// near resonance (~1/ζ ~ 1e2).
+constexpr double kLinearTolerance = 1e-8;
+
+// A block of 3 x 2 x 2 hexahedra with unequal element widths along x and y, clamped at z = 0.
+constexpr int kNx = 3, kNy = 2, kNz = 2;
+const double kWidthX[kNx] = {0.01, 0.02, 0.03};  // m
+const double kWidthY[kNy] = {0.01, 0.02};        // m
+constexpr double kHeight = 0.02;                 // m
+int node_index(int i, int j, int k) { return i + (kNx + 1) * (j + (kNy + 1) * k); }
+constexpr int kForceNode = (kNx) + (kNx + 1) * (0 + (kNy + 1) * 1);  // (i, j, k) = (3, 0, 1)
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("stickslip_pipeline_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write_block_mesh(const fs::path& path) {
+  Mesh mesh = structured_hex_box(kNx, kNy, kNz, {1, 1, kHeight}, ElementType::kC3D8);
+  double x[kNx + 1] = {0}, y[kNy + 1] = {0};
+  for (int i = 0; i < kNx; ++i) x[i + 1] = x[i] + kWidthX[i];
+  for (int j = 0; j < kNy; ++j) y[j + 1] = y[j] + kWidthY[j];
+  for (int k = 0; k <= kNz; ++k) {
+    for (int j = 0; j <= kNy; ++j) {
+      for (int i = 0; i <= kNx; ++i) {
+        mesh.coordinates(0, node_index(i, j, k)) = x[i];
+        mesh.coordinates(1, node_index(i, j, k)) = y[j];
+      }
+    }
+  }
+  for (int j = 0; j <= kNy; ++j) {
+    for (int i = 0; i <= kNx; ++i) {
+      mesh.node_sets["BOTTOM"].push_back(node_index(i, j, 0));
+      mesh.node_sets["TOP"].push_back(node_index(i, j, kNz));
+    }
+  }
+  std::sort(mesh.node_sets["BOTTOM"].begin(), mesh.node_sets["BOTTOM"].end());
+  std::sort(mesh.node_sets["TOP"].begin(), mesh.node_sets["TOP"].end());
+  mesh.node_sets["FORCE"] = {kForceNode};
+  write_inp(path.string(), mesh);
+}
+
+// Tributary area of top node (i, j) by hand.
+double hand_area(int i, int j) {
+  const double wx = 0.5 * ((i > 0 ? kWidthX[i - 1] : 0) + (i < kNx ? kWidthX[i] : 0));
+  const double wy = 0.5 * ((j > 0 ? kWidthY[j - 1] : 0) + (j < kNy ? kWidthY[j] : 0));
+  return wx * wy;
+}
+
+constexpr double kAlpha = 20.0;         // 1/s
+constexpr double kBeta = 1.0e-7;        // s
+constexpr double kSpringTotal = 5.0e9;  // N/m, comparable to the block's shear stiffness
+
+std::string block_case(double zeta) {
+  return fmt::format(R"(stickslip: 1
+materials:
+  steel: {{youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}}
+meshes:
+  part: {{file: block.inp}}
+bodies:
+  block: {{mesh: part, material: steel, clamp: BOTTOM, masters: [FORCE], modes: 8,
+          modal_damping_ratio: {}}}
+contacts:
+  - name: bed
+    law: linear
+    between: {{block: TOP}}
+    direction: [1, 2, 0]
+    total: {{k: {}, split: area}}
+excitation:
+  - {{body: block, node_set: FORCE, direction: [0, 1, 1], amplitude: 10}}
+damping: {{alpha: {}, beta: {}}}
+analysis:
+  frequency: {{around_mode: 1, half_width_hz: 300, step_hz: 300}}
+  harmonics: 1
+  time_samples: 16
+recovery: {{points: none}}
+output: {{plots: false, vtu: false}}
+)",
+                     zeta, kSpringTotal, kAlpha, kBeta);
+}
+
+// C = αM + βK + 2ζω_j M_jj on the modal DOFs of the (single-body) reduced model.
+Eigen::MatrixXd reference_damping(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M,
+                                  const ReducedBody& body, double zeta) {
+  Eigen::MatrixXd C = kAlpha * M + kBeta * K;
+  for (int j = 0; j < body.size(); ++j) {
+    if (body.dofs[j].kind != ReducedDof::Kind::kModal) continue;
+    C(j, j) += 2 * zeta * std::sqrt(K(j, j) / M(j, j)) * M(j, j);
+  }
+  return C;
+}
+
+// Largest |x_hbm − x_ref| over the master DOFs and points, relative to the largest |x_ref|; the
+// harmonic-1 column of every point.
+double relative_difference(const SolvedCase& solved, const Eigen::MatrixXd& K,
+                           const Eigen::MatrixXd& M, const Eigen::MatrixXd& C,
+                           const Eigen::VectorXcd& F) {
+  double diff = 0, scale = 0;
+  EXPECT_EQ(solved.response.harmonics, (std::vector<int>{0, 1}));
+  for (const FrequencyPoint& p : solved.response.points) {
+    EXPECT_TRUE(p.converged) << p.message;
+    const double w = p.omega;
+    const Eigen::MatrixXcd D = K.cast<std::complex<double>>() -
+                               (w * w) * M.cast<std::complex<double>>() +
+                               std::complex<double>(0, w) * C.cast<std::complex<double>>();
+    const Eigen::VectorXcd x = D.partialPivLu().solve(F);
+    diff = std::max(diff, (p.master.col(1) - x).cwiseAbs().maxCoeff());
+    scale = std::max(scale, x.cwiseAbs().maxCoeff());
+  }
+  return diff / scale;
+}
+
+TEST(PipelineFeatures, LinearSpringsSplitByAreaMatchDenseSolveWithHandAreas) {
+  const fs::path dir = fresh_dir("area");
+  write_block_mesh(dir / "block.inp");
+  for (double zeta : {0.0, 0.05}) {
+    SCOPED_TRACE(fmt::format("modal_damping_ratio {}", zeta));
+    const CaseDefinition def = parse_case(block_case(zeta), "block.yaml", dir.string());
+    const PreparedModel model = prepare_model(def, nullptr);
+    ASSERT_EQ(model.bodies.size(), 1u);
+    const PreparedBody& body = model.bodies[0];
+
+    // Per-pair parameters: k_total times the hand tributary area over the face area.
+    const double face = 0.06 * 0.03;
+    ASSERT_EQ(model.pair_info.size(), static_cast<size_t>((kNx + 1) * (kNy + 1)));
+    Eigen::MatrixXd Ks = Eigen::MatrixXd::Zero(model.num_dofs, model.num_dofs);
+    const Eigen::Vector3d d = Eigen::Vector3d(1, 2, 0).normalized();
+    for (const PreparedPair& q : model.pair_info) {
+      const int index = q.node_a_id - 1;  // structured_hex_box: id = index + 1
+      const int i = index % (kNx + 1), j = (index / (kNx + 1)) % (kNy + 1);
+      ASSERT_EQ(index / ((kNx + 1) * (kNy + 1)), kNz);
+      const double a = hand_area(i, j);
+      EXPECT_NEAR(q.area, a, 1e-14);
+      EXPECT_NEAR(q.share, a / face, 1e-12);
+      const double k = kSpringTotal * a / face;
+      EXPECT_NEAR(q.parameters.k, k, 1e-12 * k);
+      // The spring to ground along d: K_s += k d dᵀ on the node's x, y, z DOFs.
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+          Ks(body.global_dof(q.node_a_id, r), body.global_dof(q.node_a_id, c)) += k * d(r) * d(c);
+        }
+      }
+    }
+    const Eigen::MatrixXd Kt = model.K + Ks;
+
+    // Stuck frequencies: eigenvalues of (K + K_s, M).
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Kt, model.M,
+                                                                  Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd f_ref = eig.eigenvalues().cwiseSqrt() / (2 * kPi);
+    const Eigen::VectorXd f = stuck_frequencies_hz(model, def);
+    EXPECT_LT((f - f_ref).cwiseAbs().maxCoeff(), 1e-9 * f_ref.maxCoeff());
+    // The springs matter: the first frequency moves by more than 5 %.
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> free(model.K, model.M,
+                                                                   Eigen::EigenvaluesOnly);
+    EXPECT_GT(f_ref(0), 1.05 * std::sqrt(free.eigenvalues()(0)) / (2 * kPi));
+
+    // Harmonic-1 response against the dense solve (damping on the structure, not the springs).
+    Eigen::VectorXcd F = Eigen::VectorXcd::Zero(model.num_dofs);
+    const Eigen::Vector3d e = Eigen::Vector3d(0, 1, 1).normalized();
+    for (int r = 0; r < 3; ++r) F(body.global_dof(kForceNode + 1, r)) = 10.0 * e(r);
+    const Eigen::MatrixXd C = reference_damping(model.K, model.M, body.reduced, zeta);
+    const SolvedCase solved = solve_case(model, def, nullptr);
+    ASSERT_EQ(solved.response.points.size(), 3u);
+    EXPECT_LT(relative_difference(solved, Kt, model.M, C, F), kLinearTolerance);
+    if (zeta > 0) {
+      // The modal damping is visible: without it the reference differs by far more.
+      const Eigen::MatrixXd C0 = reference_damping(model.K, model.M, body.reduced, 0.0);
+      EXPECT_GT(relative_difference(solved, Kt, model.M, C0, F), 1e3 * kLinearTolerance);
+    }
+  }
+}
+
+// The block's reduced body (Craig–Bampton, 8 modes) written as HB and as MM files; a friction
+// contact to ground at its top nodes so stiff in friction that it never slips.
+TEST(PipelineFeatures, MatrixMarketBodyEqualsHarwellBoeingAndStuckFrictionIsLinear) {
+  const fs::path dir = fresh_dir("formats");
+  write_block_mesh(dir / "block.inp");
+  const CaseDefinition block = parse_case(block_case(0.0), "block.yaml", dir.string());
+  const PreparedModel reduced = prepare_model(block, nullptr);
+  ReducedBody body = reduced.bodies[0].reduced;
+  body.K = 0.5 * (body.K + body.K.transpose()).eval();
+  body.M = 0.5 * (body.M + body.M.transpose()).eval();
+  write_ansys_reduced_body((dir / "k.hb").string(), (dir / "m.hb").string(), body);
+  write_matrix_market((dir / "k.mtx").string(), body.K.sparseView(),
+                      MatrixMarketSymmetry::kSymmetric);
+  write_matrix_market((dir / "m.mtx").string(), body.M.sparseView(),
+                      MatrixMarketSymmetry::kSymmetric);
+  std::string top;
+  for (int j = 0; j <= kNy; ++j) {
+    for (int i = 0; i <= kNx; ++i)
+      top += (top.empty() ? "" : ", ") + std::to_string(node_index(i, j, kNz) + 1);
+  }
+  constexpr double kZeta = 0.03, kt = 1e8, kn = 2e8;
+  const auto text = [&](const std::string& reduced_files) {
+    return fmt::format(R"(stickslip: 1
+bodies:
+  blade: {{reduced: {}, modal_damping_ratio: {}}}
+contacts:
+  - name: root
+    law: friction
+    bodies: [blade, ground]
+    pairs: [{}]
+    normal: z
+    per_pair: {{kt: {}, kn: {}, mu: 1.0e6, preload: 1000}}
+excitation:
+  - {{body: blade, node: {}, direction: y, amplitude: 1}}
+damping: {{alpha: {}, beta: {}}}
+analysis:
+  frequency: {{around_mode: 1, half_width_hz: 300, step_hz: 300}}
+  harmonics: 1
+  time_samples: 16
+recovery: {{points: none}}
+output: {{plots: false, vtu: false}}
+)",
+                       reduced_files, kZeta, top, kt, kn, kForceNode + 1, kAlpha, kBeta);
+  };
+  const CaseDefinition hb =
+      parse_case(text("{stiffness: k.hb, mass: m.hb}"), "hb.yaml", dir.string());
+  const CaseDefinition mm = parse_case(text("{stiffness: k.mtx, mass: m.mtx, mapping: k.mapping}"),
+                                       "mm.yaml", dir.string());
+  ASSERT_EQ(mm.bodies.at("blade").reduced.format, "matrix_market");
+  const PreparedModel model_hb = prepare_model(hb, nullptr);
+  const PreparedModel model_mm = prepare_model(mm, nullptr);
+  const SolvedCase solved_hb = solve_case(model_hb, hb, nullptr);
+  const SolvedCase solved_mm = solve_case(model_mm, mm, nullptr);
+  // The same numbers read from two formats (both 17 significant digits): the same response.
+  ASSERT_EQ(solved_hb.response.points.size(), solved_mm.response.points.size());
+  for (size_t p = 0; p < solved_hb.response.points.size(); ++p) {
+    const FrequencyPoint& a = solved_hb.response.points[p];
+    const FrequencyPoint& b = solved_mm.response.points[p];
+    EXPECT_EQ(a.omega, b.omega);
+    EXPECT_LE((a.master - b.master).cwiseAbs().maxCoeff(), 1e-12 * a.master.cwiseAbs().maxCoeff());
+  }
+
+  // Stuck friction with the normal always closed: springs kt, kt, kn along x, y, z (normal z),
+  // whatever the tangents. Reference in the body's own DOF order (the test's matrices).
+  const int n = body.size();
+  Eigen::MatrixXd Kt = body.K;
+  for (int j = 0; j <= kNy; ++j) {
+    for (int i = 0; i <= kNx; ++i) {
+      for (int r = 0; r < 3; ++r) {
+        Kt(model_hb.bodies[0].global_dof(node_index(i, j, kNz) + 1, r),
+           model_hb.bodies[0].global_dof(node_index(i, j, kNz) + 1, r)) += r < 2 ? kt : kn;
+      }
+    }
+  }
+  Eigen::VectorXcd F = Eigen::VectorXcd::Zero(n);
+  F(model_hb.bodies[0].global_dof(kForceNode + 1, 1)) = 1.0;
+  const Eigen::MatrixXd C = reference_damping(body.K, body.M, body, kZeta);
+  EXPECT_LT(relative_difference(solved_hb, Kt, body.M, C, F), kLinearTolerance);
+  for (const FrequencyPoint& p : solved_hb.response.points) {
+    for (const PairResponse& q : p.pairs) EXPECT_EQ(q.cycle.stick_fraction, 1.0);
+  }
+}
+
+TEST(PipelineFeatures, AreaSplitOfBodiesWithoutMeshIsRejectedWithItsKey) {
+  const fs::path dir = fresh_dir("area_no_mesh");
+  Eigen::MatrixXd K(3, 3), M = Eigen::MatrixXd::Identity(3, 3);
+  K << 2, -1, 0, -1, 2, -1, 0, -1, 2;
+  ReducedBody body;
+  body.K = 1e6 * K;
+  body.M = M;
+  for (int r = 0; r < 3; ++r) {
+    ReducedDof d;
+    d.node_id = 5;
+    d.direction = r;
+    body.dofs.push_back(d);
+  }
+  write_ansys_reduced_body((dir / "k.hb").string(), (dir / "m.hb").string(), body);
+  const std::string text = R"(stickslip: 1
+bodies:
+  b: {reduced: {stiffness: k.hb, mass: m.hb}}
+contacts:
+  - name: c
+    law: linear
+    bodies: [b, ground]
+    pairs: [5]
+    direction: x
+    total: {k: 1.0e6, split: area}
+analysis:
+  frequency: {start_hz: 10, stop_hz: 20, step_hz: 5}
+)";
+  const CaseDefinition def = parse_case(text, "case.yaml", dir.string());
+  try {
+    prepare_model(def, nullptr);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().key, "contacts.c.total.split");
+    EXPECT_NE(e.message().find("split: equal"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace stickslip
