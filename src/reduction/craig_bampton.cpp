@@ -1,5 +1,7 @@
 #include "reduction/craig_bampton.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +27,14 @@ using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// CPU seconds (user + system) of the whole process so far, all threads.
+double process_cpu_seconds() {
+  rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 // C (m x n, column-major, leading dimension ldc) = op(A) op(B) through BLAS dgemm.
@@ -167,6 +177,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
 
   // Partition and factorise K_ii.
   auto start = std::chrono::steady_clock::now();
+  double cpu = process_cpu_seconds();
   const SparseMatrix K_ii = submatrix(K, interior, interior);
   const SparseMatrix K_ib = submatrix(K, interior, boundary);
   const SparseMatrix M_ii = submatrix(M, interior, interior);
@@ -194,15 +205,18 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
                       ". The boundary and constrained DOFs must prevent every rigid-body motion "
                       "of the interior, and K must be symmetric positive semi-definite.";
     summary.seconds_factor = seconds_since(start);
+    summary.cpu_seconds_factor = process_cpu_seconds() - cpu;
     return result;
   }
   summary.factor_nonzeros = ni > 0 ? cholesky.factor_nonzeros() : 0.0;
   summary.coupled_last = ni > 0 ? cholesky.num_last() : 0;
   summary.seconds_factor = seconds_since(start);
+  summary.cpu_seconds_factor = process_cpu_seconds() - cpu;
 
   // Psi = [Φ_c Φ_n] (n_i x n_r), row-major so that rows are contiguous for the sparse products
   // and for scattering into T.
   start = std::chrono::steady_clock::now();
+  cpu = process_cpu_seconds();
   RowMatrix Psi(ni, nr);
   // K_bi Φ_c = −(G⁻¹K_ib)ᵀ(G⁻¹K_ib) = −ZᵀZ with the trailing ordering (symmetric by
   // construction); otherwise formed in the projection from Φ_c.
@@ -230,11 +244,13 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     }
   }
   summary.seconds_constraint = seconds_since(start);
+  summary.cpu_seconds_constraint = process_cpu_seconds() - cpu;
   if (options.modal.shift != 0.0) {
     cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
   }
 
   start = std::chrono::steady_clock::now();
+  cpu = process_cpu_seconds();
   result.mode_eigenvalues.resize(nm);
   if (nm > 0) {
     ModalOptions modal = options.modal;
@@ -247,6 +263,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
       summary.termination = CraigBamptonTermination::kEigenSolveFailed;
       summary.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
       summary.seconds_modes = seconds_since(start);
+      summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
       return result;
     }
     result.mode_eigenvalues = modes.eigenvalues;
@@ -254,12 +271,14 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   }
   cholesky = SparseCholesky();
   summary.seconds_modes = seconds_since(start);
+  summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
 
   // Reduced matrices. With K_ii Φ_c = −K_ib, Φ_nᵀ K_ii Φ_n = Ω², Φ_nᵀ M_ii Φ_n = I:
   //   K_r = [K_bb + K_bi Φ_c, 0; 0, Ω²]
   //   M_r = [M_bb + X + Xᵀ + Φ_cᵀ V, G_η + Vᵀ Φ_n; (sym), I],  V = M_ii Φ_c,
   //   [X G_η] = M_bi [Φ_c Φ_n].
   start = std::chrono::steady_clock::now();
+  cpu = process_cpu_seconds();
   ReducedBody& body = result.body;
   body.K = Eigen::MatrixXd::Zero(nr, nr);
   body.M = Eigen::MatrixXd::Zero(nr, nr);
@@ -315,6 +334,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     scatter_rows(Psi, interior, result.T);
   }
   summary.seconds_projection = seconds_since(start);
+  summary.cpu_seconds_projection = process_cpu_seconds() - cpu;
   return result;
 }
 

@@ -80,6 +80,10 @@ struct CraigBamptonSummary {
   double seconds_constraint = 0.0;  // constraint-mode solves
   double seconds_modes = 0.0;       // fixed-interface eigen-solve
   double seconds_projection = 0.0;  // reduced matrices and T
+  // CPU seconds (user + system) of the process during each phase, all its threads: on a shared
+  // machine a steadier measure of the cost than the wall times above.
+  double cpu_seconds_factor = 0.0, cpu_seconds_constraint = 0.0, cpu_seconds_modes = 0.0,
+         cpu_seconds_projection = 0.0;
   ModalSummary modal;  // the fixed-interface eigen-solve (its own factorisation, iterations)
   bool ok() const { return termination == CraigBamptonTermination::kSuccess; }
 };
