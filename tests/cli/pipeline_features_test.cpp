@@ -333,3 +333,48 @@ analysis:
 
 }  // namespace
 }  // namespace stickslip
+
+namespace stickslip {
+namespace {
+
+// The generated two-beam butt joint with 20-node hexahedra: the contact face is W x T/2 =
+// 0.05 x 0.015 m; its nodal areas (diagonally scaled on the 8-node faces) are all positive and
+// sum to that area, and a mid-edge node carries more than a corner node.
+TEST(PipelineFeatures, AreaSplitOnQuadraticFacesOfTheTwoBeamJoint) {
+  const std::string text = R"(stickslip: 1
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam, arrangement: butt, element: C3D20, box: [4, 2, 2], end_block: [1, 2, 1]}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, modes: 2}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, modes: 2}
+contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    total: {kt: 1.0e9, kn: 2.0e9, mu: 0.5, preload: 300, split: area}
+analysis:
+  frequency: {start_hz: 100, stop_hz: 200, step_hz: 50}
+)";
+  const CaseDefinition def = parse_case(text, "joint.yaml", fs::temp_directory_path().string());
+  const PreparedModel model = prepare_model(def, nullptr);
+  double area = 0, share = 0, preload = 0;
+  double corner = 1, mid = 0;
+  for (const PreparedPair& q : model.pair_info) {
+    EXPECT_GT(q.area, 0.0);
+    area += q.area;
+    share += q.share;
+    preload += q.parameters.preload;
+    corner = std::min(corner, q.area);
+    mid = std::max(mid, q.area);
+  }
+  EXPECT_NEAR(area, 0.05 * 0.015, 1e-15);
+  EXPECT_NEAR(share, 1.0, 1e-13);
+  EXPECT_NEAR(preload, 300.0, 1e-10);
+  EXPECT_GT(mid, 2 * corner);
+}
+
+}  // namespace
+}  // namespace stickslip
