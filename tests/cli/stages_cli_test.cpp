@@ -425,6 +425,42 @@ TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
   EXPECT_EQ(run("modes " + c.string() + " --coarse", dir / "log3.txt"), 2);
 }
 
+TEST(StagesCliSingle, StudiesShareOneReductionUnlessTheParameterChangesIt) {
+  const fs::path dir = fresh_dir("study");
+  // A preload study: one reduction in DIR/reduced/, reused by the solve of both folders.
+  const fs::path pre =
+      write_case(dir / "pre", small_case() +
+                                  "study: {parameter: contacts.joint.per_pair.preload, "
+                                  "values: [20, 40]}\n");
+  const fs::path out = dir / "pre" / "out";
+  ASSERT_EQ(run("reduce -q " + pre.string() + " -o " + out.string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  EXPECT_TRUE(fs::exists(out / "reduced" / "manifest.txt"));
+  EXPECT_FALSE(fs::exists(out / "preload_20" / "reduced"));
+  ASSERT_EQ(run("solve " + pre.string() + " -o " + out.string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  const std::string log = slurp(dir / "log.txt");
+  EXPECT_EQ(log.find("reduce beam1"), std::string::npos) << log;
+  ASSERT_EQ(run("plot -q " + out.string(), dir / "log.txt"), 0) << slurp(dir / "log.txt");
+  for (const char* f : {"preload_20/points.csv", "preload_40/points.csv", "preload_20/frf.dat",
+                        "preload_40/frf.dat", "frf_study.dat"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  // A stiffness study changes the reduction: one per study folder, and none shared.
+  const fs::path mat =
+      write_case(dir / "mat", small_case() +
+                                  "study: {parameter: materials.steel.youngs_modulus, "
+                                  "values: [2.0e11, 2.1e11]}\n");
+  const fs::path out2 = dir / "mat" / "out";
+  ASSERT_EQ(run("reduce -q " + mat.string() + " -o " + out2.string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  EXPECT_FALSE(fs::exists(out2 / "reduced"));
+  EXPECT_TRUE(fs::exists(out2 / "youngs_modulus_2e+11" / "reduced" / "manifest.txt"));
+  EXPECT_TRUE(fs::exists(out2 / "youngs_modulus_2.1e+11" / "reduced" / "manifest.txt"));
+  EXPECT_NE(slurp(out2 / "youngs_modulus_2e+11" / "reduced" / "manifest.txt"),
+            slurp(out2 / "youngs_modulus_2.1e+11" / "reduced" / "manifest.txt"));
+}
+
 TEST(StagesCliSingle, EverySubcommandHasHelpAndTheProgramAVersion) {
   const fs::path dir = fresh_dir("help");
   for (const char* sub : {"run", "mesh", "modes", "reduce", "solve", "recover", "export", "plot"}) {
