@@ -17,6 +17,7 @@
 #include <complex>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -374,6 +375,46 @@ analysis:
   EXPECT_NEAR(share, 1.0, 1e-13);
   EXPECT_NEAR(preload, 300.0, 1e-10);
   EXPECT_GT(mid, 2 * corner);
+}
+
+}  // namespace
+}  // namespace stickslip
+
+namespace stickslip {
+namespace {
+
+// solve_case drives a ProgressReporter point by point: the stepped sweep of the block's 3
+// frequencies gives a plain line per third (each passes a 10 % step), the last one at 3/3; the
+// continuation reports points and the range covered, ending at 100 %.
+TEST(PipelineFeatures, SolveCaseReportsEveryPointToTheProgressReporter) {
+  const fs::path dir = fresh_dir("progress");
+  write_block_mesh(dir / "block.inp");
+  double now = 0.0;
+  ProgressOptions o;
+  o.terminal = false;
+  for (const std::string method : {"stepped", "continuation"}) {
+    std::string text = block_case(0.0);
+    text.replace(text.find("  harmonics: 1"), 0, "  method: " + method + "\n");
+    const CaseDefinition def = parse_case(text, "block.yaml", dir.string());
+    const PreparedModel model = prepare_model(def, nullptr);
+    std::ostringstream out;
+    ProgressReporter reporter(out, o, [&] { return now += 1.0; });
+    const SolvedCase solved = solve_case(model, def, nullptr, &reporter);
+    std::vector<std::string> lines;
+    std::stringstream ss(out.str());
+    for (std::string line; std::getline(ss, line);) lines.push_back(line);
+    ASSERT_FALSE(lines.empty()) << method;
+    if (method == "stepped") {
+      ASSERT_EQ(lines.size(), 3u) << out.str();
+      EXPECT_EQ(lines[0].rfind("stickslip: harmonic balance: 1/3 points (33%)", 0), 0u) << lines[0];
+      EXPECT_EQ(lines[2].rfind("stickslip: harmonic balance: 3/3 points (100%)", 0), 0u)
+          << lines[2];
+    } else {
+      const std::string last = fmt::format("stickslip: harmonic balance: {} points (range 100%)",
+                                           solved.response.points.size());
+      EXPECT_EQ(lines.back().rfind(last, 0), 0u) << out.str();
+    }
+  }
 }
 
 }  // namespace
