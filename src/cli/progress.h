@@ -1,12 +1,11 @@
 // Progress of a long stage (the frequency sweep or continuation of `stickslip run`) on a text
 // stream, normally stderr:
 //   terminal:      one bar redrawn in place ('\r', no newline until finish()), at most once per
-//                  redraw_interval seconds (the last point always):
-//                    "stickslip: harmonic balance [######------]  50%  20/40 points  3.1 points/s
-//                    0:06 left"
+//                  redraw_interval seconds (the last point always), e.g.
+//     stickslip: harmonic balance [####----]  50%  20/40 points  3.1 points/s  0:06 left
 //   not terminal:  plain lines, one each time another line_fraction of the range is done or
 //                  line_interval seconds have passed since the last line, and one at the end:
-//                    "stickslip: harmonic balance: 20/40 points (50%), 3.1 points/s, 0:06 left"
+//     stickslip: harmonic balance: 20/40 points (50%), 3.1 points/s, 0:06 left
 //   quiet:         nothing.
 // Points done / total for a stepped sweep (total known); for arc-length continuation (total 0:
 // unknown) the points so far and the part of the frequency range covered. Rate = points / elapsed
