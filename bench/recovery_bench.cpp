@@ -5,9 +5,15 @@
 // Cholesky factor of a million DOFs in a few GB), clamped at x = 0, loaded at 30 "contact" nodes of
 // the free end face x = L (all three directions, seeded random complex forces) for harmonics 0..H.
 // One-off: assembly and ModalRecovery with n modes, the static residual correction and the
-// attachment modes of the 90 loaded DOFs. Per point (a new Ω each time): the displacement of every
-// harmonic 0..H, then separately the complex nodal stresses of each harmonic (fe/stress.h) and the
-// envelope over the period (recovery/stress_envelope.h, 64 samples).
+// attachment modes of the 90 loaded DOFs, and the sparse nodal-stress operator (fe/stress.h,
+// NodalStressOperator). Per point (a new Ω each time), timed apart and summed as a "full point":
+// the displacement of every harmonic 0..H (ModalRecovery), the complex nodal stresses of every
+// harmonic (NodalStressOperator, one pass for all harmonics, real and imaginary parts), the
+// envelope over the period (recovery/stress_envelope.h: closed-form principal stresses, maxima
+// refined between samples, automatic sample count). For comparison, in the same process: the
+// previous envelope (64 samples, an Eigen 3x3 eigen-solve per sample, one thread: "legacy"),
+// element-by-element nodal_stress (below 300k DOFs), and the modal stress basis (two separate
+// products vs one, below 300k DOFs or with RECOVERY_BENCH_STRESS_BASIS=1).
 //
 // Usage: recovery_bench [small|medium|large|<nx> <ny> <nz>] [num_modes] [harmonics H] [points]
 //   reference (beam 1 of the two-beam reference model, default mesh, 4.7k DOFs),
@@ -16,13 +22,19 @@
 //   DirectRecovery point (UMFPACK).
 // A plain main rather than Google Benchmark: the one-off setup takes minutes for the large sizes
 // and peak memory is measured per process (/usr/bin/time -v); docs/performance.md has results.
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
+#include <limits>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "fe/assembly.h"
@@ -52,6 +64,39 @@ Mesh box_mesh(int nx, int ny, int nz, std::vector<int>* clamped, std::vector<int
     end_face->push_back(n + nx);  // i = nx
   }
   return mesh;
+}
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+// The envelope as it was before the closed-form/refined one (kept here only to time it in the
+// same process): 64 samples, Eigen's 3x3 computeDirect eigenvalues per sample, one thread.
+Eigen::VectorXd legacy_von_mises_max(const std::vector<ComplexStressMatrix>& S,
+                                     const std::vector<int>& harmonics, Eigen::VectorXd* p1) {
+  const int N = 64;
+  const Eigen::Index num_nodes = S[0].cols();
+  Eigen::VectorXd vm_max(num_nodes);
+  p1->resize(num_nodes);
+  for (Eigen::Index n = 0; n < num_nodes; ++n) {
+    double best = 0.0, best_p = -std::numeric_limits<double>::infinity();
+    for (int j = 0; j < N; ++j) {
+      Eigen::Matrix<double, 6, 1> s = Eigen::Matrix<double, 6, 1>::Zero();
+      for (size_t h = 0; h < harmonics.size(); ++h) {
+        const double theta = 2.0 * kPi * ((harmonics[h] * j) % N) / N;
+        s += S[h].col(n).real() * std::cos(theta) - S[h].col(n).imag() * std::sin(theta);
+      }
+      const double a = s(0) - s(1), b = s(1) - s(2), c = s(2) - s(0);
+      best = std::max(best, std::sqrt(0.5 * (a * a + b * b + c * c) +
+                                      3.0 * (s(3) * s(3) + s(4) * s(4) + s(5) * s(5))));
+      Eigen::Matrix3d t;
+      t << s(0), s(3), s(4), s(3), s(1), s(5), s(4), s(5), s(2);
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+      solver.computeDirect(t, Eigen::EigenvaluesOnly);
+      best_p = std::max(best_p, solver.eigenvalues()(2));
+    }
+    vm_max(n) = best;
+    (*p1)(n) = best_p;
+  }
+  return vm_max;
 }
 
 }  // namespace
@@ -145,50 +190,106 @@ int main(int argc, char** argv) {
       modal.modal_summary().iteration_seconds, f1, num_modes,
       std::sqrt(modal.eigenvalues()(num_modes - 1)) / (2 * kPi));
 
-  double t_disp = 0.0, t_stress = 0.0, t_env = 0.0;
+  start = std::chrono::steady_clock::now();
+  const NodalStressOperator G(mesh, steel, {});
+  std::printf("one-off: nodal stress operator %.2f s (%lld blocks, %.2f GB)\n",
+              seconds_since(start), static_cast<long long>(G.num_blocks()),
+              18.0 * 8.0 * static_cast<double>(G.num_blocks()) / 1e9);
+  const StressEnvelopeOptions env_options;  // automatic samples, refined, all hardware threads
+  std::printf("envelope: %d samples per period (automatic), refined; %u hardware threads\n",
+              envelope_time_samples(env_options, H), std::thread::hardware_concurrency());
+
+  double t_disp = 0.0, t_stress = 0.0, t_env = 0.0, t_legacy = 0.0;
+  double c_disp = 0.0, c_stress = 0.0, c_env = 0.0, c_legacy = 0.0;
+  double worst_vm = 0.0, worst_p = 0.0;  // refined vs legacy 64-sample maxima, relative to max
   for (int p = 0; p < points; ++p) {
     const double omega = hz_to_rad_s(f1 * (0.9 + 0.05 * p));
     start = std::chrono::steady_clock::now();
-    const Eigen::MatrixXcd x = harmonic_response(modal, loads, harmonics, omega);
+    double c0 = cpu_seconds();
+    RecoverySummary summary;
+    const Eigen::MatrixXcd x = harmonic_response(modal, loads, harmonics, omega, &summary);
     t_disp += seconds_since(start);
+    c_disp += cpu_seconds() - c0;
+    start = std::chrono::steady_clock::now();
+    c0 = cpu_seconds();
+    const std::vector<ComplexStressMatrix> S = G.apply(x);
+    t_stress += seconds_since(start);
+    c_stress += cpu_seconds() - c0;
+    start = std::chrono::steady_clock::now();
+    c0 = cpu_seconds();
+    const StressEnvelope env = stress_envelope(S, harmonics, env_options);
+    t_env += seconds_since(start);
+    c_env += cpu_seconds() - c0;
+    start = std::chrono::steady_clock::now();
+    c0 = cpu_seconds();
+    Eigen::VectorXd legacy_p1;
+    const Eigen::VectorXd legacy_vm = legacy_von_mises_max(S, harmonics, &legacy_p1);
+    t_legacy += seconds_since(start);
+    c_legacy += cpu_seconds() - c0;
+    const double vm_scale = legacy_vm.maxCoeff(), p_scale = legacy_p1.cwiseAbs().maxCoeff();
+    worst_vm = std::max(worst_vm, (env.von_mises_max - legacy_vm).cwiseAbs().maxCoeff() / vm_scale);
+    worst_p =
+        std::max(worst_p, (env.max_principal_max - legacy_p1).cwiseAbs().maxCoeff() / p_scale);
+    if (!(env.von_mises_max.array() >= legacy_vm.array() - 1e-9 * vm_scale).all()) {
+      std::printf("WARNING: refined von Mises maximum below the 64-sample one\n");
+    }
+    if (p == 0) {
+      std::printf("point 0: %s; max |x| = %.3e m, max von Mises over the period = %.3e Pa\n",
+                  summary.ok() ? "solved" : summary.message.c_str(), x.cwiseAbs().maxCoeff(),
+                  env.von_mises_max.maxCoeff());
+    }
+  }
+  std::printf(
+      "per point (H = %d, %d points), wall (CPU): displacement %.3f s (%.3f), nodal stresses "
+      "(operator) %.3f s (%.3f), envelope %.3f s (%.3f); full point %.3f s (%.3f)\n",
+      H, points, t_disp / points, c_disp / points, t_stress / points, c_stress / points,
+      t_env / points, c_env / points, (t_disp + t_stress + t_env) / points,
+      (c_disp + c_stress + c_env) / points);
+  std::printf(
+      "legacy envelope (64 samples, Eigen eigenvalues, 1 thread): %.3f s (%.3f) per point; "
+      "refined - legacy: max |diff| / max = %.2e (von Mises), %.2e (max principal)\n",
+      t_legacy / points, c_legacy / points, worst_vm, worst_p);
+  if (mesh.num_dofs() < 300000) {
+    const double omega = hz_to_rad_s(f1 * 0.9);
+    const Eigen::MatrixXcd x = harmonic_response(modal, loads, harmonics, omega);
     start = std::chrono::steady_clock::now();
     std::vector<ComplexStressMatrix> S;
     for (int k = 0; k <= H; ++k) {
       S.push_back(nodal_stress(mesh, steel, {}, Eigen::VectorXcd(x.col(k))));
     }
-    t_stress += seconds_since(start);
-    start = std::chrono::steady_clock::now();
-    const StressEnvelope env = stress_envelope(S, harmonics);
-    t_env += seconds_since(start);
-    if (p == 0) {
-      std::printf("point 0: max |x| = %.3e m, max von Mises over the period = %.3e Pa\n",
-                  x.cwiseAbs().maxCoeff(), env.von_mises_max.maxCoeff());
+    const double t_elem = seconds_since(start);
+    const std::vector<ComplexStressMatrix> SG = G.apply(x);
+    double diff = 0.0;
+    for (int k = 0; k <= H; ++k) {
+      diff = std::max(diff, (S[k] - SG[k]).cwiseAbs().maxCoeff() / S[k].cwiseAbs().maxCoeff());
     }
+    std::printf("element-by-element nodal_stress: %.3f s per point; operator vs it: %.1e\n", t_elem,
+                diff);
   }
-  std::printf(
-      "per point (H = %d, %d points): displacement %.3f s, nodal stresses %.3f s, envelope "
-      "(64 samples) %.3f s, total %.3f s\n",
-      H, points, t_disp / points, t_stress / points, t_env / points,
-      (t_disp + t_stress + t_env) / points);
 
-  // Modal stress recovery: the stresses of the 190 basis vectors once, then one dense product per
-  // point. Skipped above 300k DOFs (one-off ≈ 190 nodal_stress calls) unless
-  // RECOVERY_BENCH_STRESS_BASIS=1.
+  // Modal stress recovery: the stresses of the basis vectors once (through the operator), then
+  // dense products per point: the former two passes (real, imaginary) vs the one pass.
   const char* basis_env = std::getenv("RECOVERY_BENCH_STRESS_BASIS");
   if (mesh.num_dofs() < 300000 || (basis_env != nullptr && std::string(basis_env) == "1")) {
     start = std::chrono::steady_clock::now();
-    const ModalStressBasis basis(modal, mesh, steel, {});
+    const ModalStressBasis basis(modal, G);
     const double t_basis = seconds_since(start);
-    double t_point = 0.0;
+    double t_one = 0.0, t_two = 0.0;
     for (int p = 0; p < points; ++p) {
       const double omega = hz_to_rad_s(f1 * (0.9 + 0.05 * p));
       start = std::chrono::steady_clock::now();
       const std::vector<ComplexStressMatrix> S = basis.stresses(modal, loads, harmonics, omega);
-      t_point += seconds_since(start);
+      t_one += seconds_since(start);
+      start = std::chrono::steady_clock::now();
+      const Eigen::MatrixXcd c = modal.coordinates(loads, harmonics, omega);
+      const Eigen::MatrixXd re = basis.matrix() * c.real(), im = basis.matrix() * c.imag();
+      t_two += seconds_since(start);
     }
-    std::printf("modal stress basis: one-off %.2f s (%d columns, %.2f GB); per point %.3f s\n",
-                t_basis, modal.num_basis_columns(), 8.0 * basis.matrix().size() / 1e9,
-                t_point / points);
+    std::printf(
+        "modal stress basis: one-off %.2f s (%d columns, %.2f GB); per point: one pass %.3f s, "
+        "two passes (before) %.3f s\n",
+        t_basis, modal.num_basis_columns(), 8.0 * basis.matrix().size() / 1e9, t_one / points,
+        t_two / points);
   }
 
   // For comparison: a load off the precomputed DOFs (one sparse solve per harmonic).

@@ -107,15 +107,26 @@ struct Cycle {
   const int* k = nullptr;
   const double* A = nullptr;  // 6 per harmonic
   const double* B = nullptr;
+  int max_k = 0;
+  mutable std::vector<double> cos_k, sin_k;  // cos kθ, sin kθ for k = 0..max_k
 
   void at(double theta, double* s, double* ds = nullptr, double* dds = nullptr) const {
     for (int i = 0; i < 6; ++i) s[i] = 0.0;
     if (ds) {
       for (int i = 0; i < 6; ++i) ds[i] = dds[i] = 0.0;
     }
+    // One sine and cosine; the multiples by the angle-addition recurrence (max_k is small).
+    const double c1 = std::cos(theta), s1 = std::sin(theta);
+    cos_k[0] = 1.0, sin_k[0] = 0.0;
+    for (int m = 1; m <= max_k; ++m) {
+      cos_k[static_cast<size_t>(m)] =
+          cos_k[static_cast<size_t>(m - 1)] * c1 - sin_k[static_cast<size_t>(m - 1)] * s1;
+      sin_k[static_cast<size_t>(m)] =
+          sin_k[static_cast<size_t>(m - 1)] * c1 + cos_k[static_cast<size_t>(m - 1)] * s1;
+    }
     for (int h = 0; h < nh; ++h) {
       const double kk = k[h];
-      const double c = std::cos(kk * theta), sn = std::sin(kk * theta);
+      const double c = cos_k[static_cast<size_t>(k[h])], sn = sin_k[static_cast<size_t>(k[h])];
       const double* a = A + 6 * h;
       const double* b = B + 6 * h;
       for (int i = 0; i < 6; ++i) s[i] += a[i] * c + b[i] * sn;
@@ -134,13 +145,16 @@ struct Cycle {
 // sign of σ_svm equals `sign` (sign = 0: no restriction), searched in [lo, hi] from theta0
 // (whose value f0 is known and admissible) by safeguarded Newton steps on σ_vm².
 double newton_vm2(const Cycle& cycle, double theta0, double f0, double lo, double hi, double dir,
-                  double sign) {
+                  double sign, double start_sign = 0.0, bool* stayed = nullptr) {
   constexpr int kMaxSteps = 8;
-  constexpr double kStepTolerance = 1e-13;  // radians; beyond this the value is at round-off
+  // Radians: Newton converges quadratically, so after a step this small the maximum's value is
+  // at round-off (its error is ~ f'' Δθ²).
+  constexpr double kStepTolerance = 1e-8;
   double theta = theta0, best = f0;
   double s[6], ds[6], dds[6];
+  if (stayed != nullptr) *stayed = true;
+  cycle.at(theta, s, ds, dds);
   for (int it = 0; it < kMaxSteps; ++it) {
-    cycle.at(theta, s, ds, dds);
     const double g = 2.0 * dir * vm_dot(s, ds);
     const double h = 2.0 * dir * (vm_dot(ds, ds) + vm_dot(s, dds));
     double next;
@@ -152,25 +166,42 @@ double newton_vm2(const Cycle& cycle, double theta0, double f0, double lo, doubl
     next = std::clamp(next, lo, hi);
     if (std::abs(next - theta) < kStepTolerance) break;
     theta = next;
-    cycle.at(theta, s);
+    cycle.at(theta, s, ds, dds);
     const double f = dir * vm_dot(s, s);
-    if (sign != 0.0 && svm_sign(invariants(s)) != sign) break;
+    if (sign != 0.0 || stayed != nullptr) {
+      const double sg = svm_sign(invariants(s));
+      if (sign != 0.0 && sg != sign) break;
+      if (stayed != nullptr && sg != start_sign) *stayed = false;
+    }
     best = std::max(best, f);
   }
   return best;
 }
 
-// Boundary of the region where sign(σ_svm) = sign between `inside` (sign holds) and `outside`
-// (it does not): the last admissible instant found by bisection.
-double sign_boundary(const Cycle& cycle, double inside, double outside, double sign) {
-  constexpr int kBisections = 40;  // (2π/N) 2^-40: far below any stress resolution
+// The jump of σ_svm between two instants of opposite sign (t_a of sign +, t_b of sign −), by
+// bisection: σ_vm² at the last instants found on each side (initially the given values).
+struct SignJump {
+  double vm2_positive = 0.0, vm2_negative = 0.0;
+};
+SignJump sign_jump(const Cycle& cycle, double t_positive, double vm2_positive, double t_negative,
+                   double vm2_negative) {
+  // Bracket (2π/N) 2^-12: σ_vm² moves by at most 2H max σ_vm² per radian (Bernstein), so the
+  // value found is within 2H (2π/N) 2^-12 (< 1.3e-4 H of max σ_vm², N >= 24) of the one-sided
+  // limit: finer than any sampling of a jump, which is resolution-dependent anyway.
+  constexpr int kBisections = 12;
+  SignJump jump{vm2_positive, vm2_negative};
   double s[6];
   for (int it = 0; it < kBisections; ++it) {
-    const double mid = 0.5 * (inside + outside);
+    const double mid = 0.5 * (t_positive + t_negative);
     cycle.at(mid, s);
-    (svm_sign(invariants(s)) == sign ? inside : outside) = mid;
+    const Invariants v = invariants(s);
+    if (svm_sign(v) > 0.0) {
+      t_positive = mid, jump.vm2_positive = 3.0 * v.J2;
+    } else {
+      t_negative = mid, jump.vm2_negative = 3.0 * v.J2;
+    }
   }
-  return inside;
+  return jump;
 }
 
 // Maximum of σ_1 in [theta0 − delta, theta0 + delta] from sample theta0 (value f0 >= the values
@@ -179,7 +210,9 @@ double sign_boundary(const Cycle& cycle, double inside, double outside, double s
 double refine_principal(const Cycle& cycle, double theta0, double delta, double fm, double f0,
                         double fp) {
   constexpr int kMaxSteps = 24;
-  constexpr double kBracket = 1e-7;  // radians: the value error is then ~ H² A 1e-14
+  // Radians, on the bracket or on the last parabolic step: the value error is then
+  // ~ H² A Δθ² / 2 (< 1e-10 of the amplitude A for H <= 3).
+  constexpr double kBracket = 1e-5, kStep = 1e-6;
   constexpr double kGolden = 0.3819660112501051;
   double x[3] = {theta0 - delta, theta0, theta0 + delta};
   double f[3] = {fm, f0, fp};
@@ -190,9 +223,10 @@ double refine_principal(const Cycle& cycle, double theta0, double delta, double 
     const double fa = f[1] - f[0], fb = f[1] - f[2];
     const double den = a * fb - b * fa;
     double v = den != 0.0 ? x[1] - 0.5 * (a * a * fb - b * b * fa) / den : x[1];
-    const double tiny = 1e-3 * (x[2] - x[0]);
-    if (!(v > x[0] + tiny && v < x[2] - tiny) || std::abs(v - x[1]) < tiny) {
-      // Golden-section step into the larger side.
+    const bool parabolic = den != 0.0 && v > x[0] && v < x[2];
+    // The parabola's vertex has settled on the middle point: that point is the maximum.
+    if (parabolic && std::abs(v - x[1]) < kStep) break;
+    if (!parabolic) {  // golden-section step into the larger side
       v = (x[1] - x[0] > x[2] - x[1]) ? x[1] - kGolden * (x[1] - x[0])
                                       : x[1] + kGolden * (x[2] - x[1]);
     }
@@ -348,12 +382,13 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
   const Eigen::Index num_nodes = amplitudes[0].cols();
   const int nh = static_cast<int>(harmonics.size());
   // cos/sin of every harmonic at every sample (k j reduced mod N first: exact sample angles).
-  std::vector<double> cs(static_cast<size_t>(2 * nh * N));
-  for (int j = 0; j < N; ++j) {
-    for (int h = 0; h < nh; ++h) {
+  // Stored per harmonic, contiguous over the samples (the sample loops below vectorise).
+  std::vector<double> cos_table(static_cast<size_t>(nh * N)), sin_table(cos_table.size());
+  for (int h = 0; h < nh; ++h) {
+    for (int j = 0; j < N; ++j) {
       const double theta = 2.0 * kPi * ((static_cast<long long>(harmonics[h]) * j) % N) / N;
-      cs[static_cast<size_t>(2 * (j * nh + h))] = std::cos(theta);
-      cs[static_cast<size_t>(2 * (j * nh + h) + 1)] = std::sin(theta);
+      cos_table[static_cast<size_t>(h * N + j)] = std::cos(theta);
+      sin_table[static_cast<size_t>(h * N + j)] = std::sin(theta);
     }
   }
   const double delta = 2.0 * kPi / N;
@@ -379,8 +414,19 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
     std::vector<double> coef(static_cast<size_t>(12 * nh));
     std::vector<double> vm2(static_cast<size_t>(N)), sign(static_cast<size_t>(N)),
         upper(static_cast<size_t>(N)), p1(static_cast<size_t>(N));
-    std::vector<Invariants> inv(static_cast<size_t>(N));
-    Cycle cycle{nh, harmonics.data(), coef.data(), coef.data() + 6 * nh};
+    std::vector<double> sig(static_cast<size_t>(6 * N));  // component i at sample j: i N + j
+    std::vector<double> I1(static_cast<size_t>(N)), J2(static_cast<size_t>(N)),
+        J3(static_cast<size_t>(N)), q(static_cast<size_t>(N));
+    std::vector<SignJump> jumps(static_cast<size_t>(N));
+    std::vector<char> jump_done(static_cast<size_t>(N));
+    std::vector<double> newton_value(static_cast<size_t>(N));
+    Cycle cycle{nh,
+                harmonics.data(),
+                coef.data(),
+                coef.data() + 6 * nh,
+                H,
+                std::vector<double>(static_cast<size_t>(H + 1)),
+                std::vector<double>(static_cast<size_t>(H + 1))};
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (Eigen::Index n = n0; n < n1; ++n) {
       for (int h = 0; h < nh; ++h) {
@@ -390,22 +436,44 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
           coef[static_cast<size_t>(6 * (nh + h) + i)] = harmonics[h] == 0 ? 0.0 : -a.imag();
         }
       }
-      // Samples: σ_vm², sign of σ_svm, the bound on σ_1.
-      int j_vm = 0;
-      for (int j = 0; j < N; ++j) {
-        double s[6] = {0, 0, 0, 0, 0, 0};
-        const double* t = cs.data() + 2 * j * nh;
-        for (int h = 0; h < nh; ++h) {
-          const double* a = cycle.A + 6 * h;
-          const double* b = cycle.B + 6 * h;
-          for (int i = 0; i < 6; ++i) s[i] += a[i] * t[2 * h] + b[i] * t[2 * h + 1];
+      // Samples: σ_vm², sign of σ_svm, the bound on σ_1 (as invariants(), svm_sign() above, in
+      // loops over the samples that the compiler vectorises).
+      std::fill(sig.begin(), sig.end(), 0.0);
+      for (int h = 0; h < nh; ++h) {
+        const double* ct = cos_table.data() + h * N;
+        const double* st = sin_table.data() + h * N;
+        for (int i = 0; i < 6; ++i) {
+          const double a = cycle.A[6 * h + i], b = cycle.B[6 * h + i];
+          double* out = sig.data() + i * N;
+          for (int j = 0; j < N; ++j) out[j] += a * ct[j] + b * st[j];
         }
-        const Invariants v = invariants(s);
-        inv[static_cast<size_t>(j)] = v;
-        vm2[static_cast<size_t>(j)] = 3.0 * v.J2;
-        sign[static_cast<size_t>(j)] = svm_sign(v);
-        upper[static_cast<size_t>(j)] = v.I1 / 3.0 + 2.0 * v.q;
-        p1[static_cast<size_t>(j)] = nan;
+      }
+      {
+        const double *sx = sig.data(), *sy = sx + N, *sz = sy + N, *sxy = sz + N, *sxz = sxy + N,
+                     *syz = sxz + N;
+        for (int j = 0; j < N; ++j) {
+          const double i1 = sx[j] + sy[j] + sz[j];
+          const double m = i1 / 3.0;
+          const double d0 = sx[j] - m, d1 = sy[j] - m, d2 = sz[j] - m;
+          const double xy = sxy[j], xz = sxz[j], yz = syz[j];
+          const double j2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) + xy * xy + xz * xz + yz * yz;
+          const double j3 =
+              d0 * (d1 * d2 - yz * yz) - xy * (xy * d2 - yz * xz) + xz * (xy * yz - d1 * xz);
+          const double qq = std::sqrt(j2 / 3.0);
+          const double c = 2.0 * i1 / 3.0;
+          const double g = (c * c - j2) * c - j3;
+          I1[static_cast<size_t>(j)] = i1;
+          J2[static_cast<size_t>(j)] = j2;
+          J3[static_cast<size_t>(j)] = j3;
+          q[static_cast<size_t>(j)] = qq;
+          vm2[static_cast<size_t>(j)] = 3.0 * j2;
+          upper[static_cast<size_t>(j)] = m + 2.0 * qq;
+          sign[static_cast<size_t>(j)] = c > qq ? 1.0 : (c < -qq ? -1.0 : (g > 0.0 ? -1.0 : 1.0));
+          p1[static_cast<size_t>(j)] = nan;
+        }
+      }
+      int j_vm = 0;
+      for (int j = 1; j < N; ++j) {
         if (vm2[static_cast<size_t>(j)] > vm2[static_cast<size_t>(j_vm)]) j_vm = j;
       }
       auto theta = [&](int j) { return delta * j; };
@@ -425,11 +493,15 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
       };
       auto principal_at = [&](int j) {
         double& v = p1[static_cast<size_t>(wrap(j))];
-        if (std::isnan(v)) v = max_principal(inv[static_cast<size_t>(wrap(j))]);
+        if (std::isnan(v)) {
+          const auto w = static_cast<size_t>(wrap(j));
+          v = max_principal(Invariants{I1[w], J2[w], J3[w], q[w]});
+        }
         return v;
       };
 
       // von Mises maximum.
+      std::fill(newton_value.begin(), newton_value.end(), nan);
       double vm2_max = vm2[static_cast<size_t>(j_vm)];
       if (refine && vm2_max > 0.0) {
         const double floor = vm2_max * (1.0 - gap);
@@ -439,8 +511,12 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
               f < vm2[static_cast<size_t>(wrap(j + 1))]) {
             if (j != j_vm) continue;
           }
-          vm2_max = std::max(vm2_max, newton_vm2(cycle, theta(j), f, theta(j) - delta,
-                                                 theta(j) + delta, 1.0, 0.0));
+          bool stayed = false;
+          const double v = newton_vm2(cycle, theta(j), f, theta(j) - delta, theta(j) + delta, 1.0,
+                                      0.0, sign[static_cast<size_t>(j)], &stayed);
+          vm2_max = std::max(vm2_max, v);
+          // Reused for the signed extremes if the search never left the sample's sign region.
+          if (stayed) newton_value[static_cast<size_t>(j)] = v;
         }
       }
 
@@ -474,6 +550,7 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
       // peaks of u within the shortfall bound (polished by Newton on σ_vm² inside their sign
       // region), and, where the sign flips between two samples, the boundary on the side that
       // helps (the supremum there is approached at the jump).
+      std::fill(jump_done.begin(), jump_done.end(), 0);
       auto extreme = [&](double up) {
         auto u = [&](int j) {
           return up * sign[static_cast<size_t>(wrap(j))] * vm2[static_cast<size_t>(wrap(j))];
@@ -491,25 +568,30 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
             }
             const double sg = sign[static_cast<size_t>(j)];
             // Within the sign region of sample j the objective u is (up sg) σ_vm².
+            if (up * sg > 0.0 && !std::isnan(newton_value[static_cast<size_t>(j)])) {
+              best = std::max(best, newton_value[static_cast<size_t>(j)]);
+              continue;
+            }
             best = std::max(best, newton_vm2(cycle, theta(j), u(j), theta(j) - delta,
                                              theta(j) + delta, up * sg, sg));
           }
           // Jumps: vm² on [t_j, t_j+1] is below its end values plus H δ max σ_vm² (Bernstein).
           const double rise = H * delta * vm2_max / (1.0 - std::min(gap, 0.5));
           for (int j = 0; j < N; ++j) {
-            const double a = sign[static_cast<size_t>(j)],
-                         b = sign[static_cast<size_t>(wrap(j + 1))];
+            const double a = sign[static_cast<size_t>(j)];
+            const double b = sign[static_cast<size_t>(wrap(j + 1))];
             if (a == b) continue;
-            const double side = up * a > 0.0 ? a : b;  // the sign whose σ_svm helps
             const double bound =
                 std::max(vm2[static_cast<size_t>(j)], vm2[static_cast<size_t>(wrap(j + 1))]) + rise;
             if (bound <= best) continue;
-            const double inside = side == a ? theta(j) : theta(j + 1);
-            const double outside = side == a ? theta(j + 1) : theta(j);
-            double s[6];
-            cycle.at(sign_boundary(cycle, inside, outside, side), s);
-            const Invariants v = invariants(s);
-            if (svm_sign(v) == side) best = std::max(best, 3.0 * v.J2);
+            SignJump& jump = jumps[static_cast<size_t>(j)];
+            if (!jump_done[static_cast<size_t>(j)]) {  // shared by the maximum and the minimum
+              const int jp = a > 0.0 ? j : j + 1, jn = a > 0.0 ? j + 1 : j;
+              jump = sign_jump(cycle, theta(jp), vm2[static_cast<size_t>(wrap(jp))], theta(jn),
+                               vm2[static_cast<size_t>(wrap(jn))]);
+              jump_done[static_cast<size_t>(j)] = 1;
+            }
+            best = std::max(best, up > 0.0 ? jump.vm2_positive : jump.vm2_negative);
           }
         }
         const double o = up * best;  // sign · σ_vm²
