@@ -341,14 +341,14 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return values(a) < values(b); });
   result.eigenvalues.resize(values.size());
   result.modes.resize(n, values.size());
-  Eigen::VectorXd Mphi(n);
+  // All M φ in one pass over M (rather than one per mode).
+  const Eigen::MatrixXd M_vectors = block_product(RowSparse(M), vectors);
   for (Eigen::Index j = 0; j < values.size(); ++j) {
     const int k = order[static_cast<size_t>(j)];
     result.eigenvalues(j) = values(k);
     auto phi = result.modes.col(j);
     phi = vectors.col(k);
-    Mphi.noalias() = M * phi;
-    const double mass = phi.dot(Mphi);
+    const double mass = phi.dot(M_vectors.col(k));
     if (mass > 0.0) phi /= std::sqrt(mass);
     if (phi(sign_component(phi)) < 0.0) phi = -phi;
   }
