@@ -211,7 +211,10 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
   // Physical groups -> sets.
   gmsh::vectorpair groups;
   gmsh_call(source, "get the physical groups", [&] { gmsh::model::getPhysicalGroups(groups); });
-  for (const auto& [dim, tag] : groups) {
+  for (const auto& group : groups) {
+    // Plain variables, not a structured binding: clang before 16 cannot capture bindings in the
+    // lambdas below (the fuzz preset builds io with clang 14).
+    const int dim = group.first, tag = group.second;
     std::string name;
     gmsh_call(source, "get a physical name", [&] { gmsh::model::getPhysicalName(dim, tag, name); });
     if (name.empty()) name = "PHYSICAL_" + std::to_string(dim) + "_" + std::to_string(tag);
