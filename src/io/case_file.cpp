@@ -995,11 +995,17 @@ void parse_analysis(Parser& p, const MapView& top) {
                     std::to_string(v));
         p.check(a.harmonics.empty() || v > a.harmonics.back(), path, m.line("harmonics"),
                 "the list must be strictly increasing");
+        p.check(v <= kMaxHarmonic, path, m.line("harmonics"),
+                "harmonic " + std::to_string(v) + " is above the largest supported, " +
+                    std::to_string(kMaxHarmonic));
         a.harmonics.push_back(v);
       }
     } else {
       const int H = p.integer(h, path, m.line("harmonics"));
       p.check(H >= 1, path, m.line("harmonics"), "must be >= 1, got " + std::to_string(H));
+      // Checked before the list 1..H is built (harmonics: 2147483647 would take 8 GB).
+      p.check(H <= kMaxHarmonic, path, m.line("harmonics"),
+              "must be <= " + std::to_string(kMaxHarmonic) + ", got " + std::to_string(H));
       for (int k = 1; k <= H; ++k) a.harmonics.push_back(k);
     }
   }

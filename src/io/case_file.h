@@ -37,6 +37,10 @@
 namespace stickslip {
 
 inline constexpr int kCaseFormatVersion = 1;  // the value of the required key `stickslip`
+// Largest harmonic a case may ask for (analysis.harmonics). Far above any practical HBM order
+// (the AFT then needs time_samples >= 2(2H+1) = 40002); it bounds what a typo or a corrupted
+// file can make the parser allocate and keeps 2(2H+1) far from int overflow.
+inline constexpr int kMaxHarmonic = 10000;
 
 struct MaterialDefinition {
   double youngs_modulus = 0.0;  // E, Pa (required, > 0)

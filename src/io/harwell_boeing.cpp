@@ -11,7 +11,10 @@
 #include <ostream>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "core/errors.h"
 #include "io/atomic_file.h"
@@ -42,6 +45,7 @@ bool parse_int(std::string_view text, long long* value) {
 // exponent introduced by E, D or Q (any case) or by a bare sign (0.1234+100). Blanks are ignored
 // (Fortran's default BLANK='NULL'). Without a decimal point the mantissa has `decimals` implied
 // decimals.
+constexpr long long kMaxExponent = 100000;
 bool parse_fortran_real(std::string_view text, int decimals, double* value) {
   std::string s;
   for (char c : text)
@@ -72,6 +76,9 @@ bool parse_fortran_real(std::string_view text, int decimals, double* value) {
       return false;
     if (i >= s.size() || !parse_int(std::string_view(s).substr(i), &exponent)) return false;
   }
+  // Any |exponent| beyond ~330 over- or underflows a double anyway; clamping keeps the
+  // subtraction below from overflowing (e.g. 1-9223372036854775808 with implied decimals).
+  exponent = std::clamp<long long>(exponent, -kMaxExponent, kMaxExponent);
   if (!point) exponent -= decimals;
   std::string normal = mantissa + "e" + std::to_string(exponent);
   const char* end = normal.data() + normal.size();
@@ -109,11 +116,16 @@ bool parse_fortran_format(const std::string& text, FortranFormat* f, std::string
     return false;
   }
   size_t i = 0;
+  bool too_large = false;
   auto read_number = [&](int* n) {
     size_t j = i;
     while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
     if (j == i) return false;
-    *n = std::stoi(s.substr(i, j - i));
+    const auto [end, ec] = std::from_chars(s.data() + i, s.data() + j, *n);
+    if (ec != std::errc() || end != s.data() + j) {  // only digits: the value is out of range
+      too_large = true;
+      return false;
+    }
     i = j;
     return true;
   };
@@ -129,7 +141,10 @@ bool parse_fortran_format(const std::string& text, FortranFormat* f, std::string
     }
   }
   int repeat = 1;
-  if (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) read_number(&repeat);
+  if (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i])) && !read_number(&repeat)) {
+    *why = "repeat count too large";
+    return false;
+  }
   if (i >= s.size()) {
     *why = "no edit descriptor";
     return false;
@@ -142,14 +157,14 @@ bool parse_fortran_format(const std::string& text, FortranFormat* f, std::string
   }
   int width = 0;
   if (!read_number(&width) || width <= 0) {
-    *why = "missing field width";
+    *why = too_large ? "field width too large" : "missing field width";
     return false;
   }
   int decimals = 0;
   if (i < s.size() && s[i] == '.') {
     ++i;
     if (!read_number(&decimals)) {
-      *why = "missing number of decimals after '.'";
+      *why = too_large ? "number of decimals too large" : "missing number of decimals after '.'";
       return false;
     }
   }
@@ -157,7 +172,7 @@ bool parse_fortran_format(const std::string& text, FortranFormat* f, std::string
     ++i;
     int e = 0;
     if (!read_number(&e)) {
-      *why = "missing exponent width after 'E'";
+      *why = too_large ? "exponent width too large" : "missing exponent width after 'E'";
       return false;
     }
   }
@@ -207,10 +222,15 @@ class LineReader {
 
 // Reads `count` values in format `f` from `cards` lines (the header's card count for the section).
 // Each value's line number goes to *lines (if given), for error messages about its content.
+constexpr long long kMaxReserve = 1 << 16;  // values reserved before the data backs a count
+// Rows that may exceed the stored entries: each costs storage that no entry backs.
+constexpr long long kMaxEmptyRows = 1 << 20;
+
 template <typename T>
 std::vector<T> read_section(LineReader& r, const FortranFormat& f, long long count, long long cards,
                             const std::string& what, std::vector<int>* lines = nullptr) {
-  const long long needed_cards = (count + f.repeat - 1) / f.repeat;
+  // count / repeat rounded up, without the overflow of (count + repeat - 1) for huge counts.
+  const long long needed_cards = count / f.repeat + (count % f.repeat != 0 ? 1 : 0);
   if (cards != needed_cards) {
     r.fail(r.line() + 1, what,
            std::to_string(count) + " values in format " + f.text + " take " +
@@ -230,9 +250,12 @@ std::vector<T> read_section(LineReader& r, const FortranFormat& f, long long cou
       return true;
     }
   };
+  // The header's count is not believed until the lines are there: reserve at most a modest block
+  // and let the vectors grow with the data actually read.
+  const size_t reserve = static_cast<size_t>(std::min<long long>(count, kMaxReserve));
   std::vector<T> values;
-  values.reserve(static_cast<size_t>(count));
-  if (lines) lines->reserve(static_cast<size_t>(count));
+  values.reserve(reserve);
+  if (lines) lines->reserve(reserve);
   std::vector<T> on_this_line;
   while (static_cast<long long>(values.size()) < count) {
     const std::string line = r.next(what);
@@ -250,8 +273,9 @@ std::vector<T> read_section(LineReader& r, const FortranFormat& f, long long cou
                 std::to_string(f.width) + " (format " + f.text + "), field " +
                 std::to_string(k + 1) + " at " + column + " is blank or missing";
       } else if (!parse(field, &v)) {
-        error = "'" + trim(field) + "' at " + column + " is not " +
-                (std::is_same_v<T, double> ? "a real number" : "an integer");
+        // fmt, not operator+: GCC 12 gives a false -Wrestrict on "'" + std::string&& here.
+        error = fmt::format("'{}' at {} is not {}", trim(field), column,
+                            std::is_same_v<T, double> ? "a real number" : "an integer");
       } else {
         on_this_line.push_back(v);
       }
@@ -325,6 +349,12 @@ HarwellBoeingMatrix read_harwell_boeing(std::istream& in, const std::string& nam
   const std::string line2 = r.next("the card counts (line 2)");
   const auto cards =
       header_integers(r, line2, r.line(), "TOTCRD PTRCRD INDCRD VALCRD RHSCRD", 4, 5);
+  for (const long long c : cards) {
+    if (c > std::numeric_limits<int>::max()) {
+      r.fail(r.line(), "TOTCRD PTRCRD INDCRD VALCRD RHSCRD",
+             "card count " + std::to_string(c) + " is more lines than a file can number (2^31-1)");
+    }
+  }
   const long long ptrcrd = cards[1], indcrd = cards[2], valcrd = cards[3];
   const long long rhscrd = cards.size() > 4 ? cards[4] : 0;
   if (cards[0] != ptrcrd + indcrd + valcrd + rhscrd) {
@@ -409,6 +439,14 @@ HarwellBoeingMatrix read_harwell_boeing(std::istream& in, const std::string& nam
     const auto rhs_sizes = header_integers(r, line5.size() > 3 ? line5.substr(3) : std::string(),
                                            r.line(), "NRHS NRHSIX", 1, 2);
     nrhs = rhs_sizes[0];
+    // nrow * nrhs * vectors_per_rhs values follow: keep the product well inside 64 bits (the data
+    // must then back it line by line).
+    if (nrhs > std::numeric_limits<int>::max() ||
+        (nrow > 0 && nrhs > std::numeric_limits<int>::max() / nrow)) {
+      r.fail(r.line(), "NRHS",
+             std::to_string(nrhs) + " right-hand sides of " + std::to_string(nrow) +
+                 " rows are more values than 32-bit indices can address");
+    }
   }
 
   // Data.
@@ -441,11 +479,31 @@ HarwellBoeingMatrix read_harwell_boeing(std::istream& in, const std::string& nam
            "the last column pointer must be NNZERO + 1 = " + std::to_string(nnz + 1) + ", got " +
                std::to_string(colptr[ncol]));
   }
+  // Eigen's triplet assembly allocates per row; NROW is the one size that neither the pointers
+  // (NCOL + 1 of them) nor the entries back, unless right-hand sides (NROW values each) follow.
+  if (nrhs == 0 && nrow > nnz + kMaxEmptyRows) {
+    r.fail(line3_no, "NROW",
+           std::to_string(nrow) + " rows for " + std::to_string(nnz) + " entries: more than " +
+               std::to_string(kMaxEmptyRows) + " empty rows are refused as an implausible size");
+  }
   std::vector<Triplet> triplets;
   triplets.reserve(
       static_cast<size_t>(result.type == HarwellBoeingType::kRealSymmetric ? 2 * nnz : nnz));
-  std::vector<int> seen_in_column(static_cast<size_t>(nrow), -1);
+  // Repeated rows are found per column by sorting (row, position): no array of NROW entries,
+  // since NROW is the one size the data does not back.
+  std::vector<std::pair<int, int>> column;
   for (int j = 0; j < ncol; ++j) {
+    column.clear();
+    for (int k = colptr[j] - 1; k < colptr[j + 1] - 1; ++k) column.emplace_back(rowind[k], k);
+    std::sort(column.begin(), column.end());
+    for (size_t c = 1; c < column.size(); ++c) {
+      if (column[c].first == column[c - 1].first) {
+        const int k = std::max(column[c].second, column[c - 1].second);
+        r.fail(rowind_lines[k], "row indices",
+               "row " + std::to_string(rowind[k]) + " appears twice in column " +
+                   std::to_string(j + 1));
+      }
+    }
     for (int k = colptr[j] - 1; k < colptr[j + 1] - 1; ++k) {
       const int i = rowind[k];
       if (i < 1 || i > nrow) {
@@ -458,11 +516,6 @@ HarwellBoeingMatrix read_harwell_boeing(std::istream& in, const std::string& nam
                "row " + std::to_string(i) + " < column " + std::to_string(j + 1) +
                    ": an RSA file stores the lower triangle only (row >= column)");
       }
-      if (seen_in_column[i - 1] == j) {
-        r.fail(rowind_lines[k], "row indices",
-               "row " + std::to_string(i) + " appears twice in column " + std::to_string(j + 1));
-      }
-      seen_in_column[i - 1] = j;
       triplets.emplace_back(i - 1, j, values[k]);
       if (result.type == HarwellBoeingType::kRealSymmetric && i - 1 != j) {
         triplets.emplace_back(j, i - 1, values[k]);

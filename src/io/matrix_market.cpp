@@ -28,6 +28,10 @@ using text::trim;
 using text::upper;
 
 constexpr double kSymmetryTolerance = 1e-12;  // relative; assembly round-off is far below
+constexpr long long kMaxReserve = 1 << 16;    // entries reserved before the data backs a count
+// Rows (columns) that may exceed the stored entries in a sparse file: each costs a few bytes of
+// storage that no entry backs, so a huge size line in a tiny file is refused.
+constexpr long long kMaxEmptyRowsOrColumns = 1 << 20;
 
 bool to_long(const std::string& s, long long* v) {
   const char* b = s.data() + (!s.empty() && s[0] == '+' ? 1 : 0);
@@ -47,6 +51,7 @@ struct Header {
   bool coordinate = true;
   bool symmetric = false;
   long long rows = 0, cols = 0, entries = 0;
+  int size_line = 0;
 };
 
 class Reader {
@@ -130,6 +135,7 @@ Header read_header(Reader& r) {
   }
   h.rows = v[0];
   h.cols = v[1];
+  h.size_line = r.line();
   h.entries = h.coordinate ? v[2] : v[0] * v[1];
   if (h.symmetric && h.rows != h.cols) {
     r.fail(r.line(), "a symmetric matrix must be square, got " + std::to_string(h.rows) + " x " +
@@ -158,8 +164,10 @@ MatrixMarketMatrix read_matrix_market(std::istream& in, const std::string& name)
   if (!h.coordinate) r.fail(1, "expected a sparse 'coordinate' file, got 'array'");
   MatrixMarketMatrix result;
   result.symmetry = h.symmetric ? MatrixMarketSymmetry::kSymmetric : MatrixMarketSymmetry::kGeneral;
+  // The announced count is not believed until the entries are there: reserve at most a modest
+  // block, the vector grows with the entries actually read.
   std::vector<Triplet> triplets;
-  triplets.reserve(static_cast<size_t>(h.symmetric ? 2 * h.entries : h.entries));
+  triplets.reserve(static_cast<size_t>(std::min<long long>(h.entries, kMaxReserve)));
   std::vector<std::string> t;
   for (long long k = 0; k < h.entries; ++k) {
     if (!r.next_data(&t)) {
@@ -194,6 +202,15 @@ MatrixMarketMatrix read_matrix_market(std::istream& in, const std::string& name)
     r.fail(r.line(),
            "more entries than the " + std::to_string(h.entries) + " announced on the size line");
   }
+  // Sparse storage (and Eigen's triplet assembly) allocates per row and per column: a size line
+  // announcing a billion rows for three entries would allocate gigabytes the data never backs.
+  for (const auto& [what, n] : {std::pair{"rows", h.rows}, std::pair{"columns", h.cols}}) {
+    if (n > h.entries + kMaxEmptyRowsOrColumns) {
+      r.fail(h.size_line, std::to_string(n) + " " + what + " for " + std::to_string(h.entries) +
+                              " entries: more than " + std::to_string(kMaxEmptyRowsOrColumns) +
+                              " empty " + what + " are refused as an implausible size");
+    }
+  }
   result.matrix.resize(static_cast<int>(h.rows), static_cast<int>(h.cols));
   result.matrix.setFromTriplets(triplets.begin(), triplets.end());  // sums repeated entries
   return result;
@@ -203,7 +220,10 @@ Eigen::MatrixXd read_matrix_market_dense(std::istream& in, const std::string& na
   Reader r(in, name);
   const Header h = read_header(r);
   if (h.coordinate) r.fail(1, "expected a dense 'array' file, got 'coordinate'");
-  Eigen::MatrixXd A(h.rows, h.cols);
+  // Values are collected first and the matrix allocated once they are all there, so a size line
+  // announcing a huge matrix in a small file allocates nothing big.
+  std::vector<double> values;
+  values.reserve(static_cast<size_t>(std::min<long long>(h.entries, kMaxReserve)));
   std::vector<std::string> t;
   for (long long k = 0; k < h.entries; ++k) {
     if (!r.next_data(&t)) {
@@ -216,13 +236,13 @@ Eigen::MatrixXd read_matrix_market_dense(std::istream& in, const std::string& na
     }
     double v = 0.0;
     if (!to_double(t[0], &v)) r.fail(r.line(), "value '" + t[0] + "' is not a real number");
-    A(k % h.rows, k / h.rows) = v;
+    values.push_back(v);
   }
   if (r.next_data(&t)) {
     r.fail(r.line(),
            "more values than the " + std::to_string(h.entries) + " announced on the size line");
   }
-  return A;
+  return Eigen::Map<const Eigen::MatrixXd>(values.data(), h.rows, h.cols);
 }
 
 MatrixMarketMatrix read_matrix_market(const std::string& path) {
@@ -324,31 +344,53 @@ void write_dense_binary(const std::string& path, const Eigen::MatrixXd& A) {
   });
 }
 
-Eigen::MatrixXd read_dense_binary(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInput({path, 0, ""}, "cannot open file for reading");
+Eigen::MatrixXd read_dense_binary(std::istream& in, const std::string& name) {
+  auto fail = [&](const std::string& key, const std::string& message) {
+    throw InvalidInput({name, 0, key}, message);
+  };
   char magic[8] = {};
   std::int64_t size[2] = {0, 0};
   in.read(magic, sizeof magic);
   if (!in || !std::equal(magic, magic + 8, kDenseMagic)) {
-    throw InvalidInput({path, 0, ""}, "not a stickslip dense binary file (magic SSDENSE1)");
+    fail("magic", "not a stickslip dense binary file (magic SSDENSE1)");
   }
   in.read(reinterpret_cast<char*>(size), sizeof size);
-  if (!in || size[0] < 0 || size[1] < 0 || size[0] > std::numeric_limits<int>::max() ||
+  if (!in) fail("rows cols", "truncated header: expected rows and cols (2 x int64)");
+  if (size[0] < 0 || size[1] < 0 || size[0] > std::numeric_limits<int>::max() ||
       size[1] > std::numeric_limits<int>::max()) {
-    throw InvalidInput({path, 0, ""}, "bad matrix size in the header");
+    fail("rows cols", "bad matrix size " + std::to_string(size[0]) + " x " +
+                          std::to_string(size[1]) + ": each must be in 0..2^31-1");
+  }
+  // rows * cols <= 2^62 fits; the bytes present are counted before anything is allocated, so a
+  // header announcing a huge matrix in a small file costs nothing.
+  const std::uint64_t count =
+      static_cast<std::uint64_t>(size[0]) * static_cast<std::uint64_t>(size[1]);
+  const std::istream::pos_type here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::istream::pos_type end = in.tellg();
+  if (here == std::istream::pos_type(-1) || end == std::istream::pos_type(-1) || end < here) {
+    fail("", "cannot determine the file size (not a seekable file)");
+  }
+  in.seekg(here);
+  const std::uint64_t available = static_cast<std::uint64_t>(end - here);
+  if (available / sizeof(double) < count) {
+    fail("rows cols", "truncated: " + std::to_string(size[0]) + " x " + std::to_string(size[1]) +
+                          " values announced, the file holds " +
+                          std::to_string(available / sizeof(double)));
+  }
+  if (available != count * sizeof(double)) {
+    fail("", "trailing bytes after the " + std::to_string(count) + " announced values");
   }
   Eigen::MatrixXd A(size[0], size[1]);
-  in.read(reinterpret_cast<char*>(A.data()),
-          static_cast<std::streamsize>(A.size() * sizeof(double)));
-  if (!in) {
-    throw InvalidInput({path, 0, ""}, "truncated: " + std::to_string(size[0]) + " x " +
-                                          std::to_string(size[1]) + " values announced");
-  }
-  if (in.peek() != std::char_traits<char>::eof()) {
-    throw InvalidInput({path, 0, ""}, "trailing bytes after the announced values");
-  }
+  in.read(reinterpret_cast<char*>(A.data()), static_cast<std::streamsize>(count * sizeof(double)));
+  if (!in) fail("", "read error after the header");
   return A;
+}
+
+Eigen::MatrixXd read_dense_binary(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput({path, 0, ""}, "cannot open file for reading");
+  return read_dense_binary(in, path);
 }
 
 }  // namespace stickslip

@@ -53,8 +53,10 @@ void write_matrix_market_dense(std::ostream& out, const Eigen::MatrixXd& A,
 //   bytes 0..7   magic "SSDENSE1"
 //   bytes 8..15  rows (int64)     bytes 16..23 cols (int64)
 //   then rows * cols float64 values, column by column.
-// Malformed or truncated files throw InvalidInput naming the file.
+// Malformed or truncated files throw InvalidInput naming the file; the size in the header is
+// checked against the bytes present before anything is allocated.
 void write_dense_binary(const std::string& path, const Eigen::MatrixXd& A);
 Eigen::MatrixXd read_dense_binary(const std::string& path);
+Eigen::MatrixXd read_dense_binary(std::istream& in, const std::string& name);
 
 }  // namespace stickslip
