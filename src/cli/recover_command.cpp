@@ -3,6 +3,7 @@
 // reduced model are rebuilt from the contact forces in contact_forces.csv exactly as the solve
 // made them (HarmonicBalanceSystem::master_response), so the recovery equals run's to round-off.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -20,6 +21,14 @@
 namespace stickslip {
 
 namespace fs = std::filesystem;
+
+namespace {
+// Relative agreement required between the master response rebuilt from the contact forces and the
+// one the solve wrote. Same formula and 17-digit forces: round-off (1e-15) when the reduced
+// matrices are the solve's, ~1e-12 when they went through Harwell–Boeing text in between; an
+// edited or mixed-up file differs at the percent level.
+constexpr double kMasterConsistency = 1e-6;
+}  // namespace
 
 SolveResults read_stage_solve(const StageRun& run, const CaseDefinition& base,
                               const fs::path& out_dir) {
@@ -78,6 +87,24 @@ int run_recover(const RecoverCommand& command) {
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
     SolveResults results = read_stage_solve(run, base, out_dir);
+    // An explicit point number is checked before the (possibly long) model preparation.
+    int explicit_point = -1;
+    if (!command.point.empty() && command.point != "peak" && command.point != "all") {
+      const auto& pts = results.response.points;
+      char* end = nullptr;
+      const long n = std::strtol(command.point.c_str(), &end, 10);
+      if (*end != '\0' || n < 0 || n >= static_cast<long>(pts.size())) {
+        throw InvalidInput(
+            {"", 0, "--point"},
+            fmt::format("'{}' is not peak, all or a point of {} (0..{})", command.point,
+                        (run.dir / "points.csv").string(), pts.size() - 1));
+      }
+      if (!pts[n].converged) {
+        throw InvalidInput({(run.dir / "points.csv").string(), 0, "--point"},
+                           fmt::format("point {} did not converge", n));
+      }
+      explicit_point = static_cast<int>(n);
+    }
     const PreparedModel model = prepare_stage_model(run, out_dir, command.stage.case_file,
                                                     /*full_matrices=*/true, progress);
     check_solve_matches_model(results, model, def, run, hint);
@@ -97,24 +124,33 @@ int run_recover(const RecoverCommand& command) {
       }
       p.master = system.master_response(f, p.omega);
     }
-    std::vector<int> points;
-    if (command.point.empty() || command.point == "peak" || command.point == "all") {
-      points = recovery_points(def, model, response);
-    } else {
-      char* end = nullptr;
-      const long n = std::strtol(command.point.c_str(), &end, 10);
-      if (command.point.empty() || *end != '\0' || n < 0 ||
-          n >= static_cast<long>(response.points.size())) {
-        throw InvalidInput({"", 0, "--point"},
-                           fmt::format("'{}' is not peak, all or a point of points.csv (0..{})",
-                                       command.point, response.points.size() - 1));
+    // The rebuilt response must be the one the solve wrote (master_response.csv): a file edited
+    // or mixed from another solve would otherwise be recovered silently.
+    for (const PreparedBody& body : model.bodies) {
+      for (const auto& [key, g] : body.master_dof) {
+        const auto it = results.master.find(MasterDofKey{body.name, key.first, key.second});
+        if (it == results.master.end()) {
+          throw InvalidInput({(run.dir / "master_response.csv").string(), 0, ""},
+                             fmt::format("no rows for body {} node {}: run `{}` again", body.name,
+                                         key.first, hint));
+        }
+        for (size_t i = 0; i < response.points.size(); ++i) {
+          const Eigen::VectorXcd rebuilt = response.points[i].master.row(g).transpose();
+          const Eigen::VectorXcd written = it->second.row(static_cast<Eigen::Index>(i)).transpose();
+          const double scale = response.points[i].master.cwiseAbs().maxCoeff();
+          if ((rebuilt - written).cwiseAbs().maxCoeff() > kMasterConsistency * scale) {
+            throw InvalidInput(
+                {(run.dir / "master_response.csv").string(), 0, ""},
+                fmt::format("point {}, body {} node {}: the response does not follow from the "
+                            "contact forces of contact_forces.csv (files of different solves?): "
+                            "run `{}` again",
+                            i, body.name, key.first, hint));
+          }
+        }
       }
-      if (!response.points[n].converged) {
-        throw InvalidInput({"", 0, "--point"},
-                           fmt::format("point {} did not converge (points.csv)", n));
-      }
-      points.push_back(static_cast<int>(n));
     }
+    const std::vector<int> points = explicit_point >= 0 ? std::vector<int>{explicit_point}
+                                                        : recovery_points(def, model, response);
     if (points.empty()) {
       progress("nothing to recover (recovery.points: " + def.recovery.points + ")");
       continue;

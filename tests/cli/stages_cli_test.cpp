@@ -284,6 +284,24 @@ TEST_F(StagesCli, MissingStaleOrDamagedSolveFilesNameTheFileAndTheCommand) {
   log = slurp(dir / "log.txt");
   EXPECT_NE(log.find("contact_forces.csv"), std::string::npos) << log;
   EXPECT_NE(log.find("incomplete"), std::string::npos) << log;
+  // A master response that does not follow from the contact forces (an edited file).
+  fs::remove_all(dir / "edited");
+  fs::copy(root_ / "staged", dir / "edited", fs::copy_options::recursive);
+  {
+    std::ifstream in(dir / "edited" / "master_response.csv");
+    std::stringstream text;
+    std::string line;
+    for (int i = 1; std::getline(in, line); ++i) {
+      if (i == 5) line = line.substr(0, line.rfind(',')) + ",0.001";
+      text << line << "\n";
+    }
+    std::ofstream(dir / "edited" / "master_response.csv") << text.str();
+  }
+  EXPECT_EQ(run("recover " + case_.string() + " -o " + (dir / "edited").string(), dir / "log.txt"),
+            2);
+  log = slurp(dir / "log.txt");
+  EXPECT_NE(log.find("master_response.csv"), std::string::npos) << log;
+  EXPECT_NE(log.find("does not follow from the contact forces"), std::string::npos) << log;
   // A point that is not there.
   EXPECT_EQ(run("recover " + case_.string() + " -o " + (root_ / "staged").string() + " --point 99",
                 dir / "log.txt"),
