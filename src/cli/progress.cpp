@@ -1,5 +1,6 @@
 #include "cli/progress.h"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,11 +23,16 @@ void validate(const ProgressOptions& o) {
   require(o.line_interval > 0, "ProgressOptions.line_interval",
           fmt::format("{:g}", o.line_interval), "> 0");
   require(o.bar_width >= 1, "ProgressOptions.bar_width", std::to_string(o.bar_width), ">= 1");
+  require(o.columns >= 0, "ProgressOptions.columns", std::to_string(o.columns), ">= 0");
 }
 
 ProgressOptions stderr_progress_options(bool quiet) {
   ProgressOptions o;
   o.terminal = isatty(fileno(stderr)) != 0;
+  if (o.terminal) {
+    winsize w{};
+    o.columns = ioctl(fileno(stderr), TIOCGWINSZ, &w) == 0 && w.ws_col > 0 ? w.ws_col : 80;
+  }
   o.quiet = quiet;
   return o;
 }
@@ -83,15 +89,25 @@ std::string ProgressReporter::status(bool plain) const {
     return fmt::format("{}{}: {} ({}{}{}), {}, {}", options_.prefix, label_, points,
                        total_ > 0 ? "" : "range ", percent, failed, rate, left);
   }
-  const int filled = static_cast<int>(std::floor(f * options_.bar_width));
-  return fmt::format("{}{} [{}{}] {:>4}  {}{}  {}  {}", options_.prefix, label_,
-                     std::string(static_cast<size_t>(filled), '#'),
-                     std::string(static_cast<size_t>(options_.bar_width - filled), '-'), percent,
-                     points, failed, rate, left);
+  // The bar shrinks (down to kMinBar) to keep the line within the terminal's width.
+  constexpr int kMinBar = 4;
+  const std::string head = options_.prefix + label_ + " [";
+  const std::string tail = fmt::format("] {:>4} {}{} {} {}", percent, points, failed, rate, left);
+  int width = options_.bar_width;
+  if (options_.columns > 0) {
+    const int room = options_.columns - 1 - static_cast<int>(head.size() + tail.size());
+    width = std::clamp(room, std::min(kMinBar, options_.bar_width), options_.bar_width);
+  }
+  const int filled = static_cast<int>(std::floor(f * width));
+  return head + std::string(static_cast<size_t>(filled), '#') +
+         std::string(static_cast<size_t>(width - filled), '-') + tail;
 }
 
 void ProgressReporter::draw(bool plain) {
-  const std::string s = status(plain);
+  std::string s = status(plain);
+  if (!plain && options_.columns > 0 && s.size() >= static_cast<size_t>(options_.columns)) {
+    s.resize(static_cast<size_t>(options_.columns - 1));  // a wrapped line cannot be redrawn
+  }
   if (plain) {
     out_ << s << '\n';
   } else {

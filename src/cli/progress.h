@@ -2,7 +2,7 @@
 // stream, normally stderr:
 //   terminal:      one bar redrawn in place ('\r', no newline until finish()), at most once per
 //                  redraw_interval seconds (the last point always), e.g.
-//     stickslip: harmonic balance [####----]  50%  20/40 points  3.1 points/s  0:06 left
+//     stickslip: harmonic balance [####----]  50% 20/40 points 3.1 points/s 0:06 left
 //   not terminal:  plain lines, one each time another line_fraction of the range is done or
 //                  line_interval seconds have passed since the last line, and one at the end:
 //     stickslip: harmonic balance: 20/40 points (50%), 3.1 points/s, 0:06 left
@@ -29,12 +29,15 @@ struct ProgressOptions {
   double redraw_interval = 0.1;  // s (terminal): minimum time between redraws
   double line_fraction = 0.1;    // plain lines: a line every time this part of the range is done
   double line_interval = 10.0;   // s (plain lines): and at least one line this often
-  int bar_width = 24;            // characters inside [ ]
+  int bar_width = 20;            // characters inside [ ]
+  int columns = 0;  // terminal: the bar narrows (to 4) and the line is cut to fit columns − 1
+                    // characters (0: no limit)
   std::string prefix = "stickslip: ";
 };
 void validate(const ProgressOptions& options);  // throws InvalidInput naming the field
 
-// Options for stderr: terminal when stderr is a terminal (isatty), quiet as given.
+// Options for stderr: terminal when stderr is a terminal (isatty), its width from the terminal
+// (80 if unknown), quiet as given.
 ProgressOptions stderr_progress_options(bool quiet);
 
 // "0:07", "12:34", "1:02:03" (seconds rounded up to whole seconds; "--:--" if not finite).

@@ -120,13 +120,13 @@ TEST(Progress, TerminalBarIsRedrawnInPlaceAndThrottled) {
   const std::string s = out.str();
   EXPECT_EQ(std::count(s.begin(), s.end(), '\r'), 3) << s;
   EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 1) << s;  // only at finish
-  EXPECT_NE(s.find("\rstickslip: hb [##--------]  25%  1/4 points  0.5 points/s  0:06 left"),
+  EXPECT_NE(s.find("\rstickslip: hb [##--------]  25% 1/4 points 0.5 points/s 0:06 left"),
             std::string::npos)
       << s;
-  EXPECT_NE(s.find("\rstickslip: hb [#######---]  75%  3/4 points  1 points/s  0:01 left"),
+  EXPECT_NE(s.find("\rstickslip: hb [#######---]  75% 3/4 points 1 points/s 0:01 left"),
             std::string::npos)
       << s;
-  EXPECT_NE(s.find("\rstickslip: hb [##########] 100%  4/4 points  1.29 points/s  0:00 left"),
+  EXPECT_NE(s.find("\rstickslip: hb [##########] 100% 4/4 points 1.29 points/s 0:00 left"),
             std::string::npos)
       << s;
   EXPECT_EQ(s.back(), '\n');
@@ -144,12 +144,43 @@ TEST(Progress, TerminalBarBlanksTheRestOfALongerPreviousLine) {
   r.update(point(1, 1000));                   // "... 1/1000 points  0.167 points/s  1:39:54 left"
   const size_t first = out.str().size() - 1;  // without its leading '\r'
   t.now += 1;
-  r.update(point(500, 1000));  // "... 500/1000 points  71.4 points/s  0:07 left": 2 shorter
+  r.update(point(500, 1000));  // "... 500/1000 points 71.4 points/s 0:07 left": 2 shorter
   const std::string s = out.str();
   const std::string second = s.substr(first + 2);  // after the second '\r'
   EXPECT_EQ(second.size(), first);                 // padded to the width of the previous line
   EXPECT_EQ(second.substr(second.size() - 2), "  ");
   EXPECT_NE(second.find("0:07 left  "), std::string::npos) << second;
+}
+
+TEST(Progress, TerminalLinesFitTheTerminalWidth) {
+  FakeClock t;
+  ProgressOptions o;
+  o.terminal = true;
+  o.bar_width = 20;
+  {
+    // 80 columns: the bar narrows from 20 to 11 so that the line has 79 characters.
+    std::ostringstream out;
+    o.columns = 80;
+    ProgressReporter r(out, o, t.clock());
+    r.start("harmonic balance", 10);
+    t.now += 1;
+    r.update(point(5, 10));
+    r.finish();
+    EXPECT_EQ(
+        out.str(),
+        "\rstickslip: harmonic balance [#####------]  50% 5/10 points 5 points/s 0:01 left\n");
+  }
+  {
+    // 40 columns: the bar at its minimum (4) and the line cut to 39 characters.
+    std::ostringstream out;
+    o.columns = 40;
+    ProgressReporter r(out, o, t.clock());
+    r.start("harmonic balance", 10);
+    t.now += 1;
+    r.update(point(10, 10));
+    r.finish();
+    EXPECT_EQ(out.str(), "\rstickslip: harmonic balance [####] 100%\n");
+  }
 }
 
 TEST(Progress, QuietPrintsNothing) {
