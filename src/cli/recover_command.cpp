@@ -34,6 +34,10 @@ SolveResults read_stage_solve(const StageRun& run, const CaseDefinition& base,
                               const fs::path& out_dir) {
   const std::string hint = stage_hint("solve", base, out_dir);
   SolveResults results = read_solve_results(run.dir, hint);
+  if (results.fingerprint.empty()) {
+    throw InvalidInput({(run.dir / "summary.json").string(), 0, "fingerprint"},
+                       "no fingerprint (written by an older stickslip): run `" + hint + "` again");
+  }
   if (results.fingerprint != solve_fingerprint(run.definition)) {
     throw InvalidInput({(run.dir / "summary.json").string(), 0, "fingerprint"},
                        "the solve files in " + run.dir.string() +

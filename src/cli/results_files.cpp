@@ -219,7 +219,6 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
     std::ifstream in(path);
     std::string line;
     int number = 0;
-    bool saw_fingerprint = false;
     while (std::getline(in, line)) {
       ++number;
       std::string value;
@@ -229,7 +228,6 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       } else if (line.rfind("  \"fingerprint\"", 0) == 0 &&
                  json_string_line(line, "fingerprint", &value)) {
         out.fingerprint = value;
-        saw_fingerprint = true;
       } else if (line.rfind("  \"frf\"", 0) == 0 && json_string_array_line(line, "frf", &values)) {
         for (const std::string& v : values) {
           // body:node:dof (the body name may itself contain ':').
@@ -249,10 +247,6 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
           out.frf.push_back(r);
         }
       }
-    }
-    if (!saw_fingerprint) {
-      throw InvalidInput({path.string(), 0, "fingerprint"},
-                         "no fingerprint: written by an older stickslip; run `" + hint + "` again");
     }
   }
 
