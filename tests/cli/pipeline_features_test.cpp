@@ -25,6 +25,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 
+#include "cli_test_support.h"
 #include "core/types.h"
 #include "io/ansys_mapping.h"
 #include "io/case_file.h"
@@ -415,6 +416,31 @@ TEST(PipelineFeatures, SolveCaseReportsEveryPointToTheProgressReporter) {
       EXPECT_EQ(lines.back().rfind(last, 0), 0u) << out.str();
     }
   }
+}
+
+}  // namespace
+}  // namespace stickslip
+
+namespace stickslip {
+namespace {
+
+// The program on the block case (area split, linear springs, modal damping): it runs, and with
+// stderr not a terminal (a log file) the sweep's progress comes as plain lines, the last at
+// 3/3 points; --quiet prints nothing at all.
+TEST(PipelineFeatures, ProgramPrintsPlainProgressLinesToALogAndNothingWhenQuiet) {
+  const fs::path dir = fresh_dir("program");
+  write_block_mesh(dir / "block.inp");
+  std::ofstream(dir / "case.yaml") << block_case(0.05);
+  const std::string args = "run " + (dir / "case.yaml").string() + " -o " + (dir / "out").string();
+  ASSERT_EQ(cli_test::run(args, dir / "log.txt"), 0) << cli_test::slurp(dir / "log.txt");
+  const std::string log = cli_test::slurp(dir / "log.txt");
+  EXPECT_NE(log.find("stickslip: harmonic balance: 3/3 points (100%)"), std::string::npos) << log;
+  EXPECT_EQ(log.find('\r'), std::string::npos) << log;
+  for (const auto& row : cli_test::read_csv(dir / "out" / "points.csv")) {
+    EXPECT_EQ(row.at("converged"), "1");
+  }
+  ASSERT_EQ(cli_test::run(args + " --quiet", dir / "quiet.txt"), 0);
+  EXPECT_EQ(cli_test::slurp(dir / "quiet.txt"), "");
 }
 
 }  // namespace
