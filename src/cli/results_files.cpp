@@ -20,8 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull;  // FNV-1a 64 offset basis
+constexpr std::uint64_t kFnvPrime = 0x100000001b3ull;        // FNV 64 prime
 
 std::uint64_t fnv1a(std::uint64_t h, const char* data, size_t n) {
   for (size_t i = 0; i < n; ++i) {
