@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "stickslip: vibration and stresses of friction-damped structures.\n"
       "`stickslip run CASE` runs everything; the other subcommands run one stage and reuse the "
-      "files of earlier stages in the output folder (docs/command-line.md)."};
+      "files of earlier stages in the output folder (docs/command-line.md).",
+      "stickslip"};
   app.set_version_flag("--version", std::string("stickslip ") + STICKSLIP_VERSION);
   app.require_subcommand(1);
 
