@@ -59,8 +59,13 @@ int run_mesh(const StageCommand& command);
 
 // Reduces every mesh body of the case (Craig–Bampton onto its master nodes, as `run` would) and
 // writes DIR/reduced/<body>_K.hb, <body>_M.hb (Harwell–Boeing RSA, as ANSYS HBMAT) with their
-// .mapping files, the basis T (<body>_T.bin) when recovery.method is expansion, and manifest.txt.
-int run_reduce(const StageCommand& command);
+// .mapping files, the basis T (<body>_T.bin) when recovery.method is expansion or `basis` is
+// set (mode shapes of `modes CASE`), and manifest.txt.
+struct ReduceCommand {
+  StageCommand stage;
+  bool basis = false;
+};
+int run_reduce(const ReduceCommand& command);
 
 // The harmonic balance; writes the CSV/JSON files of run (no recovery, no plots).
 int run_solve(const StageCommand& command);
@@ -126,10 +131,11 @@ CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressF
 // DIR/<folder>/reduced/ or DIR/reduced/ holds a manifest: their fingerprints must match this
 // case's bodies (InvalidInput naming the manifest and `reduce` otherwise). Without reduced files
 // the bodies are reduced again. Reused mesh bodies get their mesh, material and clamps back;
-// `full_matrices` also assembles their full K and M (for the recovery) and loads T (expansion).
+// `full_matrices` also assembles their full K and M (for the recovery) and loads T (required for
+// recovery.method: expansion); `load_basis_if_present` loads T whenever reduce wrote it.
 PreparedModel prepare_stage_model(const StageRun& run, const std::filesystem::path& out_dir,
                                   const std::string& case_file, bool full_matrices,
-                                  const ProgressFn& progress);
+                                  const ProgressFn& progress, bool load_basis_if_present = false);
 
 // The solve files of `run` (read_solve_results), refused (InvalidInput naming summary.json and
 // the solve command) if their fingerprint is not the case's.

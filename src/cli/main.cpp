@@ -96,12 +96,16 @@ int main(int argc, char** argv) {
                         "case)");
   modes_cmd->add_flag("-q,--quiet", modes.quiet, "print nothing but errors");
 
-  StageCommand reduce;
+  ReduceCommand reduce;
   CLI::App* reduce_cmd = add_stage(
       app, "reduce",
       "Craig-Bampton reduction of the case's mesh bodies: DIR/reduced/ (HBMAT-style files and "
       "a manifest that solve, recover, export and modes check before reusing them)",
-      reduce);
+      reduce.stage);
+  reduce_cmd->add_flag("--basis", reduce.basis,
+                       "also write the Craig-Bampton basis T (<body>_T.bin: full DOFs x reduced "
+                       "DOFs) for the mode shapes of `modes CASE`; written anyway with "
+                       "recovery.method: expansion");
 
   StageCommand solve;
   CLI::App* solve_cmd =

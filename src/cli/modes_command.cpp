@@ -40,8 +40,9 @@ int run_case_modes(const ModesCommand& command) {
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
-    const PreparedModel model = prepare_stage_model(run, out_dir, command.case_file,
-                                                    /*full_matrices=*/false, progress);
+    const PreparedModel model =
+        prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
+                            /*load_basis_if_present=*/true);
     // K with every pair as its stuck springs (PreparedPair::stuck_stiffness, local rows).
     Eigen::MatrixXd K = model.K;
     for (size_t i = 0; i < model.pairs.size(); ++i) {
@@ -70,7 +71,8 @@ int run_case_modes(const ModesCommand& command) {
       if (!body.from_mesh) continue;
       if (body.T.size() == 0) {
         progress("mode shapes of " + body.name +
-                 " not written: the reused reduced matrices carry no Craig–Bampton basis");
+                 " not written: the reused reduced matrices carry no Craig–Bampton basis "
+                 "(`stickslip reduce --basis` writes it)");
         continue;
       }
       VtuData data;

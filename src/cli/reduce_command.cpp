@@ -328,7 +328,7 @@ fs::path reduced_dir_of(const StageRun& run, const fs::path& out_dir) {
 
 PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
                                   const std::string& case_file, bool full_matrices,
-                                  const ProgressFn& progress) {
+                                  const ProgressFn& progress, bool load_basis_if_present) {
   const CaseDefinition& def = run.definition;
   const fs::path dir = reduced_dir_of(run, out_dir);
   const fs::path manifest_path = dir / "manifest.txt";
@@ -411,15 +411,17 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       d.node_index = by_id.at(d.node_id);
       d.full_dof = 3 * d.node_index + d.direction;
     }
-    if (!full_matrices) continue;
-    assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &body.K, &body.M);
-    if (def.recovery.method == "expansion") {
-      const fs::path t = dir / (body.name + "_T.bin");
+    const fs::path t = dir / (body.name + "_T.bin");
+    const bool need_basis = full_matrices && def.recovery.method == "expansion";
+    if (full_matrices) {
+      assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &body.K, &body.M);
+    }
+    if (need_basis || (load_basis_if_present && fs::exists(t))) {
       if (!fs::exists(t)) {
         throw InvalidInput({t.string(), 0, ""},
                            "missing: recovery.method: expansion needs the Craig–Bampton basis; "
                            "run `" +
-                               reduce_hint + "` again with this case");
+                               reduce_hint + "` again");
       }
       body.T = read_dense_matrix(t);
       if (body.T.rows() != body.mesh.num_dofs() || body.T.cols() != body.reduced.size()) {
@@ -431,7 +433,8 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
   return model;
 }
 
-int run_reduce(const StageCommand& command) {
+int run_reduce(const ReduceCommand& reduce) {
+  const StageCommand& command = reduce.stage;
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
   const auto progress = [&](const std::string& line) {
@@ -462,7 +465,7 @@ int run_reduce(const StageCommand& command) {
       const std::string k = (dir / (body.name + "_K.hb")).string();
       const std::string m = (dir / (body.name + "_M.hb")).string();
       write_ansys_reduced_body(k, m, body.reduced);
-      if (runs[r].definition.recovery.method == "expansion") {
+      if (reduce.basis || runs[r].definition.recovery.method == "expansion") {
         write_dense_matrix(dir / (body.name + "_T.bin"), body.T);
       }
       for (const CaseBody& cb : resolved[r].bodies) {

@@ -459,6 +459,21 @@ TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
     EXPECT_LT(fr, ff * 1.01) << "mode " << j + 1;
   }
   EXPECT_TRUE(fs::exists(dir / "case" / "modes" / "modes_beam1.vtu"));
+  // From reduce's files (with the basis, for the shapes): the same frequencies.
+  ASSERT_EQ(
+      run("reduce -q --basis " + c.string() + " -o " + (dir / "st").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(run("modes " + c.string() + " --modes 6 -o " + (dir / "st").string(), dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("reduced matrices from"), std::string::npos);
+  const auto again = read_csv(dir / "st" / "modes" / "frequencies.csv");
+  ASSERT_EQ(again.size(), 6u);
+  for (size_t j = 0; j < 6; ++j) {
+    EXPECT_NEAR(std::stod(again[j].at("frequency_hz")), std::stod(reduced[j].at("frequency_hz")),
+                kThroughHb * std::stod(reduced[j].at("frequency_hz")));
+  }
+  EXPECT_TRUE(fs::exists(dir / "st" / "modes" / "modes_beam1.vtu"));
   // Reference-joint options make no sense with a case.
   EXPECT_EQ(run("modes " + c.string() + " --coarse", dir / "log3.txt"), 2);
 }
