@@ -167,16 +167,24 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
   // that sticks throughout (or separates once) repeats after period 2; its mean tangential force
   // is the one reached from the virgin state (a stuck cycle is neutrally stable: any offset of τ
   // repeats, so the history fixes it).
+  // The two periods are marched without derivatives first: only a cycle that closes here takes
+  // its derivatives from them (marched again with derivatives, same forces); the others get theirs
+  // from the periodicity condition below.
   Eigen::Vector2d tau = Eigen::Vector2d::Zero();
   Eigen::MatrixXd dtau;
   if (jac) dtau.setZero(2, np);
-  march_period(parameters_, u, false, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
+  march_period(parameters_, u, false, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   Eigen::Vector2d tau_start = tau;
   PeriodCounts counts =
-      march_period(parameters_, u, true, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
+      march_period(parameters_, u, true, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   CycleStatistics stats;
   stats.periods = 2;
   stats.converged = closed(tau, tau_start, counts.force_scale);
+  if (stats.converged && jac) {
+    tau.setZero();
+    march_period(parameters_, u, false, tau, nullptr, &dtau, du, df, ld, f);
+    counts = march_period(parameters_, u, true, tau, nullptr, &dtau, du, df, ld, f);
+  }
 
   if (!stats.converged) {
     // Partial slip in 2D: plain marching contracts the start state τ_s only by the radial returns

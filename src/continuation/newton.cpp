@@ -4,9 +4,9 @@
 #include <limits>
 #include <sstream>
 
-#include <Eigen/LU>
-
+#include "continuation/dense_lu.h"
 #include "core/errors.h"
+#include "linalg/blas_threads.h"
 
 namespace stickslip {
 namespace {
@@ -112,7 +112,10 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   summary.residual_norm = r;
   summary.residual_history.push_back(r);
 
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu(structured ? 0 : n);
+  DenseLu lu;
+  // One BLAS thread for the whole solve (the LUs and whatever BLAS the system's evaluate uses):
+  // at Newton's sizes threads only spin on a busy machine.
+  const ScopedBlasThreads single_thread(1);
   x_watch = x;
   R_watch = R;
   r_watch = r;
@@ -132,7 +135,9 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
         have_jacobian = true;
       }
       if (!J.allFinite()) return finish(NewtonTermination::kNonFinite, "dR/dx is not finite");
-      lu.compute(J);
+      if (!lu.compute(J)) {  // J is finite here: an exact zero pivot
+        return finish(NewtonTermination::kSingularJacobian, "dR/dx has an exact zero pivot");
+      }
       const double rcond = lu.rcond();
       if (!(rcond >= options.min_rcond)) {
         return finish(NewtonTermination::kSingularJacobian,
@@ -189,8 +194,11 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
           if (!sys.solve_jacobian(x, lambda, -R, dx)) dx.setZero();
         } else {
           sys.evaluate(x, lambda, R, &J, nullptr);
-          lu.compute(J);
-          dx = lu.solve(-R);
+          if (lu.compute(J)) {
+            dx = lu.solve(-R);
+          } else {
+            dx.setZero();
+          }
         }
       }
       for (double s = 0.5; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {

@@ -1,8 +1,9 @@
 // Damped Newton–Raphson for R(x, λ) = 0 at a fixed parameter λ (ParametrizedSystem).
 //
-// Iteration k: solve dR/dx(x_k) Δx = −R(x_k) by dense LU with partial pivoting, then take
-// x_{k+1} = x_k + s Δx with the largest s ∈ {1, 1/2, 1/4, ..., >= min_step_fraction} that gives a
-// sufficient decrease ||R(x_{k+1})|| <= (1 − 1e-4 s) ||R(x_k)|| (backtracking on the 2-norm of R).
+// Iteration k: solve dR/dx(x_k) Δx = −R(x_k) by dense LU with partial pivoting (LAPACK,
+// dense_lu.h), then take x_{k+1} = x_k + s Δx with the largest s ∈ {1, 1/2, 1/4, ...,
+// >= min_step_fraction} that gives a sufficient decrease ||R(x_{k+1})|| <= (1 − 1e-4 s) ||R(x_k)||
+// (backtracking on the 2-norm of R).
 // Watchdog: the full step (s = 1) is also taken when it does not decrease ||R||, up to
 // watchdog_steps times in a row and while ||R|| stays below 100 × that of the best iterate (the
 // watch point); if no iterate improves on the watch point by then, the solver returns to it and

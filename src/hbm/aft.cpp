@@ -18,7 +18,8 @@ Eigen::MatrixXd build_sample_derivative(const FourierBasis& basis, int m) {
 
 }  // namespace
 
-Aft::Aft(FourierBasis basis) : basis_(std::move(basis)) {
+Aft::Aft(FourierBasis basis)
+    : basis_(std::move(basis)), analysis_t_(basis_.analysis().transpose()) {
   for (int m = 1; m <= 3; ++m) sample_derivatives_.push_back(build_sample_derivative(basis_, m));
 }
 
@@ -28,6 +29,21 @@ const Eigen::MatrixXd& Aft::sample_derivative(int m) const {
   return sample_derivatives_[m - 1];
 }
 
+namespace {
+
+// Per-thread scratch space of Aft::evaluate: the sampled cycle and its derivative keep their sizes
+// from call to call, so a sweep allocates them once per thread instead of once per pair and call.
+struct AftWorkspace {
+  Eigen::MatrixXd u, f, df_dc;
+};
+
+AftWorkspace& workspace() {
+  thread_local AftWorkspace w;
+  return w;
+}
+
+}  // namespace
+
 CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                               const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
                               Eigen::MatrixXd* jacobian, AftSamples* samples) const {
@@ -36,32 +52,40 @@ CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::Vect
   const int nc = basis_.coefficient_count();
   STICKSLIP_VERIFY(coefficients.size() == m * nc, "Aft: coefficients must have m*nc entries");
   STICKSLIP_VERIFY(offset.size() == 0 || offset.size() == m, "Aft: offset must be empty or m");
+  AftWorkspace& w = workspace();
 
   // u (m x N): row d = (E c_d)ᵀ + u0_d.
   const Eigen::Map<const Eigen::MatrixXd> c(coefficients.data(), nc, m);  // column d = c_d
-  Eigen::MatrixXd u = (basis_.synthesis() * c).transpose();
+  Eigen::MatrixXd& u = w.u;
+  u.resize(m, n);
+  u.noalias() = c.transpose().lazyProduct(basis_.synthesis().transpose());
   if (offset.size() == m) u.colwise() += offset;
 
-  Eigen::MatrixXd f;
-  Eigen::MatrixXd df_dc;
-  const CycleStatistics stats = jacobian ? element.march(u, &sample_derivative(m), f, &df_dc)
+  Eigen::MatrixXd& f = w.f;
+  const CycleStatistics stats = jacobian ? element.march(u, &sample_derivative(m), f, &w.df_dc)
                                          : element.march(u, nullptr, f, nullptr);
 
+  // F (nc x m) = P fᵀ, as dot products of the sample rows with the columns of Pᵀ.
   forces.resize(m * nc);
-  Eigen::Map<Eigen::MatrixXd>(forces.data(), nc, m) = basis_.analysis() * f.transpose();
+  for (int d = 0; d < m; ++d) {
+    for (int i = 0; i < nc; ++i) forces[d * nc + i] = analysis_t_.col(i).dot(f.row(d).transpose());
+  }
   if (jacobian) {
-    jacobian->resize(m * nc, m * nc);
     const int np = m * nc;
-    for (int d = 0; d < m; ++d) {
-      // Rows j·m + d of df_dc (j = 0..N−1): an N x np view with row stride m.
-      const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>
-          rows(df_dc.data() + d, n, np, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(m * n, m));
-      jacobian->middleRows(d * nc, nc).noalias() = basis_.analysis() * rows;
+    jacobian->resize(np, np);
+    const Eigen::MatrixXd& df = w.df_dc;
+    for (int q = 0; q < np; ++q) {
+      for (int d = 0; d < m; ++d) {
+        // Rows j·m + d of column q of df_dc (j = 0..N−1).
+        const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> rows(
+            df.data() + static_cast<Eigen::Index>(q) * df.rows() + d, n, Eigen::InnerStride<>(m));
+        for (int i = 0; i < nc; ++i) (*jacobian)(d * nc + i, q) = analysis_t_.col(i).dot(rows);
+      }
     }
   }
   if (samples) {
-    samples->u = std::move(u);
-    samples->f = std::move(f);
+    samples->u = u;
+    samples->f = f;
   }
   return stats;
 }

@@ -40,6 +40,7 @@ class Aft {
   const Eigen::MatrixXd& sample_derivative(int m) const;
 
   FourierBasis basis_;
+  Eigen::MatrixXd analysis_t_;  // Pᵀ, N x nc (contiguous columns for the projections)
   std::vector<Eigen::MatrixXd> sample_derivatives_;  // index m − 1, m = 1..3 precomputed
 };
 

@@ -10,6 +10,11 @@
 
 #include "continuation/gmres.h"
 #include "core/errors.h"
+#include "linalg/blas_threads.h"
+
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k,
+                       const double* alpha, const double* a, const int* lda, const double* beta,
+                       double* c, const int* ldc);
 
 namespace stickslip {
 
@@ -30,6 +35,29 @@ constexpr double kStructuredSolveTolerance = 1e-10;
 // down to −1e-10 of the largest are accepted as round-off, larger ones are input errors.
 constexpr double kDampingSymmetryTolerance = 1e-10;
 constexpr double kDampingDefinitenessTolerance = 1e-10;
+
+// S = Ψ diag(d) Ψᵀ (symmetric, returned full) through BLAS dsyrk (OpenBLAS's kernels are several
+// times faster than Eigen's portable ones here): the columns of Ψ scaled by √|d_r| in two groups,
+// d_r > 0 added and d_r < 0 subtracted, into the lower triangle, then mirrored.
+void weighted_gram(const Eigen::MatrixXd& Psi, const Eigen::VectorXd& d, Eigen::MatrixXd& S) {
+  const int n = static_cast<int>(Psi.rows());
+  S.setZero(n, n);
+  Eigen::MatrixXd scaled;
+  for (const double sign : {1.0, -1.0}) {
+    int count = 0;
+    for (Eigen::Index r = 0; r < d.size(); ++r) count += sign * d[r] > 0 ? 1 : 0;
+    if (count == 0) continue;
+    scaled.resize(n, count);
+    int c = 0;
+    for (Eigen::Index r = 0; r < d.size(); ++r) {
+      if (sign * d[r] > 0) scaled.col(c++) = std::sqrt(sign * d[r]) * Psi.col(r);
+    }
+    const double beta = 1.0;
+    const char uplo = 'L', trans = 'N';
+    dsyrk_(&uplo, &trans, &n, &count, &sign, scaled.data(), &n, &beta, S.data(), &n);
+  }
+  S.triangularView<Eigen::StrictlyUpper>() = S.transpose();
+}
 
 // A v for real A and complex v, as two real products (vectorised, no complex casts of A).
 template <typename Matrix>
@@ -268,6 +296,12 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
     scale += (Psi_.cast<Complex>() * h.cwiseProduct(q)).norm();
   }
   solve_static();
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    pair_offset_.push_back(
+        unknown_harmonics().has_static()
+            ? Eigen::VectorXd()
+            : Eigen::VectorXd(u0_.segment(pair_rows_[p], pairs_[p].element->dimension())));
+  }
   scale += u0_.norm();
   structured_ =
       options_.linear_solver == HbmLinearSolver::kStructured ||
@@ -335,16 +369,22 @@ void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::Vect
                                            std::vector<CycleStatistics>* stats,
                                            std::vector<AftSamples>* samples) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
+  if (!samples) {  // the forces of the last residual evaluation, if it was at this x
+    const std::lock_guard<std::mutex> lock(force_cache_->mutex);
+    if (force_cache_->x.size() == x.size() && force_cache_->x == x) {
+      forces = force_cache_->forces;
+      if (stats) *stats = force_cache_->stats;
+      return;
+    }
+  }
   forces.resize(size());
   if (stats) stats->resize(pairs_.size());
   if (samples) samples->resize(pairs_.size());
-  const bool frozen = !unknown_harmonics().has_static();
   Eigen::VectorXd fp;
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
     const CycleStatistics s =
-        aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
-                      frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, nullptr,
+        aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp, nullptr,
                       samples ? &(*samples)[p] : nullptr);
     forces.segment(r * nc_, m * nc_) = fp;
     if (stats) (*stats)[p] = s;
@@ -355,26 +395,34 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
                                      Eigen::MatrixXd* dR_dx, Eigen::VectorXd* dR_domega) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
   const int n = size();
-  const bool frozen = !unknown_harmonics().has_static();
   Eigen::VectorXd F(n), fp;
+  std::vector<CycleStatistics> stats(pairs_.size());
   std::vector<Eigen::MatrixXd> blocks(dR_dx ? pairs_.size() : 0);
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
-                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp,
-                  dR_dx ? &blocks[p] : nullptr);
+    stats[p] = aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp,
+                             dR_dx ? &blocks[p] : nullptr);
     F.segment(r * nc_, m * nc_) = fp;
+  }
+  {  // kept for contact_forces at the same x (the outputs of a converged point)
+    const std::lock_guard<std::mutex> lock(force_cache_->mutex);
+    force_cache_->x = x;
+    force_cache_->forces = F;
+    force_cache_->stats = std::move(stats);
   }
 
   const std::shared_ptr<const CondensedOperator> op =
       condensed_operator(omega, dR_domega != nullptr);
   R = x - op->ulin + apply_G(*op, F);
   if (dR_dx) {
-    const Eigen::MatrixXd Gbig = dense_G(*op);
+    // dR/dx = I + 𝔾 J_f with J_f block-diagonal: per pair, its columns of 𝔾 times its block
+    // (a lazy product: the blocks are only m·nc wide).
+    Eigen::MatrixXd Gtemp;
+    const Eigen::MatrixXd& Gbig = op->Gdense.size() > 0 ? op->Gdense : (Gtemp = dense_G(*op));
     dR_dx->setIdentity(n, n);
     for (size_t p = 0; p < pairs_.size(); ++p) {
       const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
-      dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w) * blocks[p];
+      dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w).lazyProduct(blocks[p]);
     }
   }
   if (dR_domega) *dR_domega = apply_dG(*op, F) - op->dulin;
@@ -500,13 +548,11 @@ bool HarmonicBalanceSystem::solve_jacobian(const Eigen::VectorXd& x, double omeg
   STICKSLIP_VERIFY(structured_, "HarmonicBalanceSystem::solve_jacobian: not structured");
   STICKSLIP_VERIFY(x.size() == size() && rhs.size() == size(),
                    "HarmonicBalanceSystem::solve_jacobian: wrong sizes");
-  const bool frozen = !unknown_harmonics().has_static();
   Eigen::VectorXd fp;
   std::vector<Eigen::MatrixXd> blocks(pairs_.size());
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_),
-                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, &blocks[p]);
+    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp, &blocks[p]);
     if (!blocks[p].allFinite()) return false;
   }
   const std::shared_ptr<const CondensedOperator> op = condensed_operator(omega, false);
@@ -546,7 +592,8 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   op->ulin.setZero(n);
   if (derivative) op->dulin.setZero(n);
   const HarmonicSet& set = unknown_harmonics();
-  Eigen::MatrixXd psi_d, gr(rows_, rows_), gi(rows_, rows_);
+  Eigen::MatrixXd gr(rows_, rows_), gi(rows_, rows_);
+  const ScopedBlasThreads single_thread(1);  // products of ~100² x 300: threads only spin
   auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c, int k, int o) {
     for (int s = 0; s < rows_; ++s) {
       v[s * nc_ + o] = c[s].real();
@@ -561,16 +608,12 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       continue;
     }
     const Eigen::VectorXcd h = modal_receptance(k, omega);
-    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ (lower
-    // triangles, then mirrored: G_k is symmetric).
-    psi_d = Psi_ * h.real().asDiagonal();
-    gr.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
-    gr.triangularView<Eigen::StrictlyUpper>() = gr.transpose();
-    gi.setZero();
+    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ.
+    weighted_gram(Psi_, h.real(), gr);
     if (k > 0) {
-      psi_d = Psi_ * h.imag().asDiagonal();
-      gi.triangularView<Eigen::Lower>() = psi_d * Psi_.transpose();
-      gi.triangularView<Eigen::StrictlyUpper>() = gi.transpose();
+      weighted_gram(Psi_, h.imag(), gi);
+    } else {
+      gi.setZero();
     }
     op->G.emplace_back(rows_, rows_);
     op->G.back().real() = gr;
@@ -601,6 +644,7 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       op->precondition.emplace_back(P);
     }
   }
+  if (!structured_) op->Gdense = dense_G(*op);  // for the dense Jacobians at this Ω
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->last = op;
   return op;

@@ -183,6 +183,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> modal_lu;
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
     Eigen::VectorXd ulin, dulin;
+    Eigen::MatrixXd Gdense;  // 𝔾 (n x n, real split), dense solver path only
   };
   // 𝔾 v and (∂𝔾/∂Ω) v in the unknown layout.
   Eigen::VectorXd apply_G(const CondensedOperator& op, const Eigen::VectorXd& v) const;
@@ -224,6 +225,14 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   std::vector<Eigen::MatrixXd> stuck_tangent_;  // per harmonic position: K_0, nu x nu
   mutable int last_gmres_iterations_ = 0;
   std::shared_ptr<OperatorCache> cache_ = std::make_shared<OperatorCache>();
+  // Element forces and cycle statistics of the last evaluate(), for contact_forces at the same x.
+  struct ForceCache {
+    std::mutex mutex;
+    Eigen::VectorXd x, forces;
+    std::vector<CycleStatistics> stats;
+  };
+  std::shared_ptr<ForceCache> force_cache_ = std::make_shared<ForceCache>();
+  std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
 };
 
 }  // namespace stickslip
