@@ -331,6 +331,40 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       rows.push_back(r);
     }
   }
+  // master_response.csv
+  struct MasterRow {
+    int point;
+    MasterDofKey key;
+    int harmonic;
+    std::complex<double> value;
+  };
+  std::vector<MasterRow> master_rows;
+  {
+    CsvReader csv(dir / "master_response.csv",
+                  {"point", "body", "node", "dof", "harmonic", "real", "imag"}, hint);
+    const int c_point = csv.column("point"), c_body = csv.column("body"),
+              c_node = csv.column("node"), c_dof = csv.column("dof"), c_h = csv.column("harmonic"),
+              c_re = csv.column("real"), c_im = csv.column("imag");
+    while (csv.next()) {
+      MasterRow r;
+      r.point = point_of(csv, c_point);
+      const int d = axis_row(csv.text(c_dof), true);
+      if (d < 0) csv.fail("dof must be x, y or z");
+      r.key = MasterDofKey{csv.text(c_body), csv.integer(c_node), d};
+      r.harmonic = csv.integer(c_h);
+      if (r.harmonic < 0) csv.fail("negative harmonic");
+      r.value = {csv.number(c_re), csv.number(c_im)};
+      master_rows.push_back(std::move(r));
+    }
+  }
+  std::set<int> master_harmonics;
+  for (const MasterRow& r : master_rows) master_harmonics.insert(r.harmonic);
+  if (!harmonic_set.empty() && !std::includes(harmonic_set.begin(), harmonic_set.end(),
+                                              master_harmonics.begin(), master_harmonics.end())) {
+    throw InvalidInput({(dir / "master_response.csv").string(), 0, "harmonic"},
+                       "not the harmonics of contact_forces.csv: run `" + hint + "` again");
+  }
+  harmonic_set.insert(master_harmonics.begin(), master_harmonics.end());
   fr.harmonics.assign(harmonic_set.begin(), harmonic_set.end());
   const int nh = static_cast<int>(fr.harmonics.size());
   const int npairs = static_cast<int>(out.pairs.size());
@@ -432,24 +466,12 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
     }
   }
 
-  // master_response.csv
-  {
-    CsvReader csv(dir / "master_response.csv",
-                  {"point", "body", "node", "dof", "harmonic", "real", "imag"}, hint);
-    const int c_point = csv.column("point"), c_body = csv.column("body"),
-              c_node = csv.column("node"), c_dof = csv.column("dof"), c_h = csv.column("harmonic"),
-              c_re = csv.column("real"), c_im = csv.column("imag");
-    while (csv.next()) {
-      const int i = point_of(csv, c_point);
-      const int d = axis_row(csv.text(c_dof), true);
-      if (d < 0) csv.fail("dof must be x, y or z");
-      const auto h = column_of_harmonic.find(csv.integer(c_h));
-      if (h == column_of_harmonic.end()) csv.fail("harmonic not in contact_forces.csv");
-      auto [it, inserted] = out.master.try_emplace(
-          MasterDofKey{csv.text(c_body), csv.integer(c_node), d}, Eigen::MatrixXcd());
-      if (inserted) it->second = Eigen::MatrixXcd::Zero(np, nh);
-      it->second(i, h->second) = {csv.number(c_re), csv.number(c_im)};
-    }
+  // master_response.csv (rows read before the harmonics are fixed: a case without contact pairs
+  // has its harmonics only here).
+  for (const MasterRow& r : master_rows) {
+    auto [it, inserted] = out.master.try_emplace(r.key, Eigen::MatrixXcd());
+    if (inserted) it->second = Eigen::MatrixXcd::Zero(np, nh);
+    it->second(r.point, column_of_harmonic.at(r.harmonic)) = r.value;
   }
   fr.completed = true;
   return out;

@@ -95,6 +95,22 @@ TEST(ResultsFiles, ReadsBackWhatAHandWrittenSolveFolderSays) {
   EXPECT_EQ(r.master.at(MasterDofKey{"b", 7, 1})(0, 1), std::complex<double>(3e-6, -4e-6));
 }
 
+TEST(ResultsFiles, ACaseWithoutContactPairsTakesItsHarmonicsFromTheMasterResponse) {
+  const fs::path dir = solve_folder("no_pairs");
+  write(dir / "contact_forces.csv",
+        "point,contact,pair,node_a,node_b,frame,axis,harmonic,real,imag\n");
+  write(dir / "contact_state.csv",
+        "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n");
+  fs::remove(dir / "histories.csv");
+  write(dir / "master_response.csv",
+        "point,body,node,dof,harmonic,real,imag\n0,b,7,y,0,1,0\n0,b,7,y,2,3,4\n"
+        "1,b,7,y,0,1,0\n1,b,7,y,2,5,6\n");
+  const SolveResults r = read_solve_results(dir, "hint");
+  EXPECT_TRUE(r.pairs.empty());
+  EXPECT_EQ(r.response.harmonics, (std::vector<int>{0, 2}));
+  EXPECT_EQ(r.master.at(MasterDofKey{"b", 7, 1})(1, 1), std::complex<double>(5, 6));
+}
+
 TEST(ResultsFiles, ErrorsNameTheFileTheLineAndTheCommand) {
   fs::path dir = solve_folder("missing");
   fs::remove(dir / "points.csv");
