@@ -20,7 +20,10 @@
 // not parse is accepted if it holds exactly the expected count of blank-separated numbers
 // (scipy.io.hb_write writes reals one column narrower than the format it declares).
 //
-// Malformed files throw InvalidInput naming the file, the line and what is wrong.
+// Malformed files throw InvalidInput naming the file, the line and what is wrong. Header counts
+// are believed only as far as the data backs them: nothing large is allocated before the lines are
+// read; NROW more than 2^20 above NNZERO (without right-hand sides) is refused as an implausible
+// size, as is NROW * NRHS beyond 2^31 - 1 (docs/fuzzing.md).
 #pragma once
 
 #include <iosfwd>

@@ -9,7 +9,10 @@
 // Reading: fields real or integer; coordinate symmetric or general, array general. Pattern,
 // complex, skew-symmetric and hermitian files are rejected. Repeated coordinate entries are
 // summed (the assembly convention). A symmetric file returns full storage (both triangles).
-// Malformed files throw InvalidInput naming the file, the line and what is wrong.
+// Malformed files throw InvalidInput naming the file, the line and what is wrong. Counts on the
+// size line are believed only as far as the data backs them: nothing large is allocated before the
+// entries are read, and a sparse file with more than 2^20 more rows (or columns) than entries is
+// refused as an implausible size (docs/fuzzing.md).
 // Writing: 17 significant digits, so a write/read round trip is exact. Every writer to a path
 // replaces the file atomically (io/atomic_file.h).
 #pragma once
