@@ -91,8 +91,6 @@ int run_plot(const PlotCommand& command);
 
 // --- plumbing shared by the stage commands -------------------------------------------------------
 
-using ProgressFn = std::function<void(const std::string&)>;
-
 // One analysis of a case: the case itself, or one value of its study (folder "<param>_<value>").
 struct StageRun {
   std::string folder;  // empty without a study
@@ -109,23 +107,6 @@ std::string stage_hint(const std::string& stage, const CaseDefinition& base,
 // output-format settings, plus the bytes of the mesh and matrix files it reads). Written to
 // summary.json by the solve; recover and export refuse solve files with another fingerprint.
 std::string solve_fingerprint(const CaseDefinition& definition);
-
-// The bodies of a case as cli/pipeline.cpp resolves them, without reducing anything.
-struct CaseBody {
-  std::string name;
-  bool from_mesh = false;
-  Mesh mesh;                   // from_mesh: the body's part of its mesh, with its sets
-  IsotropicMaterial material;  // from_mesh
-  std::vector<int> clamp;      // from_mesh: clamped node indices
-  std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
-  std::string fingerprint;     // from_mesh: of what its reduction depends on
-};
-struct CaseBodies {
-  std::vector<CaseBody> bodies;                                // CaseDefinition::bodies order
-  std::vector<std::vector<std::array<int, 2>>> contact_pairs;  // per contact: ids (0 = ground)
-  std::vector<std::vector<int>> excitation_ids;                // per excitation entry: node ids
-};
-CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressFn& progress);
 
 // The reduced model of `run` (cli/pipeline.h), reusing the reduced matrices of `reduce` when
 // DIR/<folder>/reduced/ or DIR/reduced/ holds a manifest: their fingerprints must match this

@@ -72,7 +72,7 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
 // Node indices of a selection in a body's mesh (sets first, then ids, duplicates removed while
 // keeping the order).
 std::vector<int> resolve_nodes(const CaseDefinition& def, const std::string& key,
-                               const PreparedBody& body, const NodeSelection& selection) {
+                               const CaseBody& body, const NodeSelection& selection) {
   const SourceLocation where = def.where(key);
   std::vector<int> nodes;
   if (!body.from_mesh) {
@@ -115,17 +115,11 @@ int node_id_of(const PreparedBody& body, int node) {
   return body.from_mesh ? body.mesh.node_ids[node] : node;
 }
 
-struct ResolvedContact {
-  int body_a = -1, body_b = -1;                 // -1 = ground
-  std::vector<std::pair<int, int>> node_pairs;  // node indices (ids for reduced bodies), -1 ground
-};
-
-ResolvedContact resolve_contact(const CaseDefinition& def, int c,
-                                const std::vector<PreparedBody>& bodies,
-                                const std::map<std::string, int>& body_index) {
+CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<CaseBody>& bodies,
+                            const std::map<std::string, int>& body_index) {
   const ContactDefinition& cd = def.contacts[c];
   const std::string key = "contacts." + cd.name;
-  ResolvedContact rc;
+  CaseContact rc;
   const auto find_body = [&](const std::string& name) {
     if (name == "ground") return -1;
     const auto it = body_index.find(name);
@@ -136,7 +130,7 @@ ResolvedContact resolve_contact(const CaseDefinition& def, int c,
   rc.body_b = find_body(cd.body_b);
   if (rc.body_a < 0)
     throw InvalidInput(def.where(key), "the first body of a contact cannot be ground");
-  const PreparedBody& A = bodies[rc.body_a];
+  const CaseBody& A = bodies[rc.body_a];
   if (!cd.pairs.empty() || !cd.pairs_file.empty()) {
     const auto& listed = cd.pairs;  // pairs_file was read into `pairs` by the parser
     for (const auto& p : listed) {
@@ -156,7 +150,7 @@ ResolvedContact resolve_contact(const CaseDefinition& def, int c,
     for (int a : nodes_a) rc.node_pairs.emplace_back(a, -1);
     return rc;
   }
-  const PreparedBody& B = bodies[rc.body_b];
+  const CaseBody& B = bodies[rc.body_b];
   if (!A.from_mesh || !B.from_mesh) {
     throw InvalidInput(def.where(key + ".between"),
                        "pairs between bodies given by matrices must be listed (pairs or "
@@ -204,7 +198,7 @@ Eigen::VectorXd stuck_stiffness(const ContactDefinition& cd, const ContactParame
 // The fraction of the contact's totals each pair carries: 1/n (equal), or its tributary area over
 // the contact face's area (split: area; `areas` receives the areas, m²). per_pair: all 1.
 std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefinition& cd,
-                                const ResolvedContact& rc, const std::vector<PreparedBody>& bodies,
+                                const CaseContact& rc, const std::vector<PreparedBody>& bodies,
                                 const std::map<std::string, const Mesh*>& geometry,
                                 std::vector<double>* areas) {
   const size_t np = rc.node_pairs.size();
@@ -330,12 +324,12 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
 }
 
 void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const BodyDefinition& bd,
-                      const std::vector<int>& masters, PreparedBody& body) {
+                      const std::vector<int>& clamp, const std::vector<int>& masters,
+                      PreparedBody& body) {
   const std::string key = "bodies." + name;
   const auto t0 = Clock::now();
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
-  const std::vector<int> clamp = resolve_nodes(def, key + ".clamp", body, bd.clamp);
   body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), clamp);
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
@@ -383,28 +377,19 @@ int PreparedModel::body_index(const std::string& name) const {
   return -1;
 }
 
-PreparedModel prepare_model(const CaseDefinition& def,
-                            const std::function<void(const std::string&)>& progress,
-                            const std::map<std::string, const Mesh*>& geometry) {
-  const auto t0 = Clock::now();
-  const auto say = [&](const std::string& s) {
-    if (progress) progress(s);
-  };
-  PreparedModel model;
-
-  // Meshes.
+CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& progress) {
+  CaseBodies out;
   std::map<std::string, Mesh> meshes;
   for (const auto& [name, md] : def.meshes) {
-    say("mesh " + name);
+    if (progress) progress("mesh " + name);
     meshes.emplace(name, load_mesh(def, name, md));
   }
 
-  // Bodies (mesh part or matrices), without reduction yet.
+  // Bodies: the part of their mesh (bodies given by matrices: only their name here).
   std::map<std::string, int> body_index;
   for (const auto& [name, bd] : def.bodies) {
-    PreparedBody body;
+    CaseBody body;
     body.name = name;
-    const std::string key = "bodies." + name;
     if (bd.source == BodyDefinition::Source::kMesh) {
       body.from_mesh = true;
       const Mesh& mesh = meshes.at(bd.mesh);
@@ -412,42 +397,36 @@ PreparedModel prepare_model(const CaseDefinition& def,
         try {
           return extract_element_set(mesh, bd.element_set).mesh;
         } catch (const InvalidInput& e) {
-          throw InvalidInput(def.where(key + ".element_set"), e.message());
+          throw InvalidInput(def.where("bodies." + name + ".element_set"), e.message());
         }
       }();
       const MaterialDefinition& m = def.materials.at(bd.material);
       body.material = {m.youngs_modulus, m.poisson_ratio, m.density};
-    } else {
-      body.reduced =
-          bd.reduced.format == "matrix_market"
-              ? read_matrix_market_body(bd.reduced)
-              : read_ansys_reduced_body(bd.reduced.stiffness, bd.reduced.mass, bd.reduced.mapping);
     }
-    body_index[name] = static_cast<int>(model.bodies.size());
-    model.bodies.push_back(std::move(body));
+    body_index[name] = static_cast<int>(out.bodies.size());
+    out.bodies.push_back(std::move(body));
   }
 
-  // Contacts: node pairs, which also name master nodes.
-  std::vector<std::vector<int>> masters(model.bodies.size());
-  std::vector<ResolvedContact> contacts;
+  // Contacts: node pairs, which also name master nodes; then forced, listed and FRF nodes.
+  std::vector<std::vector<int>> masters(out.bodies.size());
   for (size_t c = 0; c < def.contacts.size(); ++c) {
-    contacts.push_back(resolve_contact(def, static_cast<int>(c), model.bodies, body_index));
-    for (const auto& [a, b] : contacts.back().node_pairs) {
-      masters[contacts.back().body_a].push_back(a);
-      if (contacts.back().body_b >= 0) masters[contacts.back().body_b].push_back(b);
+    out.contacts.push_back(resolve_contact(def, static_cast<int>(c), out.bodies, body_index));
+    for (const auto& [a, b] : out.contacts.back().node_pairs) {
+      masters[out.contacts.back().body_a].push_back(a);
+      if (out.contacts.back().body_b >= 0) masters[out.contacts.back().body_b].push_back(b);
     }
   }
   for (size_t e = 0; e < def.excitation.size(); ++e) {
     const ExcitationDefinition& ed = def.excitation[e];
     const int b = body_index.at(ed.body);
-    const auto nodes =
-        resolve_nodes(def, fmt::format("excitation[{}]", e), model.bodies[b], ed.nodes);
-    masters[b].insert(masters[b].end(), nodes.begin(), nodes.end());
+    out.excitation_nodes.push_back(
+        resolve_nodes(def, fmt::format("excitation[{}]", e), out.bodies[b], ed.nodes));
+    masters[b].insert(masters[b].end(), out.excitation_nodes.back().begin(),
+                      out.excitation_nodes.back().end());
   }
   for (const auto& [name, bd] : def.bodies) {
     const int b = body_index.at(name);
-    const auto nodes =
-        resolve_nodes(def, "bodies." + name + ".masters", model.bodies[b], bd.masters);
+    const auto nodes = resolve_nodes(def, "bodies." + name + ".masters", out.bodies[b], bd.masters);
     masters[b].insert(masters[b].end(), nodes.begin(), nodes.end());
   }
   for (size_t i = 0; i < def.output.frf.size(); ++i) {
@@ -456,22 +435,67 @@ PreparedModel prepare_model(const CaseDefinition& def,
     if (it == body_index.end()) {
       throw InvalidInput(def.where(fmt::format("output.frf[{}]", i)), "unknown body " + r.body);
     }
-    const auto nodes = resolve_nodes(def, fmt::format("output.frf[{}]", i),
-                                     model.bodies[it->second], NodeSelection{{}, {r.node}});
+    const auto nodes = resolve_nodes(def, fmt::format("output.frf[{}]", i), out.bodies[it->second],
+                                     NodeSelection{{}, {r.node}});
     masters[it->second].push_back(nodes[0]);
+  }
+  for (const auto& [name, bd] : def.bodies) {
+    CaseBody& body = out.bodies[body_index.at(name)];
+    std::vector<int>& m = masters[body_index.at(name)];
+    std::sort(m.begin(), m.end());
+    m.erase(std::unique(m.begin(), m.end()), m.end());
+    body.masters = std::move(m);
+    if (body.from_mesh)
+      body.clamp = resolve_nodes(def, "bodies." + name + ".clamp", body, bd.clamp);
+  }
+  return out;
+}
+
+PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progress,
+                            const std::map<std::string, const Mesh*>& geometry) {
+  const auto t0 = Clock::now();
+  PreparedModel model = prepare_model(def, resolve_case_bodies(def, progress), progress, geometry);
+  model.seconds_prepare = seconds_since(t0);  // the meshes included
+  return model;
+}
+
+PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
+                            const ProgressFn& progress,
+                            const std::map<std::string, const Mesh*>& geometry) {
+  const auto t0 = Clock::now();
+  const auto say = [&](const std::string& s) {
+    if (progress) progress(s);
+  };
+  PreparedModel model;
+
+  // Bodies: the resolved mesh part, or the matrices read.
+  std::map<std::string, int> body_index;
+  for (CaseBody& resolved_body : resolved.bodies) {
+    PreparedBody body;
+    body.name = resolved_body.name;
+    body.from_mesh = resolved_body.from_mesh;
+    if (body.from_mesh) {
+      body.mesh = std::move(resolved_body.mesh);
+      body.material = resolved_body.material;
+    } else {
+      const ReducedMatricesDefinition& r = def.bodies.at(body.name).reduced;
+      body.reduced = r.format == "matrix_market"
+                         ? read_matrix_market_body(r)
+                         : read_ansys_reduced_body(r.stiffness, r.mass, r.mapping);
+    }
+    body_index[body.name] = static_cast<int>(model.bodies.size());
+    model.bodies.push_back(std::move(body));
   }
 
   // Reduction, then the assembled reduced model.
   for (auto& [name, bd] : def.bodies) {
     const int b = body_index.at(name);
     PreparedBody& body = model.bodies[b];
-    std::vector<int>& m = masters[b];
-    std::sort(m.begin(), m.end());
-    m.erase(std::unique(m.begin(), m.end()), m.end());
+    const std::vector<int>& m = resolved.bodies[b].masters;
     if (body.from_mesh) {
       say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                       m.size(), bd.modes));
-      reduce_mesh_body(def, name, bd, m, body);
+      reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
     }
     body.offset = model.num_dofs;
     for (int j = 0; j < body.reduced.size(); ++j) {
@@ -523,7 +547,7 @@ PreparedModel prepare_model(const CaseDefinition& def,
   // Contact elements on the reduced DOFs.
   for (size_t c = 0; c < def.contacts.size(); ++c) {
     const ContactDefinition& cd = def.contacts[c];
-    const ResolvedContact& rc = contacts[c];
+    const CaseContact& rc = resolved.contacts[c];
     const int np = static_cast<int>(rc.node_pairs.size());
     std::vector<double> areas;
     const std::vector<double> shares = pair_shares(def, cd, rc, model.bodies, geometry, &areas);
@@ -600,7 +624,7 @@ PreparedModel prepare_model(const CaseDefinition& def,
     const ExcitationDefinition& ed = def.excitation[e];
     const int b = body_index.at(ed.body);
     const PreparedBody& body = model.bodies[b];
-    const auto nodes = resolve_nodes(def, fmt::format("excitation[{}]", e), body, ed.nodes);
+    const std::vector<int>& nodes = resolved.excitation_nodes[e];
     std::array<std::complex<double>, 3> f = ed.force;
     if (ed.by_direction) {
       const Eigen::Vector3d d = vec3(ed.direction).normalized();
@@ -703,8 +727,7 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
 }
 
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
-                      const std::function<void(const std::string&)>& progress,
-                      ProgressReporter* reporter) {
+                      const ProgressFn& progress, ProgressReporter* reporter) {
   const auto t0 = Clock::now();
   SolvedCase solved;
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,

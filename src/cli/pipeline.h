@@ -47,6 +47,35 @@
 
 namespace stickslip {
 
+using ProgressFn = std::function<void(const std::string&)>;
+
+// The bodies of a case resolved on their meshes, before any reduction: the meshes loaded
+// (generated or read; `progress`, may be null, gets "mesh <name>" for each) and cut to each body's
+// element set, node selections turned into node indices (mesh bodies) or node ids (bodies given by
+// matrices, whose files are not read here), contact pairs matched, and the master nodes of each
+// body (contact, forced, listed and FRF nodes). Selection problems throw InvalidInput at the
+// case-file line of their key.
+struct CaseBody {
+  std::string name;
+  bool from_mesh = false;
+  Mesh mesh;                   // from_mesh: the body's part of its mesh, with its sets
+  IsotropicMaterial material;  // from_mesh
+  std::vector<int> clamp;      // from_mesh: clamped node indices
+  std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
+  int node_id(int node) const { return from_mesh ? mesh.node_ids[node] : node; }
+};
+struct CaseContact {
+  int body_a = 0;                               // index in CaseBodies::bodies
+  int body_b = -1;                              // -1 = ground
+  std::vector<std::pair<int, int>> node_pairs;  // node indices (ids for matrices); -1 = ground
+};
+struct CaseBodies {
+  std::vector<CaseBody> bodies;                    // CaseDefinition::bodies order
+  std::vector<CaseContact> contacts;               // CaseDefinition::contacts order
+  std::vector<std::vector<int>> excitation_nodes;  // per excitation entry: as CaseBody::masters
+};
+CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressFn& progress);
+
 struct PreparedBody {
   std::string name;
   bool from_mesh = false;
@@ -91,8 +120,11 @@ struct PreparedModel {
 // `geometry` (optional): for bodies given by matrices that were reduced from a mesh (a stage that
 // reuses reduced matrices), that mesh by body name, node ids = the body's node ids; used only to
 // split totals by area (split: area).
-PreparedModel prepare_model(const CaseDefinition& definition,
-                            const std::function<void(const std::string&)>& progress,
+PreparedModel prepare_model(const CaseDefinition& definition, const ProgressFn& progress,
+                            const std::map<std::string, const Mesh*>& geometry = {});
+// The same from bodies already resolved by resolve_case_bodies(definition, ...) (consumed).
+PreparedModel prepare_model(const CaseDefinition& definition, CaseBodies resolved,
+                            const ProgressFn& progress,
                             const std::map<std::string, const Mesh*>& geometry = {});
 
 // Natural frequencies (Hz, ascending) of the assembled reduced model with every contact stuck:
@@ -115,7 +147,6 @@ struct SolvedCase {
 // the number of points (stepped; 0 for continuation), updated after every frequency point through
 // the sweep's / continuation's on_point callback and finished when the solve ends.
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& definition,
-                      const std::function<void(const std::string&)>& progress,
-                      ProgressReporter* reporter = nullptr);
+                      const ProgressFn& progress, ProgressReporter* reporter = nullptr);
 
 }  // namespace stickslip

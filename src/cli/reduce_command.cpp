@@ -1,11 +1,10 @@
 // `stickslip reduce CASE -o DIR` and the plumbing every stage command shares: the analyses of a
-// case (study folders), the bodies of a case resolved as the pipeline resolves them (meshes,
-// clamps, master nodes, contact pairs), the fingerprints that say whether files of an earlier
-// stage still belong to the case, and the reduced model rebuilt from reduce's files.
+// case (study folders), the fingerprints that say whether files of an earlier stage still belong
+// to the case, and the reduced model rebuilt from reduce's files.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <set>
+#include <map>
 
 #include <fmt/core.h>
 
@@ -16,9 +15,6 @@
 #include "fe/assembly.h"
 #include "io/ansys_mapping.h"
 #include "io/case_file.h"
-#include "io/gmsh_mesh.h"
-#include "io/inp_reader.h"
-#include "io/two_beam_model.h"
 #include "mesh/mesh_tools.h"
 
 namespace stickslip {
@@ -57,90 +53,9 @@ std::string stage_hint(const std::string& stage, const CaseDefinition& base,
   return fmt::format("stickslip {} {} -o {}", stage, base.file, out_dir.string());
 }
 
-// ---- the bodies of a case, resolved as cli/pipeline.cpp resolves them --------------------------
+// ---- fingerprints ------------------------------------------------------------------------------
 
 namespace {
-
-Mesh load_case_mesh(const CaseDefinition& def, const std::string& name, const MeshDefinition& m) {
-  const SourceLocation where = def.where("meshes." + name);
-  try {
-    if (m.source == MeshDefinition::Source::kGenerate) {
-      TwoBeamOptions o;
-      const TwoBeamDefinition& t = m.two_beam;
-      o.arrangement = t.arrangement == "lap" ? TwoBeamOptions::Arrangement::kLap
-                                             : TwoBeamOptions::Arrangement::kButt;
-      o.beam_length = t.beam_length;
-      o.width = t.width;
-      o.thickness = t.thickness;
-      o.end_length = t.end_length;
-      o.box = {t.box[0], t.box[1], t.box[2]};
-      o.end_block = {t.end_block[0], t.end_block[1], t.end_block[2]};
-      o.thesis_coarse = t.coarse;
-      if (!parse_element_type(t.element, &o.element_type)) {
-        throw InvalidInput(where, "unknown element type " + t.element);
-      }
-      return make_two_beam_model(o).mesh;
-    }
-    if (m.format == "msh") {
-      GmshReadOptions o;
-      if (!parse_element_type(m.hexahedron8, &o.hexahedron8) ||
-          !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
-        throw InvalidInput(where, "unknown hexahedron element type");
-      }
-      return read_gmsh(m.file, o);
-    }
-    return read_inp(m.file);
-  } catch (const InvalidInput& e) {
-    if (!e.where().file.empty()) throw;
-    throw InvalidInput(where, e.message());
-  }
-}
-
-// Node indices (mesh bodies) or ids (bodies given by matrices) of a selection: sets first, then
-// ids, duplicates removed keeping the order.
-std::vector<int> select(const CaseDefinition& def, const std::string& key, const CaseBody& body,
-                        const NodeSelection& selection) {
-  const SourceLocation where = def.where(key);
-  if (!body.from_mesh) {
-    if (!selection.sets.empty()) {
-      throw InvalidInput(where, "body " + body.name +
-                                    " is given by reduced matrices: select its nodes by id, "
-                                    "not by node set");
-    }
-    return selection.ids;
-  }
-  std::vector<int> nodes;
-  for (const std::string& set : selection.sets) {
-    const auto it = body.mesh.node_sets.find(set);
-    if (it == body.mesh.node_sets.end()) {
-      std::string known;
-      for (const auto& [n, s] : body.mesh.node_sets) known += (known.empty() ? "" : ", ") + n;
-      throw InvalidInput(where, "body " + body.name + " has no node set " + set +
-                                    " (its node sets: " + known + ")");
-    }
-    nodes.insert(nodes.end(), it->second.begin(), it->second.end());
-  }
-  if (!selection.ids.empty()) {
-    const auto by_id = node_index_by_id(body.mesh);
-    for (int id : selection.ids) {
-      const auto it = by_id.find(id);
-      if (it == by_id.end()) {
-        throw InvalidInput(where, "node " + std::to_string(id) + " is not in body " + body.name);
-      }
-      nodes.push_back(it->second);
-    }
-  }
-  std::vector<int> unique;
-  std::set<int> seen;
-  for (int n : nodes) {
-    if (seen.insert(n).second) unique.push_back(n);
-  }
-  return unique;
-}
-
-int id_of(const CaseBody& body, int node) {
-  return body.from_mesh ? body.mesh.node_ids[node] : node;
-}
 
 std::string mesh_description(const MeshDefinition& m) {
   if (m.source == MeshDefinition::Source::kGenerate) {
@@ -156,131 +71,35 @@ std::string mesh_description(const MeshDefinition& m) {
                      m.hexahedron20, file_fingerprint_hex(m.file));
 }
 
-}  // namespace
-
-CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& progress) {
-  CaseBodies out;
-  std::map<std::string, Mesh> meshes;
-  for (const auto& [name, md] : def.meshes) {
-    if (progress) progress("mesh " + name);
-    meshes.emplace(name, load_case_mesh(def, name, md));
-  }
-  std::map<std::string, int> index;
-  for (const auto& [name, bd] : def.bodies) {
-    CaseBody body;
-    body.name = name;
-    if (bd.source == BodyDefinition::Source::kMesh) {
-      body.from_mesh = true;
-      const Mesh& mesh = meshes.at(bd.mesh);
-      try {
-        body.mesh = bd.element_set.empty() ? mesh : extract_element_set(mesh, bd.element_set).mesh;
-      } catch (const InvalidInput& e) {
-        throw InvalidInput(def.where("bodies." + name + ".element_set"), e.message());
-      }
-      const MaterialDefinition& m = def.materials.at(bd.material);
-      body.material = {m.youngs_modulus, m.poisson_ratio, m.density};
-      body.clamp = select(def, "bodies." + name + ".clamp", body, bd.clamp);
-    }
-    index[name] = static_cast<int>(out.bodies.size());
-    out.bodies.push_back(std::move(body));
-  }
-  const auto find_body = [&](const std::string& name, const std::string& key) {
-    if (name == "ground") return -1;
-    const auto it = index.find(name);
-    if (it == index.end()) throw InvalidInput(def.where(key), "unknown body " + name);
-    return it->second;
-  };
-  std::vector<std::vector<int>> masters(out.bodies.size());
-  for (const ContactDefinition& cd : def.contacts) {
-    const std::string key = "contacts." + cd.name;
-    const int a = find_body(cd.body_a, key), b = find_body(cd.body_b, key);
-    if (a < 0) throw InvalidInput(def.where(key), "the first body of a contact cannot be ground");
-    const CaseBody& A = out.bodies[a];
-    std::vector<std::array<int, 2>> ids;
-    if (!cd.pairs.empty() || !cd.pairs_file.empty()) {
-      for (const auto& p : cd.pairs) {
-        const int na = select(def, key + ".pairs", A, NodeSelection{{}, {p[0]}})[0];
-        int nb = -1;
-        if (b >= 0) nb = select(def, key + ".pairs", out.bodies[b], NodeSelection{{}, {p[1]}})[0];
-        masters[a].push_back(na);
-        if (b >= 0) masters[b].push_back(nb);
-        ids.push_back({id_of(A, na), b >= 0 ? id_of(out.bodies[b], nb) : 0});
-      }
-    } else {
-      const std::vector<int> nodes_a = select(def, key + ".between", A, cd.nodes_a);
-      std::vector<std::pair<int, int>> pairs;
-      if (b < 0) {
-        for (int n : nodes_a) pairs.emplace_back(n, -1);
-      } else {
-        const CaseBody& B = out.bodies[b];
-        if (!A.from_mesh || !B.from_mesh) {
-          throw InvalidInput(def.where(key + ".between"),
-                             "pairs between bodies given by matrices must be listed (pairs or "
-                             "pairs_file): there are no coordinates to match");
-        }
-        const std::vector<int> nodes_b = select(def, key + ".between", B, cd.nodes_b);
-        try {
-          pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
-        } catch (const InvalidInput& e) {
-          throw InvalidInput(def.where(key + ".between"),
-                             "contact nodes are not coincident within tolerance " +
-                                 fmt::format("{:g}", cd.tolerance) + " m: " + e.message());
-        }
-        if (pairs.empty()) {
-          throw InvalidInput(def.where(key + ".between"), "the contact has no node pairs");
-        }
-      }
-      for (const auto& [na, nb] : pairs) {
-        masters[a].push_back(na);
-        if (b >= 0) masters[b].push_back(nb);
-        ids.push_back({id_of(A, na), b >= 0 ? id_of(out.bodies[b], nb) : 0});
-      }
-    }
-    out.contact_pairs.push_back(std::move(ids));
-  }
-  for (size_t e = 0; e < def.excitation.size(); ++e) {
-    const ExcitationDefinition& ed = def.excitation[e];
-    const int b = find_body(ed.body, fmt::format("excitation[{}]", e));
-    const auto nodes = select(def, fmt::format("excitation[{}]", e), out.bodies[b], ed.nodes);
-    masters[b].insert(masters[b].end(), nodes.begin(), nodes.end());
-    std::vector<int> ids;
-    for (int n : nodes) ids.push_back(id_of(out.bodies[b], n));
-    out.excitation_ids.push_back(std::move(ids));
-  }
-  for (const auto& [name, bd] : def.bodies) {
-    const int b = index.at(name);
-    const auto nodes = select(def, "bodies." + name + ".masters", out.bodies[b], bd.masters);
-    masters[b].insert(masters[b].end(), nodes.begin(), nodes.end());
-  }
-  for (size_t i = 0; i < def.output.frf.size(); ++i) {
-    const ResponseDofDefinition& r = def.output.frf[i];
-    const int b = find_body(r.body, fmt::format("output.frf[{}]", i));
-    if (b < 0) throw InvalidInput(def.where(fmt::format("output.frf[{}]", i)), "unknown body");
-    const auto nodes =
-        select(def, fmt::format("output.frf[{}]", i), out.bodies[b], NodeSelection{{}, {r.node}});
-    masters[b].push_back(nodes[0]);
-  }
-  for (const auto& [name, bd] : def.bodies) {
-    CaseBody& body = out.bodies[index.at(name)];
-    std::vector<int>& m = masters[index.at(name)];
-    std::sort(m.begin(), m.end());
-    m.erase(std::unique(m.begin(), m.end()), m.end());
-    body.masters = m;
+// Per body of `bodies` (resolve_case_bodies(def)): the fingerprint of what its Craig–Bampton
+// reduction depends on (mesh, element set, material, clamps, master nodes, modes); empty for
+// bodies given by matrices.
+std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
+                                                const CaseBodies& bodies) {
+  std::map<std::string, std::string> mesh_text;  // each mesh file is hashed once
+  std::vector<std::string> out;
+  for (const CaseBody& body : bodies.bodies) {
+    out.emplace_back();
     if (!body.from_mesh) continue;
+    const BodyDefinition& bd = def.bodies.at(body.name);
+    auto [it, inserted] = mesh_text.try_emplace(bd.mesh);
+    if (inserted) it->second = mesh_description(def.meshes.at(bd.mesh));
     std::string text = "stickslip reduce 1\n";
-    text += mesh_description(def.meshes.at(bd.mesh)) + "\n";
+    text += it->second + "\n";
     text += "element_set " + bd.element_set + "\n";
     text += fmt::format("material {:.17g} {:.17g} {:.17g}\n", body.material.youngs_modulus,
                         body.material.poisson_ratio, body.material.density);
     text += "clamp";
-    for (int n : body.clamp) text += fmt::format(" {}", body.mesh.node_ids[n]);
+    for (int n : body.clamp) text += fmt::format(" {}", body.node_id(n));
     text += "\nmasters";
-    for (int n : m) text += fmt::format(" {}", body.mesh.node_ids[n]);
+    for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
-    body.fingerprint = fingerprint_hex(text);
+    out.back() = fingerprint_hex(text);
   }
   return out;
 }
+
+}  // namespace
 
 std::string solve_fingerprint(const CaseDefinition& definition) {
   CaseDefinition d = definition;
@@ -346,12 +165,16 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
     return prepare_model(def, progress);
   }
   const ReduceManifest manifest = read_reduce_manifest(manifest_path);
-  const CaseBodies bodies = resolve_case_bodies(def, progress);
+  CaseBodies bodies = resolve_case_bodies(def, progress);
+  const std::vector<std::string> fingerprints = reduction_fingerprints(def, bodies);
 
   // The case with every mesh body given by its reduced matrices, node sets replaced by ids and
-  // contact pairs listed: prepare_model then reads the matrices instead of reducing.
+  // contact pairs listed: prepare_model then reads the matrices instead of reducing (and no mesh
+  // is loaded again).
   CaseDefinition rewritten = def;
-  for (const CaseBody& body : bodies.bodies) {
+  rewritten.meshes.clear();
+  for (size_t b = 0; b < bodies.bodies.size(); ++b) {
+    const CaseBody& body = bodies.bodies[b];
     if (!body.from_mesh) continue;
     const auto it = manifest.body_fingerprint.find(body.name);
     if (it == manifest.body_fingerprint.end()) {
@@ -359,7 +182,7 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
           {manifest_path.string(), 0, "body " + body.name},
           "no reduced matrices for body " + body.name + ": run `" + reduce_hint + "` again");
     }
-    if (it->second != body.fingerprint) {
+    if (it->second != fingerprints[b]) {
       throw InvalidInput({manifest_path.string(), 0, "body " + body.name},
                          "the reduced matrices of body " + body.name +
                              " are stale (its mesh, element set, material, clamps, master nodes "
@@ -376,18 +199,27 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       require_stage_file(f, reduce_hint);
     }
     bd.masters = NodeSelection{{}, {}};
-    for (int n : body.masters) bd.masters.ids.push_back(body.mesh.node_ids[n]);
+    for (int n : body.masters) bd.masters.ids.push_back(body.node_id(n));
     bd.clamp = NodeSelection{};
   }
   for (size_t c = 0; c < rewritten.contacts.size(); ++c) {
     ContactDefinition& cd = rewritten.contacts[c];
-    cd.pairs = bodies.contact_pairs[c];
+    const CaseContact& rc = bodies.contacts[c];
+    cd.pairs.clear();
+    for (const auto& [a, b] : rc.node_pairs) {
+      cd.pairs.push_back({bodies.bodies[rc.body_a].node_id(a),
+                          rc.body_b >= 0 ? bodies.bodies[rc.body_b].node_id(b) : 0});
+    }
     cd.pairs_file.clear();
     cd.nodes_a = NodeSelection{};
     cd.nodes_b = NodeSelection{};
   }
   for (size_t e = 0; e < rewritten.excitation.size(); ++e) {
-    rewritten.excitation[e].nodes = NodeSelection{{}, bodies.excitation_ids[e]};
+    ExcitationDefinition& ed = rewritten.excitation[e];
+    const CaseBody& body = *std::find_if(bodies.bodies.begin(), bodies.bodies.end(),
+                                         [&](const CaseBody& b) { return b.name == ed.body; });
+    ed.nodes = NodeSelection{};
+    for (int n : bodies.excitation_nodes[e]) ed.nodes.ids.push_back(body.node_id(n));
   }
   if (progress) progress("reduced matrices from " + dir.string());
   std::map<std::string, const Mesh*> geometry;  // for split: area of the reused bodies
@@ -397,14 +229,14 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
   PreparedModel model = prepare_model(rewritten, progress, geometry);
 
   // Give the reused bodies their full-model side back (recovery, decks, mode shapes).
-  for (PreparedBody& body : model.bodies) {
-    const auto it = std::find_if(bodies.bodies.begin(), bodies.bodies.end(),
-                                 [&](const CaseBody& b) { return b.name == body.name; });
-    if (it == bodies.bodies.end() || !it->from_mesh) continue;
+  for (size_t b = 0; b < model.bodies.size(); ++b) {  // the order of bodies.bodies
+    PreparedBody& body = model.bodies[b];
+    CaseBody& resolved = bodies.bodies[b];
+    if (!resolved.from_mesh) continue;
     body.from_mesh = true;
-    body.mesh = it->mesh;
-    body.material = it->material;
-    body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), it->clamp);
+    body.mesh = std::move(resolved.mesh);  // `geometry` is not used any more
+    body.material = resolved.material;
+    body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), resolved.clamp);
     const auto by_id = node_index_by_id(body.mesh);
     for (ReducedDof& d : body.reduced.dofs) {
       if (d.kind != ReducedDof::Kind::kPhysical) continue;
@@ -445,22 +277,23 @@ int run_reduce(const ReduceCommand& reduce) {
   // One reduction for all study values unless the studied parameter changes a body's reduction
   // (a material): then one per study folder.
   std::vector<CaseBodies> resolved;
-  bool shared = true;
+  std::vector<std::vector<std::string>> fingerprints;
   for (const StageRun& run : runs) {
-    resolved.push_back(resolve_case_bodies(run.definition, nullptr));
-    for (size_t b = 0; b < resolved.back().bodies.size(); ++b) {
-      shared &= resolved.back().bodies[b].fingerprint == resolved.front().bodies[b].fingerprint;
-    }
+    resolved.push_back(resolve_case_bodies(run.definition, progress));
+    fingerprints.push_back(reduction_fingerprints(run.definition, resolved.back()));
   }
+  const bool shared = std::all_of(fingerprints.begin(), fingerprints.end(),
+                                  [&](const auto& f) { return f == fingerprints.front(); });
   for (size_t r = 0; r < runs.size(); ++r) {
     if (shared && r > 0) break;
     const fs::path dir = (shared ? out_dir : runs[r].dir) / "reduced";
     fs::create_directories(dir);
     fs::remove(dir / "manifest.txt");  // files being replaced belong to no case until it is back
-    const PreparedModel model = prepare_model(runs[r].definition, progress);
+    const PreparedModel model = prepare_model(runs[r].definition, std::move(resolved[r]), progress);
     ReduceManifest manifest;
     manifest.case_file = base.file;
-    for (const PreparedBody& body : model.bodies) {
+    for (size_t b = 0; b < model.bodies.size(); ++b) {  // the order of resolved[r].bodies
+      const PreparedBody& body = model.bodies[b];
       if (!body.from_mesh) continue;
       const std::string k = (dir / (body.name + "_K.hb")).string();
       const std::string m = (dir / (body.name + "_M.hb")).string();
@@ -468,9 +301,7 @@ int run_reduce(const ReduceCommand& reduce) {
       if (reduce.basis || runs[r].definition.recovery.method == "expansion") {
         write_dense_matrix(dir / (body.name + "_T.bin"), body.T);
       }
-      for (const CaseBody& cb : resolved[r].bodies) {
-        if (cb.name == body.name) manifest.body_fingerprint[body.name] = cb.fingerprint;
-      }
+      manifest.body_fingerprint[body.name] = fingerprints[r][b];
       progress(fmt::format("{}: {} reduced DOFs ({} physical) -> {}, {}", body.name,
                            body.reduced.size(), body.reduced.num_physical(), k, m));
     }
