@@ -128,6 +128,14 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
                                const CaseDefinition& definition, const StageRun& run,
                                const std::string& hint);
 
+// The line ending one analysis of run and solve ("<n> points (<m> not converged) in <s> s;
+// results in DIR") through `progress`; returns m.
+int report_solved(const SolvedCase& solved, const std::filesystem::path& dir,
+                  const ProgressFn& progress);
+// The end of run and solve: "done in <seconds> s", then exit code 0, or 1 with a line on stderr
+// when `failed_points` > 0.
+int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress);
+
 // Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
 // and summary.json (docs/output-files.md) atomically.
 void write_solve_results(const std::filesystem::path& dir, const CaseDefinition& definition,

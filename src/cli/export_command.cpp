@@ -2,12 +2,12 @@
 // (excitation, static preload loads and contact forces, from the solve files) on each full body,
 // as an ANSYS APDL macro (loads_p<N>_<body>.mac) or a CalculiX deck (recovery_p<N>_<body>.inp),
 // the files run writes with output.apdl_macro / output.calculix_deck.
-#include <cstdio>
 #include <filesystem>
 
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
 #include "core/errors.h"
@@ -23,9 +23,7 @@ int run_export(const ExportCommand& command) {
   }
   const CaseDefinition base = read_case_file(command.stage.case_file);
   const bool quiet = command.stage.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;

@@ -3,12 +3,12 @@
 // the body's node and element sets: a case can read it back with `meshes: {X: {file: ...}}`) and
 // DIR/mesh/<body>.vtu for ParaView, with point data "clamped" (1 on clamped nodes) and "master"
 // (1 on the master nodes the reduction keeps: contact, forced, listed and FRF nodes).
-#include <cstdio>
 #include <filesystem>
 
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/progress.h"
 #include "core/errors.h"
 #include "io/case_file.h"
 #include "io/inp_writer.h"
@@ -20,9 +20,7 @@ int run_mesh(const StageCommand& command) {
   namespace fs = std::filesystem;
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   const fs::path dir = stage_output_dir(base, command.output_dir) / "mesh";
   const CaseBodies bodies = resolve_case_bodies(base, progress);
   fs::create_directories(dir);

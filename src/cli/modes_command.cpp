@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/progress.h"
 #include "cli/stuck_assembly.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -34,9 +35,7 @@ int run_case_modes(const ModesCommand& command) {
   namespace fs = std::filesystem;
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;

@@ -2,7 +2,6 @@
 // folder DIR/<parameter>_<value>/, plus the overlay frf_study), and frf_full_vs_reduced from the
 // data and script the recovery left (the recovered full-model amplitudes are in no CSV).
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -10,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/plots.h"
+#include "cli/progress.h"
 #include "cli/results_files.h"
 #include "core/errors.h"
 
@@ -18,12 +18,7 @@ namespace stickslip {
 int run_plot(const PlotCommand& command) {
   namespace fs = std::filesystem;
   const fs::path dir(command.dir);
-  const auto warn = [](const std::string& w) {
-    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
-  };
-  const auto say = [&](const std::string& s) {
-    if (!command.quiet) std::fprintf(stderr, "stickslip: %s\n", s.c_str());
-  };
+  const auto say = stderr_progress(command.quiet);
   const std::string hint = "stickslip solve CASE -o " + dir.string();
   if (!fs::is_directory(dir)) {
     throw InvalidInput({dir.string(), 0, ""}, "no such folder: run `" + hint + "` first");
@@ -31,11 +26,11 @@ int run_plot(const PlotCommand& command) {
   const auto plot_folder = [&](const fs::path& folder, const std::string& prefix) {
     const SolveResults results = read_solve_results(folder, hint);
     const std::vector<PlotSeries> frf = frf_series(results, prefix);
-    plot_solve_results(folder, results, frf, warn);
+    plot_solve_results(folder, results, frf, stderr_warning);
     std::string warning;
     if (fs::exists(folder / "frf_full_vs_reduced.gp") &&
         !render_plot_script(folder, "frf_full_vs_reduced", &warning)) {
-      warn(warning);
+      stderr_warning(warning);
     }
     say("plots in " + folder.string());
     return std::make_pair(results.title, frf);
@@ -69,7 +64,7 @@ int run_plot(const PlotCommand& command) {
     std::string warning;
     if (!plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
                      "amplitude of harmonic 1 (m)", overlay, &warning)) {
-      warn(warning);
+      stderr_warning(warning);
     }
   }
   return 0;

@@ -37,6 +37,16 @@ ProgressOptions stderr_progress_options(bool quiet) {
   return o;
 }
 
+std::function<void(const std::string&)> stderr_progress(bool quiet) {
+  return [quiet](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
+  };
+}
+
+void stderr_warning(const std::string& warning) {
+  std::fprintf(stderr, "stickslip: warning: %s\n", warning.c_str());
+}
+
 std::string format_duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "--:--";
   const long long s = static_cast<long long>(std::ceil(seconds));

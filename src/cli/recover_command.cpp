@@ -2,7 +2,6 @@
 // recovery_stage.h) of points of a solve whose files are in DIR. The master-DOF harmonics of the
 // reduced model are rebuilt from the contact forces in contact_forces.csv exactly as the solve
 // made them (HarmonicBalanceSystem::master_response), so the recovery equals run's to round-off.
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -12,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "cli/plots.h"
+#include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
 #include "core/errors.h"
@@ -75,12 +75,7 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
 int run_recover(const RecoverCommand& command) {
   const CaseDefinition base = read_case_file(command.stage.case_file);
   const bool quiet = command.stage.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
-  const auto warn = [](const std::string& w) {
-    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
   const std::string hint = stage_hint("solve", base, out_dir);
   for (const StageRun& stage_run : stage_runs(base, out_dir)) {
@@ -163,7 +158,7 @@ int run_recover(const RecoverCommand& command) {
     run_recovery(run.dir, def, model, response, points, progress, &full_frf);
     if (def.output.plots) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, warn);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, stderr_warning);
     }
     progress(fmt::format("recovered {} point(s); results in {}", points.size(), run.dir.string()));
   }

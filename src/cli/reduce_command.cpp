@@ -2,7 +2,6 @@
 // case (study folders), the fingerprints that say whether files of an earlier stage still belong
 // to the case, and the reduced model rebuilt from reduce's files.
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 
@@ -10,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/progress.h"
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
@@ -269,9 +269,7 @@ int run_reduce(const ReduceCommand& reduce) {
   const StageCommand& command = reduce.stage;
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   // One reduction for all study values unless the studied parameter changes a body's reduction

@@ -3,7 +3,6 @@
 // (write_solve_results), the full-model recovery (cli/recovery_stage.h) and the plots, drawn from
 // the files just written (as `stickslip plot` draws them). Every file is written atomically.
 #include <chrono>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -25,13 +24,8 @@ int run_case(const RunCommand& command) {
   const auto t0 = Clock::now();
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
-  const auto warn = [](const std::string& w) {
-    std::fprintf(stderr, "stickslip: warning: %s\n", w.c_str());
-  };
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   int failed_points = 0;
@@ -50,32 +44,21 @@ int run_case(const RunCommand& command) {
     if (def.output.plots) {
       const SolveResults results = read_solve_results(run.dir, "stickslip run");
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_solve_results(run.dir, results, frf, warn);
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, warn);
+      plot_solve_results(run.dir, results, frf, stderr_warning);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, stderr_warning);
       overlay.insert(overlay.end(), frf.begin(), frf.end());
     }
-    int bad = 0;
-    for (const FrequencyPoint& p : solved.response.points) bad += p.converged ? 0 : 1;
-    failed_points += bad;
-    progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
-                         solved.response.points.size(), bad, solved.seconds_solve,
-                         run.dir.string()));
+    failed_points += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
     std::string warning;
     if (!plot_curves(out_dir, "frf_study", base.title + ": " + base.study.parameter,
                      "frequency (Hz)", "amplitude of harmonic 1 (m)", overlay, &warning)) {
-      warn(warning);
+      stderr_warning(warning);
     }
   }
-  progress(
-      fmt::format("done in {:.1f} s", std::chrono::duration<double>(Clock::now() - t0).count()));
-  if (failed_points > 0) {
-    std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
-                 failed_points);
-    return 1;
-  }
-  return 0;
+  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
+                         progress);
 }
 
 }  // namespace stickslip

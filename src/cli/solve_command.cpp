@@ -215,14 +215,30 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
   });
 }
 
+int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressFn& progress) {
+  int failed = 0;
+  for (const FrequencyPoint& p : solved.response.points) failed += p.converged ? 0 : 1;
+  progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
+                       solved.response.points.size(), failed, solved.seconds_solve, dir.string()));
+  return failed;
+}
+
+int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress) {
+  progress(fmt::format("done in {:.1f} s", seconds));
+  if (failed_points > 0) {
+    std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
+                 failed_points);
+    return 1;
+  }
+  return 0;
+}
+
 int run_solve(const StageCommand& command) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const CaseDefinition base = read_case_file(command.case_file);
   const bool quiet = command.quiet || base.output.quiet;
-  const auto progress = [&](const std::string& line) {
-    if (!quiet) std::fprintf(stderr, "stickslip: %s\n", line.c_str());
-  };
+  const auto progress = stderr_progress(quiet);
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   int failed_points = 0;
@@ -234,21 +250,10 @@ int run_solve(const StageCommand& command) {
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     write_solve_results(run.dir, run.definition, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
-    int bad = 0;
-    for (const FrequencyPoint& p : solved.response.points) bad += p.converged ? 0 : 1;
-    failed_points += bad;
-    progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
-                         solved.response.points.size(), bad, solved.seconds_solve,
-                         run.dir.string()));
+    failed_points += report_solved(solved, run.dir, progress);
   }
-  progress(
-      fmt::format("done in {:.1f} s", std::chrono::duration<double>(Clock::now() - t0).count()));
-  if (failed_points > 0) {
-    std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
-                 failed_points);
-    return 1;
-  }
-  return 0;
+  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
+                         progress);
 }
 
 }  // namespace stickslip
