@@ -43,6 +43,23 @@ double peak_measure(const CaseDefinition& def, const PreparedModel& model,
   return s;
 }
 
+// The physical (master) DOFs of a body in the order of body.reduced: their full-model DOF and
+// their DOF in the assembled reduced model.
+struct MasterDofs {
+  std::vector<int> full, reduced;
+};
+MasterDofs master_dofs(const PreparedBody& body) {
+  MasterDofs out;
+  for (int j = 0; j < body.reduced.size(); ++j) {
+    const ReducedDof& d = body.reduced.dofs[j];
+    if (d.kind == ReducedDof::Kind::kPhysical) {
+      out.full.push_back(d.full_dof);
+      out.reduced.push_back(body.offset + j);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
@@ -84,15 +101,7 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
 Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
                                 const std::vector<int>& harmonics, const FrequencyPoint& p) {
   const int nh = static_cast<int>(harmonics.size());
-  // Master DOFs of this body in the full numbering, and their reduced (global) index.
-  std::vector<int> full_dofs, reduced_dofs;
-  for (int j = 0; j < body.reduced.size(); ++j) {
-    const ReducedDof& d = body.reduced.dofs[j];
-    if (d.kind == ReducedDof::Kind::kPhysical) {
-      full_dofs.push_back(d.full_dof);
-      reduced_dofs.push_back(body.offset + j);
-    }
-  }
+  const auto [full_dofs, reduced_dofs] = master_dofs(body);
   // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
   Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(body.mesh.num_dofs(), nh);
   for (int h = 0; h < nh; ++h) {
@@ -212,15 +221,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       throw InvalidInput(def.where("recovery.method"),
                          "recovery of body " + body.name + " failed: " + solver->message());
     }
-    // Master DOFs of this body in the full numbering, and their reduced (global) index.
-    std::vector<int> full_dofs, reduced_dofs;
-    for (int j = 0; j < body.reduced.size(); ++j) {
-      const ReducedDof& d = body.reduced.dofs[j];
-      if (d.kind == ReducedDof::Kind::kPhysical) {
-        full_dofs.push_back(d.full_dof);
-        reduced_dofs.push_back(body.offset + j);
-      }
-    }
+    const auto [full_dofs, reduced_dofs] = master_dofs(body);
     const int n = body.mesh.num_dofs();
     for (int pi : points) {
       const FrequencyPoint& p = response.points[pi];
