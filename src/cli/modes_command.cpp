@@ -42,19 +42,8 @@ int run_case_modes(const ModesCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true);
-    // K with every pair as its stuck springs (PreparedPair::stuck_stiffness, local rows).
-    Eigen::MatrixXd K = model.K;
-    for (size_t i = 0; i < model.pairs.size(); ++i) {
-      const ContactPair& pair = model.pairs[i];
-      const Eigen::VectorXd& k = model.pair_info[i].stuck_stiffness;
-      Eigen::MatrixXd Bp = Eigen::MatrixXd::Zero(pair.frame.rows(), model.num_dofs);
-      for (int d = 0; d < 3; ++d) {
-        if (!pair.dofs_a.empty()) Bp.col(pair.dofs_a[d]) += pair.frame.col(d);
-        if (!pair.dofs_b.empty()) Bp.col(pair.dofs_b[d]) -= pair.frame.col(d);
-      }
-      K += Bp.transpose() * k.asDiagonal() * Bp;
-    }
-    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, model.M);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(stuck_stiffness_matrix(model),
+                                                                  model.M);
     if (eig.info() != Eigen::Success) {
       throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
     }

@@ -680,7 +680,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   return model;
 }
 
-Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
+Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
   Eigen::MatrixXd K = model.K;
   for (size_t i = 0; i < model.pairs.size(); ++i) {
     const ContactPair& pair = model.pairs[i];
@@ -693,7 +693,12 @@ Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefin
     }
     K += Bp.transpose() * k_local.asDiagonal() * Bp;
   }
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, model.M, Eigen::EigenvaluesOnly);
+  return K;
+}
+
+Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(stuck_stiffness_matrix(model),
+                                                                model.M, Eigen::EigenvaluesOnly);
   if (eig.info() != Eigen::Success) {
     throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
   }

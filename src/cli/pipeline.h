@@ -127,9 +127,13 @@ PreparedModel prepare_model(const CaseDefinition& definition, CaseBodies resolve
                             const ProgressFn& progress,
                             const std::map<std::string, const Mesh*>& geometry = {});
 
-// Natural frequencies (Hz, ascending) of the assembled reduced model with every contact stuck:
-// friction pairs as springs (kt, kt, kn) in their frame, 1D laws by their tangent at rest
-// (PreparedPair::stuck_stiffness).
+// Stiffness of the assembled reduced model with every contact stuck: model.K plus, per pair,
+// BᵀkB with B its relative-displacement rows and k its stuck stiffness (friction pairs as springs
+// (kt, kt, kn) in their frame, 1D laws by their tangent at rest: PreparedPair::stuck_stiffness).
+Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model);
+
+// Natural frequencies (Hz, ascending) of the assembled reduced model with every contact stuck
+// (stuck_stiffness_matrix and model.M).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 
 // The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation.
