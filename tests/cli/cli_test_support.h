@@ -43,6 +43,41 @@ inline fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
+// The small two-beam butt joint of the end-to-end tests: a coarse C3D8I mesh, 20 fixed-interface
+// modes per beam, friction contact between the half-thickness ends (kt, kn of the thesis per pair,
+// friction coefficient `mu`, normal preload `preload` N per pair), opposite ±y forces of 50 N at
+// mirror nodes exciting the antisymmetric mode 4, a ±4 Hz window around it in 1 Hz steps, H = 1.
+// `tail` (the recovery and output sections) is appended. Node ids: beam 1 holds ids 1..366.
+inline std::string small_joint_case(double mu, double preload, const std::string& tail) {
+  std::ostringstream s;
+  s << R"(stickslip: 1
+title: small joint
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam, arrangement: butt, element: C3D8I, box: [10, 5, 4], end_block: [2, 5, 2]}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, masters: [FORCE1], modes: 20}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 20}
+contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: )"
+    << mu << ", preload: " << preload << R"(}
+excitation:
+  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}
+  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}
+damping: {alpha: 5.0, beta: 0.0}
+analysis:
+  frequency: {around_mode: 4, half_width_hz: 4, step_hz: 1}
+  harmonics: 1
+  time_samples: 64
+)" << tail;
+  return s.str();
+}
+
 // Rows of a CSV file (no quoting) as maps column -> text.
 inline std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
   const auto split = [](const std::string& s) {

@@ -25,44 +25,16 @@ namespace {
 
 using namespace stickslip::cli_test;
 
-// A two-beam butt joint, small mesh; opposite forces along ±y at mirror nodes excite the
-// antisymmetric mode 4 (second bending in y).
+// The small joint (cli_test_support.h) with direct recovery of the peak point.
 std::string small_case(double mu, double preload, const std::string& extra = "") {
-  std::ostringstream s;
-  s << R"(stickslip: 1
-title: small joint
-materials:
-  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
-meshes:
-  joint: {generate: two_beam, arrangement: butt, element: C3D8I, box: [10, 5, 4], end_block: [2, 5, 2]}
-bodies:
-  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, masters: [FORCE1], modes: 20}
-  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 20}
-contacts:
-  - name: joint
-    law: friction
-    between: {beam1: CONTACT1, beam2: CONTACT2}
-    normal: [1, 0, 0]
-    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: )"
-    << mu << ", preload: " << preload << R"(}
-excitation:
-  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}
-  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}
-damping: {alpha: 5.0, beta: 0.0}
-analysis:
-  frequency: {around_mode: 4, half_width_hz: 4, step_hz: 1}
-  harmonics: 1
-  time_samples: 64
-recovery: {points: peak, method: direct, fields: [displacement, stress]}
-output: {vtu: true, plots: false}
-)" << extra;
-  return s.str();
+  return small_joint_case(mu, preload,
+                          "recovery: {points: peak, method: direct, fields: [displacement, "
+                          "stress]}\noutput: {vtu: true, plots: false}\n" +
+                              extra);
 }
 
 fs::path write_case(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_run_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("run_" + name);
   std::ofstream(dir / "case.yaml") << text;
   return dir;
 }

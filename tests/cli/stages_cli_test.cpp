@@ -36,52 +36,26 @@ constexpr double kRoundOff = 1e-9;
 // relative; the lightly damped resonance (ζ ≈ 2e-4) amplifies that by ~1/ζ at most.
 constexpr double kThroughHb = 1e-8;
 
-// The small butt joint of run_cli_test.cpp, with recovered nodes 200 (in beam 1) and 550 (in
-// beam 2) and one FRF DOF. Node ids of the generator: beam 1 holds ids 1..366.
-std::string small_case(const std::string& replace_from = "", const std::string& replace_to = "") {
-  std::string s = R"(stickslip: 1
-title: small joint
-materials:
-  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
-meshes:
-  joint: {generate: two_beam, arrangement: butt, element: C3D8I, box: [10, 5, 4], end_block: [2, 5, 2]}
-bodies:
-  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, masters: [FORCE1], modes: 20}
-  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 20}
-contacts:
-  - name: joint
-    law: friction
-    between: {beam1: CONTACT1, beam2: CONTACT2}
-    normal: [1, 0, 0]
-    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 20}
-excitation:
-  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}
-  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}
-damping: {alpha: 5.0, beta: 0.0}
-analysis:
-  frequency: {around_mode: 4, half_width_hz: 4, step_hz: 1}
-  harmonics: 1
-  time_samples: 64
-recovery: {points: peak, method: direct, fields: [displacement, stress], nodes: [200, 550]}
-output:
-  vtu: true
-  plots: false
-  histories: {joint: [0]}
-  frf: [{body: beam1, node: 200, direction: y}]
-)";
-  if (!replace_from.empty()) {
-    const size_t at = s.find(replace_from);
-    EXPECT_NE(at, std::string::npos) << replace_from;
-    if (at != std::string::npos) s.replace(at, replace_from.size(), replace_to);
-  }
-  return s;
-}
-
 std::string replaced(std::string s, const std::string& from, const std::string& to) {
   const size_t at = s.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) s.replace(at, from.size(), to);
   return s;
+}
+
+// The small joint of run_cli_test.cpp (cli_test_support.h), with recovered nodes 200 (in beam 1)
+// and 550 (in beam 2) and one FRF DOF; `replace_from` (if given) replaced by `replace_to`.
+std::string small_case(const std::string& replace_from = "", const std::string& replace_to = "") {
+  const std::string s = small_joint_case(
+      0.5, 20,
+      R"(recovery: {points: peak, method: direct, fields: [displacement, stress], nodes: [200, 550]}
+output:
+  vtu: true
+  plots: false
+  histories: {joint: [0]}
+  frf: [{body: beam1, node: 200, direction: y}]
+)");
+  return replace_from.empty() ? s : replaced(s, replace_from, replace_to);
 }
 
 fs::path write_case(const fs::path& dir, const std::string& text) {
