@@ -51,12 +51,7 @@ constexpr double kHeight = 0.02;                 // m
 int node_index(int i, int j, int k) { return i + (kNx + 1) * (j + (kNy + 1) * k); }
 constexpr int kForceNode = (kNx) + (kNx + 1) * (0 + (kNy + 1) * 1);  // (i, j, k) = (3, 0, 1)
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_pipeline_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh_dir(const std::string& name) { return cli_test::fresh_dir("pipeline_" + name); }
 
 void write_block_mesh(const fs::path& path) {
   Mesh mesh = structured_hex_box(kNx, kNy, kNz, {1, 1, kHeight}, ElementType::kC3D8);
@@ -94,6 +89,20 @@ constexpr double kAlpha = 20.0;         // 1/s
 constexpr double kBeta = 1.0e-7;        // s
 constexpr double kSpringTotal = 5.0e9;  // N/m, comparable to the block's shear stiffness
 
+// The sections after the excitation in the cases of these tests: damping α, β; three points
+// around mode 1 (±300 Hz), H = 1; no recovery, no files.
+std::string analysis_sections() {
+  return fmt::format(R"(damping: {{alpha: {}, beta: {}}}
+analysis:
+  frequency: {{around_mode: 1, half_width_hz: 300, step_hz: 300}}
+  harmonics: 1
+  time_samples: 16
+recovery: {{points: none}}
+output: {{plots: false, vtu: false}}
+)",
+                     kAlpha, kBeta);
+}
+
 std::string block_case(double zeta) {
   return fmt::format(R"(stickslip: 1
 materials:
@@ -111,15 +120,9 @@ contacts:
     total: {{k: {}, split: area}}
 excitation:
   - {{body: block, node_set: FORCE, direction: [0, 1, 1], amplitude: 10}}
-damping: {{alpha: {}, beta: {}}}
-analysis:
-  frequency: {{around_mode: 1, half_width_hz: 300, step_hz: 300}}
-  harmonics: 1
-  time_samples: 16
-recovery: {{points: none}}
-output: {{plots: false, vtu: false}}
 )",
-                     zeta, kSpringTotal, kAlpha, kBeta);
+                     zeta, kSpringTotal) +
+         analysis_sections();
 }
 
 // C = αM + βK + 2ζω_j M_jj on the modal DOFs of the (single-body) reduced model.
@@ -247,15 +250,9 @@ contacts:
     per_pair: {{kt: {}, kn: {}, mu: 1.0e6, preload: 1000}}
 excitation:
   - {{body: blade, node: {}, direction: y, amplitude: 1}}
-damping: {{alpha: {}, beta: {}}}
-analysis:
-  frequency: {{around_mode: 1, half_width_hz: 300, step_hz: 300}}
-  harmonics: 1
-  time_samples: 16
-recovery: {{points: none}}
-output: {{plots: false, vtu: false}}
 )",
-                       reduced_files, kZeta, top, kt, kn, kForceNode + 1, kAlpha, kBeta);
+                       reduced_files, kZeta, top, kt, kn, kForceNode + 1) +
+           analysis_sections();
   };
   const CaseDefinition hb =
       parse_case(text("{stiffness: k.hb, mass: m.hb}"), "hb.yaml", dir.string());
