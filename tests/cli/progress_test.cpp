@@ -36,6 +36,19 @@ ContinuationProgress point(int done, int total, bool converged = true) {
   return {done, 0.0, static_cast<double>(done) / total, converged};
 }
 
+// The output of a stage "harmonic balance" of `total` points with one update, `done` points
+// 1 s after the start.
+std::string one_update(const ProgressOptions& o, int done, int total) {
+  std::ostringstream out;
+  FakeClock t;
+  ProgressReporter r(out, o, t.clock());
+  r.start("harmonic balance", total);
+  t.now += 1;
+  r.update(point(done, total));
+  r.finish();
+  return out.str();
+}
+
 TEST(Progress, DurationsAreMinutesSecondsOrHours) {
   EXPECT_EQ(format_duration(0), "0:00");
   EXPECT_EQ(format_duration(6.2), "0:07");  // rounded up: never promise too little
@@ -153,34 +166,16 @@ TEST(Progress, TerminalBarBlanksTheRestOfALongerPreviousLine) {
 }
 
 TEST(Progress, TerminalLinesFitTheTerminalWidth) {
-  FakeClock t;
   ProgressOptions o;
   o.terminal = true;
   o.bar_width = 20;
-  {
-    // 80 columns: the bar narrows from 20 to 11 so that the line has 79 characters.
-    std::ostringstream out;
-    o.columns = 80;
-    ProgressReporter r(out, o, t.clock());
-    r.start("harmonic balance", 10);
-    t.now += 1;
-    r.update(point(5, 10));
-    r.finish();
-    EXPECT_EQ(
-        out.str(),
-        "\rstickslip: harmonic balance [#####------]  50% 5/10 points 5 points/s 0:01 left\n");
-  }
-  {
-    // 40 columns: the bar at its minimum (4) and the line cut to 39 characters.
-    std::ostringstream out;
-    o.columns = 40;
-    ProgressReporter r(out, o, t.clock());
-    r.start("harmonic balance", 10);
-    t.now += 1;
-    r.update(point(10, 10));
-    r.finish();
-    EXPECT_EQ(out.str(), "\rstickslip: harmonic balance [####] 100%\n");
-  }
+  // 80 columns: the bar narrows from 20 to 11 so that the line has 79 characters.
+  o.columns = 80;
+  EXPECT_EQ(one_update(o, 5, 10),
+            "\rstickslip: harmonic balance [#####------]  50% 5/10 points 5 points/s 0:01 left\n");
+  // 40 columns: the bar at its minimum (4) and the line cut to 39 characters.
+  o.columns = 40;
+  EXPECT_EQ(one_update(o, 10, 10), "\rstickslip: harmonic balance [####] 100%\n");
 }
 
 TEST(Progress, QuietPrintsNothing) {
