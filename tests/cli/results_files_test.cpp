@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli_test_support.h"
 #include "core/errors.h"
 
 namespace stickslip {
@@ -16,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_results_files_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh(const std::string& name) { return cli_test::fresh_dir("results_files_" + name); }
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
@@ -111,6 +107,13 @@ TEST(ResultsFiles, ACaseWithoutContactPairsTakesItsHarmonicsFromTheMasterRespons
   EXPECT_EQ(r.master.at(MasterDofKey{"b", 7, 1})(1, 1), std::complex<double>(5, 6));
 }
 
+// The error of reading the solve folder `name` in which `file` holds `text`.
+std::string error_with(const std::string& name, const std::string& file, const std::string& text) {
+  const fs::path dir = solve_folder(name);
+  write(dir / file, text);
+  return error_of(dir);
+}
+
 TEST(ResultsFiles, ErrorsNameTheFileTheLineAndTheCommand) {
   fs::path dir = solve_folder("missing");
   fs::remove(dir / "points.csv");
@@ -119,16 +122,12 @@ TEST(ResultsFiles, ErrorsNameTheFileTheLineAndTheCommand) {
             std::string::npos)
       << e;
 
-  dir = solve_folder("column");
-  write(dir / "contact_state.csv", "point,contact,pair,stick,slip\n0,c,0,1,0\n");
-  e = error_of(dir);
+  e = error_with("column", "contact_state.csv", "point,contact,pair,stick,slip\n0,c,0,1,0\n");
   EXPECT_NE(e.find("contact_state.csv:1"), std::string::npos) << e;
   EXPECT_NE(e.find("no column 'separation'"), std::string::npos) << e;
 
-  dir = solve_folder("fields");
-  write(dir / "master_response.csv",
-        "point,body,node,dof,harmonic,real,imag\n0,b,7,y,1,3e-6,-4e-6\n1,b,7,y,1,1e-6\n");
-  e = error_of(dir);
+  e = error_with("fields", "master_response.csv",
+                 "point,body,node,dof,harmonic,real,imag\n0,b,7,y,1,3e-6,-4e-6\n1,b,7,y,1,1e-6\n");
   EXPECT_NE(e.find("master_response.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("6 fields, the header has 7"), std::string::npos) << e;
 
@@ -138,23 +137,19 @@ TEST(ResultsFiles, ErrorsNameTheFileTheLineAndTheCommand) {
   EXPECT_NE(e.find("contact_forces.csv:18"), std::string::npos) << e;
   EXPECT_NE(e.find("given twice"), std::string::npos) << e;
 
-  dir = solve_folder("point");
-  write(dir / "contact_state.csv",
-        "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n"
-        "0,c,0,7,9,0.75,0.25,0,0.5\n2,c,0,7,9,1,0,0,0\n");
-  e = error_of(dir);
+  e = error_with("point", "contact_state.csv",
+                 "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n"
+                 "0,c,0,7,9,0.75,0.25,0,0.5\n2,c,0,7,9,1,0,0,0\n");
   EXPECT_NE(e.find("contact_state.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("point 2 is not in points.csv"), std::string::npos) << e;
 
-  dir = solve_folder("frf");
-  write(dir / "summary.json", "{\n  \"fingerprint\": \"00\",\n  \"frf\": [\"b:1\"],\n}\n");
-  e = error_of(dir);
+  e = error_with("frf", "summary.json",
+                 "{\n  \"fingerprint\": \"00\",\n  \"frf\": [\"b:1\"],\n}\n");
   EXPECT_NE(e.find("summary.json:3: frf"), std::string::npos) << e;
 
-  dir = solve_folder("axis");
-  write(dir / "histories.csv",
-        "point,contact,pair,sample,t_over_period,axis,displacement,force\n0,c,0,0,0,t2,1,2\n");
-  e = error_of(dir);
+  e = error_with("axis", "histories.csv",
+                 "point,contact,pair,sample,t_over_period,axis,displacement,force\n"
+                 "0,c,0,0,0,t2,1,2\n");
   EXPECT_NE(e.find("histories.csv:2"), std::string::npos) << e;
 }
 
