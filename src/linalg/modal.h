@@ -32,9 +32,9 @@ struct ModalOptions {
   int max_iterations = 1000;  // restarts
   // Vectors per Lanczos step. 1: Spectra's single-vector restarted Lanczos (each step two
   // memory-bound half solves). k >= 2: block Lanczos with full reorthogonalisation, k right-hand
-  // sides per solve (supernodal BLAS-3), no restart: the basis grows to at most
-  // max(subspace_size, 6 num_modes) + k vectors; if that does not converge, the single-vector
-  // method is run. 0 = automatic: block of clamp(num_modes / 2, 8, 32) for 20,000 rows and more.
+  // sides per solve (supernodal BLAS-3, one BLAS thread), no restart: the basis grows to at most
+  // max(subspace_size, 8 num_modes) + k vectors; if that does not converge, the single-vector
+  // method is run. 0 = automatic: blocks of 8 for 20,000 rows and more, else single-vector.
   int block_size = 0;
 };
 void validate(const ModalOptions& options);  // throws InvalidInput naming field, value, rule
