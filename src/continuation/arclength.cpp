@@ -162,7 +162,8 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     if (options.on_point) {
       const double fraction =
           std::clamp((lambda - lambda_start) / (lambda_end - lambda_start), 0.0, 1.0);
-      options.on_point({static_cast<int>(result.points.size()), lambda, fraction, converged});
+      options.on_point({static_cast<int>(result.points.size()), lambda, fraction, converged,
+                        &result.points.back().x});
     }
   };
   auto stop = [&](bool completed, const std::string& why) {

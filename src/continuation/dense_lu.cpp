@@ -1,5 +1,8 @@
 #include "continuation/dense_lu.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/errors.h"
 #include "linalg/blas_threads.h"
 
@@ -7,8 +10,6 @@ extern "C" {
 void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
 void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
              const int* ipiv, double* b, const int* ldb, int* info);
-void dgecon_(const char* norm, const int* n, const double* a, const int* lda, const double* anorm,
-             double* rcond, double* work, int* iwork, int* info);
 }
 
 namespace stickslip {
@@ -25,25 +26,61 @@ bool DenseLu::compute(const Eigen::MatrixXd& A) {
   int info = 0;
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
   if (info != 0) return false;  // info > 0: exact zero pivot
-  const double anorm = A.cwiseAbs().colwise().sum().maxCoeff();
-  std::vector<double> work(4 * static_cast<size_t>(n));
-  std::vector<int> iwork(n);
-  const char norm = '1';
-  dgecon_(&norm, &n, lu_.data(), &n, &anorm, &rcond_, work.data(), iwork.data(), &info);
-  if (info != 0) rcond_ = 0.0;
   ok_ = true;
+  const double anorm = A.cwiseAbs().colwise().sum().maxCoeff();
+  const double inverse_norm = inverse_norm_estimate();
+  rcond_ = anorm > 0 && inverse_norm > 0 ? 1.0 / anorm / inverse_norm : 0.0;
   return true;
+}
+
+Eigen::VectorXd DenseLu::solve_with(char trans, const Eigen::VectorXd& b) const {
+  Eigen::VectorXd x = b;
+  const int n = static_cast<int>(lu_.rows()), nrhs = 1;
+  int info = 0;
+  dgetrs_(&trans, &n, &nrhs, lu_.data(), &n, pivots_.data(), x.data(), &n, &info);
+  return x;
+}
+
+double DenseLu::inverse_norm_estimate() const {
+  // Hager's method with Higham's refinements (LAPACK dlacn2, as Eigen's PartialPivLU::rcond):
+  // ‖A⁻¹‖₁ >= ‖A⁻¹ v‖₁ / ‖v‖₁, maximised over v by a few steps of a subgradient ascent on the
+  // unit 1-ball (solves with A and Aᵀ), plus Higham's alternating test vector.
+  const Eigen::Index n = lu_.rows();
+  if (n == 1) return 1.0 / std::abs(lu_(0, 0));
+  constexpr int kMaxIterations = 5;
+  Eigen::VectorXd v = solve_with('N', Eigen::VectorXd::Constant(n, 1.0 / n));
+  double estimate = v.lpNorm<1>();
+  auto signs = [](const Eigen::VectorXd& y) -> Eigen::VectorXd {  // ±1, LAPACK's sign(1, y_i)
+    return (y.array() >= 0).select(Eigen::VectorXd::Ones(y.size()), -1.0);
+  };
+  Eigen::VectorXd sign = signs(v);
+  Eigen::Index j = 0, previous = -1;
+  Eigen::VectorXd z = solve_with('T', sign);
+  for (int k = 0; k < kMaxIterations; ++k) {
+    z.cwiseAbs().maxCoeff(&j);
+    if (j == previous) break;
+    v = solve_with('N', Eigen::VectorXd::Unit(n, j));
+    const double next = v.lpNorm<1>();
+    if (next <= estimate) break;
+    estimate = next;
+    const Eigen::VectorXd next_sign = signs(v);
+    if (next_sign == sign) break;
+    sign = next_sign;
+    z = solve_with('T', sign);
+    previous = j;
+  }
+  Eigen::VectorXd alternating(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    alternating[i] = (i % 2 == 0 ? 1.0 : -1.0) * (1.0 + static_cast<double>(i) / (n - 1));
+  }
+  const double alternate = 2.0 * solve_with('N', alternating).lpNorm<1>() / (3.0 * n);
+  return std::max(estimate, alternate);
 }
 
 Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const {
   STICKSLIP_VERIFY(ok_ && b.size() == lu_.rows(), "DenseLu::solve: no factorisation or wrong size");
   const ScopedBlasThreads single_thread(1);
-  Eigen::VectorXd x = b;
-  const int n = static_cast<int>(lu_.rows()), nrhs = 1;
-  int info = 0;
-  const char trans = 'N';
-  dgetrs_(&trans, &n, &nrhs, lu_.data(), &n, pivots_.data(), x.data(), &n, &info);
-  return x;
+  return solve_with('N', b);
 }
 
 }  // namespace stickslip

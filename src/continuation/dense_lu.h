@@ -1,11 +1,12 @@
 // Dense LU with partial pivoting of a real n x n matrix, P A = L U, through LAPACK (dgetrf,
-// dgetrs, dgecon: OpenBLAS's optimised kernels on Debian, several times faster than Eigen's
-// portable ones at the sizes of Newton's dR/dx), with the BLAS held to one thread during each
-// call (threads on a 2-core machine only spin at these sizes; see linalg/blas_threads.h).
+// dgetrs: OpenBLAS's optimised kernels on Debian, twice as fast as Eigen's portable ones at the
+// sizes of Newton's dR/dx), with the BLAS held to one thread during each call (threads on a
+// 2-core machine only spin at these sizes; see linalg/blas_threads.h).
 //
 // compute(A) factors a copy of A and returns false when A is not finite or exactly singular (a
-// zero pivot); rcond() is LAPACK's estimate of 1 / (‖A‖₁ ‖A⁻¹‖₁) (0 when singular), solve(b)
-// returns A⁻¹ b (only after a successful compute). Same contract as Eigen::PartialPivLU.
+// zero pivot); rcond() estimates 1 / (‖A‖₁ ‖A⁻¹‖₁) (0 when singular; ‖A⁻¹‖₁ by the Hager–Higham
+// method of LAPACK's dgecon and Eigen's rcond, a lower bound, with its solves through dgetrs);
+// solve(b) returns A⁻¹ b (only after a successful compute). Same contract as Eigen::PartialPivLU.
 #pragma once
 
 #include <vector>
@@ -21,6 +22,8 @@ class DenseLu {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
 
  private:
+  Eigen::VectorXd solve_with(char trans, const Eigen::VectorXd& b) const;  // 'N': A, 'T': Aᵀ
+  double inverse_norm_estimate() const;                                    // of ‖A⁻¹‖₁
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
   double rcond_ = 0.0;

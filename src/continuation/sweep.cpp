@@ -138,7 +138,8 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
     result.points.push_back(std::move(point));
     if (options.on_point) {
       const int done = static_cast<int>(result.points.size());
-      options.on_point({done, target, static_cast<double>(done) / lambdas.size(), converged});
+      options.on_point({done, target, static_cast<double>(done) / lambdas.size(), converged,
+                        &result.points.back().x});
     }
   }
 

@@ -55,12 +55,14 @@ struct ContinuationResult {
 // Progress of a sweep or continuation, reported after each point it returns (to drive a progress
 // bar). points: points returned so far; lambda: the parameter of the last one; fraction: the part
 // of the requested range done, in [0, 1] (stepped: points / requested; arc-length: how far λ
-// got from lambda_start towards lambda_end); converged: whether the last point converged.
+// got from lambda_start towards lambda_end); converged: whether the last point converged; x: its
+// solution (valid during the call only; null when the caller has none).
 struct ContinuationProgress {
   int points = 0;
   double lambda = 0;
   double fraction = 0;
   bool converged = true;
+  const Eigen::VectorXd* x = nullptr;
 };
 // Called on the solving thread; it must not throw. Empty = no reports.
 using ProgressCallback = std::function<void(const ContinuationProgress&)>;

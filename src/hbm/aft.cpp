@@ -35,6 +35,7 @@ namespace {
 // from call to call, so a sweep allocates them once per thread instead of once per pair and call.
 struct AftWorkspace {
   Eigen::MatrixXd u, f, df_dc;
+  Eigen::MatrixXd ft, rows;  // fᵀ (N x m); rows j·m + d of df_dc for one d (N x m·nc)
 };
 
 AftWorkspace& workspace() {
@@ -65,21 +66,24 @@ CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::Vect
   const CycleStatistics stats = jacobian ? element.march(u, &sample_derivative(m), f, &w.df_dc)
                                          : element.march(u, nullptr, f, nullptr);
 
-  // F (nc x m) = P fᵀ, as dot products of the sample rows with the columns of Pᵀ.
+  // F (nc x m) = P fᵀ and ∂F/∂c = P ∂f/∂c per component, as contiguous dot products of the
+  // columns of Pᵀ with the samples (gathered per component).
   forces.resize(m * nc);
+  w.ft = f.transpose();
   for (int d = 0; d < m; ++d) {
-    for (int i = 0; i < nc; ++i) forces[d * nc + i] = analysis_t_.col(i).dot(f.row(d).transpose());
+    for (int i = 0; i < nc; ++i) forces[d * nc + i] = analysis_t_.col(i).dot(w.ft.col(d));
   }
   if (jacobian) {
     const int np = m * nc;
     jacobian->resize(np, np);
     const Eigen::MatrixXd& df = w.df_dc;
-    for (int q = 0; q < np; ++q) {
-      for (int d = 0; d < m; ++d) {
-        // Rows j·m + d of column q of df_dc (j = 0..N−1).
-        const Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<>> rows(
-            df.data() + static_cast<Eigen::Index>(q) * df.rows() + d, n, Eigen::InnerStride<>(m));
-        for (int i = 0; i < nc; ++i) (*jacobian)(d * nc + i, q) = analysis_t_.col(i).dot(rows);
+    for (int d = 0; d < m; ++d) {
+      // Rows j·m + d of df_dc (j = 0..N−1): an N x np view with row stride m.
+      w.rows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>(
+          df.data() + d, n, np, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(df.rows(), m));
+      for (int q = 0; q < np; ++q) {
+        for (int i = 0; i < nc; ++i)
+          (*jacobian)(d * nc + i, q) = analysis_t_.col(i).dot(w.rows.col(q));
       }
     }
   }

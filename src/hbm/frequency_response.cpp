@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "core/errors.h"
 
@@ -131,16 +132,29 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   }
   ContinuationResult result;
   const bool stuck = options.initial_guess == InitialGuess::kLinearStuck;
+  // The outputs of each point are evaluated as soon as it is solved: the last residual evaluation
+  // was then (usually) at its solution, whose contact forces the system still holds.
+  std::vector<FrequencyPoint> outputs;
+  auto evaluate_outputs = [&](const ProgressCallback& user) -> ProgressCallback {
+    return [&, user](const ContinuationProgress& p) {
+      if (p.x) outputs.push_back(evaluate_point(system, *p.x, p.lambda, options.history_pairs));
+      if (user) user(p);
+    };
+  };
   if (options.method == ContinuationMethod::kSteppedSweep) {
     require(!options.omegas.empty(), "FrequencyResponseOptions.omegas", "[]", "not empty");
     const Eigen::VectorXd x0 =
         first_solution(system, options.omegas.front(), stuck, options.sweep.newton);
-    result = stepped_sweep(system, x0, std::span<const double>(options.omegas), options.sweep);
+    SteppedSweepOptions sweep = options.sweep;
+    sweep.on_point = evaluate_outputs(options.sweep.on_point);
+    result = stepped_sweep(system, x0, std::span<const double>(options.omegas), sweep);
   } else {
     validate(options.arclength);
     const Eigen::VectorXd x0 =
         first_solution(system, options.arclength.lambda_start, stuck, options.arclength.newton);
-    result = arclength_continuation(system, x0, options.arclength);
+    ArcLengthOptions arclength = options.arclength;
+    arclength.on_point = evaluate_outputs(options.arclength.on_point);
+    result = arclength_continuation(system, x0, arclength);
   }
   FrequencyResponse response;
   response.harmonics = system.output_harmonics();
@@ -150,8 +164,12 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     response.message =
         "static problem: " + system.static_summary().message + "; " + response.message;
   }
-  for (const ContinuationPoint& c : result.points) {
-    FrequencyPoint point = evaluate_point(system, c.x, c.lambda, options.history_pairs);
+  for (size_t i = 0; i < result.points.size(); ++i) {
+    const ContinuationPoint& c = result.points[i];
+    const bool early = i < outputs.size() && outputs[i].omega == c.lambda &&
+                       outputs[i].unknowns.size() == c.x.size() && outputs[i].unknowns == c.x;
+    FrequencyPoint point = early ? std::move(outputs[i])
+                                 : evaluate_point(system, c.x, c.lambda, options.history_pairs);
     point.converged = c.newton.converged();
     point.iterations = c.newton.iterations;
     point.residual_norm = c.newton.residual_norm;

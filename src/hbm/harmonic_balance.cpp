@@ -415,14 +415,20 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
       condensed_operator(omega, dR_domega != nullptr);
   R = x - op->ulin + apply_G(*op, F);
   if (dR_dx) {
-    // dR/dx = I + 𝔾 J_f with J_f block-diagonal: per pair, its columns of 𝔾 times its block
-    // (a lazy product: the blocks are only m·nc wide).
+    // dR/dx = I + 𝔾 J_f with J_f block-diagonal: per pair, its columns of 𝔾 times its block,
+    // column by column as sums of the pair's columns of 𝔾 (the blocks are only m·nc wide).
     Eigen::MatrixXd Gtemp;
     const Eigen::MatrixXd& Gbig = op->Gdense.size() > 0 ? op->Gdense : (Gtemp = dense_G(*op));
-    dR_dx->setIdentity(n, n);
+    dR_dx->resize(n, n);
     for (size_t p = 0; p < pairs_.size(); ++p) {
       const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
-      dR_dx->middleCols(c, w).noalias() += Gbig.middleCols(c, w).lazyProduct(blocks[p]);
+      const Eigen::MatrixXd& b = blocks[p];
+      for (int j = 0; j < w; ++j) {
+        auto column = dR_dx->col(c + j);
+        column = b(0, j) * Gbig.col(c);
+        for (int i = 1; i < w; ++i) column += b(i, j) * Gbig.col(c + i);
+        column[c + j] += 1.0;
+      }
     }
   }
   if (dR_domega) *dR_domega = apply_dG(*op, F) - op->dulin;
