@@ -118,23 +118,19 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
         const PreparedPair& info = model.pair_info[q];
         const std::string& contact = def.contacts[info.contact].name;
         const PairResponse& r = p.pairs[q];
-        for (int row = 0; row < r.force_local.rows(); ++row) {
-          for (size_t h = 0; h < harmonics.size(); ++h) {
-            const std::complex<double> f = r.force_local(row, static_cast<int>(h));
-            fmt::print(out, "{},{},{},{},{},local,{},{},{:.17g},{:.17g}\n", i, contact,
-                       pair_in_contact[q], info.node_a_id, info.node_b_id,
-                       local_axis(model, static_cast<int>(q), row), harmonics[h], f.real(),
-                       f.imag());
+        const auto rows = [&](const char* frame, const Eigen::MatrixXcd& force, auto axis_name) {
+          for (int row = 0; row < force.rows(); ++row) {
+            for (size_t h = 0; h < harmonics.size(); ++h) {
+              const std::complex<double> f = force(row, static_cast<int>(h));
+              fmt::print(out, "{},{},{},{},{},{},{},{},{:.17g},{:.17g}\n", i, contact,
+                         pair_in_contact[q], info.node_a_id, info.node_b_id, frame, axis_name(row),
+                         harmonics[h], f.real(), f.imag());
+            }
           }
-        }
-        for (int row = 0; row < r.force_global.rows(); ++row) {
-          for (size_t h = 0; h < harmonics.size(); ++h) {
-            const std::complex<double> f = r.force_global(row, static_cast<int>(h));
-            fmt::print(out, "{},{},{},{},{},global,{},{},{:.17g},{:.17g}\n", i, contact,
-                       pair_in_contact[q], info.node_a_id, info.node_b_id, kGlobalAxes[row],
-                       harmonics[h], f.real(), f.imag());
-          }
-        }
+        };
+        rows("local", r.force_local,
+             [&](int row) { return local_axis(model, static_cast<int>(q), row); });
+        rows("global", r.force_global, [](int row) { return std::string(kGlobalAxes[row]); });
       }
     }
   });
