@@ -39,20 +39,15 @@ struct ModesCommand {
 };
 int run_modes(const ModesCommand& command);
 
-struct RunCommand {
-  std::string case_file;
-  std::string output_dir;  // empty: the case file's output.directory
-  bool quiet = false;
-};
-// Exit code 1 when some frequency points did not converge (they are still written).
-int run_case(const RunCommand& command);
-
-// Options shared by the stage commands that read a case.
+// Options shared by run and the stage commands that read a case.
 struct StageCommand {
   std::string case_file;
   std::string output_dir;  // empty: the case file's output.directory
   bool quiet = false;
 };
+
+// Exit code 1 when some frequency points did not converge (they are still written).
+int run_case(const StageCommand& command);
 
 // Writes DIR/mesh/<body>.inp (sets included) and <body>.vtu (with clamped / master markers).
 int run_mesh(const StageCommand& command);

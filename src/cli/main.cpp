@@ -49,12 +49,10 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("stickslip ") + STICKSLIP_VERSION);
   app.require_subcommand(1);
 
-  RunCommand run;
-  CLI::App* run_cmd = app.add_subcommand(
-      "run", "Run a case file: reduction, harmonic balance, recovery, plots (all stages)");
-  run_cmd->add_option("case", run.case_file, kCaseHelp)->required()->check(CLI::ExistingFile);
-  run_cmd->add_option("-o,--output", run.output_dir, kOutputHelp);
-  run_cmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
+  StageCommand run;
+  CLI::App* run_cmd =
+      add_stage(app, "run",
+                "Run a case file: reduction, harmonic balance, recovery, plots (all stages)", run);
 
   StageCommand mesh;
   CLI::App* mesh_cmd = add_stage(

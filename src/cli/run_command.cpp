@@ -18,7 +18,7 @@
 
 namespace stickslip {
 
-int run_case(const RunCommand& command) {
+int run_case(const StageCommand& command) {
   namespace fs = std::filesystem;
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
