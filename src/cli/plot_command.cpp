@@ -61,11 +61,7 @@ int run_plot(const PlotCommand& command) {
     overlay.insert(overlay.end(), frf.begin(), frf.end());
   }
   if (folders.size() > 1 && !overlay.empty()) {
-    std::string warning;
-    if (!plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
-                     "amplitude of harmonic 1 (m)", overlay, &warning)) {
-      stderr_warning(warning);
-    }
+    plot_study(dir, title, parameter, overlay, stderr_warning);
   }
   return 0;
 }

@@ -168,4 +168,14 @@ void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& t
   }
 }
 
+void plot_study(const std::filesystem::path& dir, const std::string& title,
+                const std::string& parameter, const std::vector<PlotSeries>& overlay,
+                const WarnFn& warn) {
+  std::string warning;
+  if (!plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
+                   "amplitude of harmonic 1 (m)", overlay, &warning)) {
+    warn(warning);
+  }
+}
+
 }  // namespace stickslip

@@ -47,4 +47,10 @@ void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& t
                           const std::vector<PlotSeries>& frf,
                           const std::vector<PlotSeries>& full_frf, const WarnFn& warn);
 
+// The overlay frf_study of a study's FRF curves (the frf_series of every study folder, labelled
+// by folder), titled "<title>: <parameter>".
+void plot_study(const std::filesystem::path& dir, const std::string& title,
+                const std::string& parameter, const std::vector<PlotSeries>& overlay,
+                const WarnFn& warn);
+
 }  // namespace stickslip

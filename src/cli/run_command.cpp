@@ -51,11 +51,7 @@ int run_case(const StageCommand& command) {
     failed_points += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
-    std::string warning;
-    if (!plot_curves(out_dir, "frf_study", base.title + ": " + base.study.parameter,
-                     "frequency (Hz)", "amplitude of harmonic 1 (m)", overlay, &warning)) {
-      stderr_warning(warning);
-    }
+    plot_study(out_dir, base.title, base.study.parameter, overlay, stderr_warning);
   }
   return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
                          progress);
