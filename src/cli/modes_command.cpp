@@ -28,6 +28,20 @@ constexpr double kYoungsModulus = 2e11;  // Pa
 constexpr double kPoissonRatio = 0.3;
 constexpr double kDensity = 7800.0;  // kg/m^3
 
+// Mode j (0-based) of a mesh: point data "mode_<j+1>" (full, 3 per node) and field data
+// "mode_<j+1>_frequency_hz".
+void add_mode_shape(VtuData& data, int j, const Eigen::VectorXd& full, double f_hz) {
+  data.point_data.push_back({fmt::format("mode_{}", j + 1),
+                             Eigen::Map<const Eigen::MatrixXd>(full.data(), 3, full.size() / 3)});
+  data.field_data.emplace_back(fmt::format("mode_{}_frequency_hz", j + 1), f_hz);
+}
+
+// The frequency table on stdout.
+void print_frequencies(const Eigen::VectorXd& f_hz) {
+  fmt::print("{:>5} {:>14}\n", "mode", "frequency_Hz");
+  for (int j = 0; j < f_hz.size(); ++j) fmt::print("{:>5} {:>14.3f}\n", j + 1, f_hz(j));
+}
+
 // `stickslip modes CASE`: modes of the case's assembled reduced model with every contact stuck
 // (the frequencies `analysis.frequency.around_mode` centres on), and their shapes on the full
 // meshes (x = T q) when the Craig–Bampton basis is at hand.
@@ -65,20 +79,16 @@ int run_case_modes(const ModesCommand& command) {
       }
       VtuData data;
       for (int j = 0; j < n; ++j) {
-        const Eigen::VectorXd full =
-            body.T * eig.eigenvectors().col(j).segment(body.offset, body.reduced.size());
-        data.point_data.push_back(
-            {fmt::format("mode_{}", j + 1),
-             Eigen::Map<const Eigen::MatrixXd>(full.data(), 3, body.mesh.num_nodes())});
-        data.field_data.emplace_back(fmt::format("mode_{}_frequency_hz", j + 1), f(j));
+        add_mode_shape(data, j,
+                       body.T * eig.eigenvectors().col(j).segment(body.offset, body.reduced.size()),
+                       f(j));
       }
       write_vtu((dir / ("modes_" + body.name + ".vtu")).string(), body.mesh, data);
     }
     if (!quiet) {
       fmt::print("{}stuck assembly, {} reduced DOFs, {} contact pairs\n",
                  run.folder.empty() ? "" : run.folder + ": ", model.num_dofs, model.pairs.size());
-      fmt::print("{:>5} {:>14}\n", "mode", "frequency_Hz");
-      for (int j = 0; j < n; ++j) fmt::print("{:>5} {:>14.3f}\n", j + 1, f(j));
+      print_frequencies(f);
       fmt::print("wrote {}\n", (dir / "frequencies.csv").string());
     }
   }
@@ -121,11 +131,7 @@ int run_modes(const ModesCommand& command) {
   });
   VtuData data;
   for (int j = 0; j < f.size(); ++j) {
-    const Eigen::VectorXd full = stuck.dofs.expand(Eigen::VectorXd(modes.modes.col(j)));
-    data.point_data.push_back(
-        {fmt::format("mode_{}", j + 1),
-         Eigen::Map<const Eigen::MatrixXd>(full.data(), 3, model.mesh.num_nodes())});
-    data.field_data.emplace_back(fmt::format("mode_{}_frequency_hz", j + 1), f(j));
+    add_mode_shape(data, j, stuck.dofs.expand(Eigen::VectorXd(modes.modes.col(j))), f(j));
   }
   write_vtu((dir / "modes.vtu").string(), model.mesh, data);
 
@@ -136,8 +142,7 @@ int run_modes(const ModesCommand& command) {
         "{} free DOFs\n",
         command.arrangement, model.contact_pairs.size(), model.mesh.num_nodes(),
         model.mesh.num_elements(), stuck.dofs.num_free());
-    fmt::print("{:>5} {:>14}\n", "mode", "frequency_Hz");
-    for (int j = 0; j < f.size(); ++j) fmt::print("{:>5} {:>14.3f}\n", j + 1, f(j));
+    print_frequencies(f);
     fmt::print("wrote {} and {} ({:.1f} s)\n", (dir / "frequencies.csv").string(),
                (dir / "modes.vtu").string(), seconds);
   }
