@@ -173,14 +173,22 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
   Eigen::Vector2d tau = Eigen::Vector2d::Zero();
   Eigen::MatrixXd dtau;
   if (jac) dtau.setZero(2, np);
-  march_period(parameters_, u, false, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
+  const PeriodCounts first =
+      march_period(parameters_, u, false, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   Eigen::Vector2d tau_start = tau;
   PeriodCounts counts =
       march_period(parameters_, u, true, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   CycleStatistics stats;
   stats.periods = 2;
   stats.converged = closed(tau, tau_start, counts.force_scale);
-  if (stats.converged && jac) {
+  if (stats.converged && jac && first.stick == n && counts.stick == n) {
+    // Stuck at every sample of both periods: the stick recursion from the virgin state telescopes
+    // to τ(t_j) = kt u_t(t_j), so ∂f = diag(kt, kt, kn) ∂u sample by sample.
+    const double k[3] = {parameters_.kt, parameters_.kt, parameters_.kn};
+    for (int q = 0; q < np; ++q) {
+      for (Eigen::Index i = 0; i < ld; ++i) df[i + q * ld] = k[i % 3] * du[i + q * ld];
+    }
+  } else if (stats.converged && jac) {
     tau.setZero();
     march_period(parameters_, u, false, tau, nullptr, &dtau, du, df, ld, f);
     counts = march_period(parameters_, u, true, tau, nullptr, &dtau, du, df, ld, f);
