@@ -553,14 +553,11 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const std::vector<double> shares = pair_shares(def, cd, rc, model.bodies, geometry, &areas);
     const std::map<int, double> preload_by_node(cd.preloads.begin(), cd.preloads.end());
     const PreparedBody& A = model.bodies[rc.body_a];
-    Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
     Eigen::MatrixXd row_frame;  // m x 3
-    const bool is3d = cd.law == "friction";
     try {
-      if (is3d) {
-        frame = vec3(cd.t1).squaredNorm() > 0 ? frame_from_normal(vec3(cd.normal), vec3(cd.t1))
-                                              : frame_from_normal(vec3(cd.normal));
-        row_frame = frame;
+      if (cd.law == "friction") {
+        row_frame = vec3(cd.t1).squaredNorm() > 0 ? frame_from_normal(vec3(cd.normal), vec3(cd.t1))
+                                                  : frame_from_normal(vec3(cd.normal));
       } else {
         const Eigen::Vector3d d = vec3(cd.direction);
         if (!(d.norm() > 0)) throw InvalidInput("direction must be a non-zero vector");
@@ -615,7 +612,6 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       }
       model.pairs.push_back(std::move(pair));
       model.pair_info.push_back(info);
-      model.pair_frames.push_back(frame);
     }
   }
 

@@ -109,7 +109,6 @@ struct PreparedModel {
   Eigen::MatrixXd K, M, C;  // assembled reduced matrices (block diagonal); C = the damping
   std::vector<ContactPair> pairs;
   std::vector<PreparedPair> pair_info;
-  std::vector<Eigen::Matrix3d> pair_frames;  // 3D contacts: rows t1, t2, n (identity otherwise)
   Excitation excitation;
   HarmonicBalanceOptions hbm;
   double seconds_prepare = 0.0;
