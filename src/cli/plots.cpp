@@ -99,11 +99,6 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
     warn(warning);
     return;
   }
-  const auto dissipation = [](const FrequencyPoint& p) {
-    double e = 0;
-    for (const PairResponse& r : p.pairs) e += r.cycle.dissipated_energy;
-    return e;
-  };
   // Contact state along the sweep: mean fractions over all pairs.
   PlotSeries stick{"stick", {}, {}}, slip{"slip", {}, {}}, separation{"separation", {}, {}};
   for (const FrequencyPoint& p : results.response.points) {
@@ -131,7 +126,8 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
   double most = -1;
   for (size_t i = 0; i < results.response.points.size(); ++i) {
     const FrequencyPoint& p = results.response.points[i];
-    if (p.converged && dissipation(p) > most) most = dissipation(p), best = static_cast<int>(i);
+    const double e = dissipated_energy(p);
+    if (p.converged && e > most) most = e, best = static_cast<int>(i);
   }
   if (best < 0) return;
   const FrequencyPoint& p = results.response.points[best];

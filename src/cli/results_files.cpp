@@ -202,6 +202,12 @@ std::string file_fingerprint_hex(const std::string& path) {
   return fmt::format("{:016x}", h);
 }
 
+double dissipated_energy(const FrequencyPoint& point) {
+  double e = 0;
+  for (const PairResponse& r : point.pairs) e += r.cycle.dissipated_energy;
+  return e;
+}
+
 void require_stage_file(const fs::path& path, const std::string& hint) {
   if (!fs::exists(path)) {
     throw InvalidInput({path.string(), 0, ""}, "missing: run `" + hint + "` first");

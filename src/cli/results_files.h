@@ -60,6 +60,10 @@ struct SolveResults {
 
 SolveResults read_solve_results(const std::filesystem::path& dir, const std::string& hint);
 
+// Energy dissipated per cycle at a point, J: the sum over its pairs (points.csv's
+// dissipated_energy).
+double dissipated_energy(const FrequencyPoint& point);
+
 // reduce's manifest: `key value` lines ('#' comments). Keys: "case" (the case file) and
 // "body <name>" -> the fingerprint of what the body's reduction was made from.
 struct ReduceManifest {

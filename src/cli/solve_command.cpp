@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "cli/progress.h"
+#include "cli/results_files.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -57,12 +58,6 @@ std::string json_escape(const std::string& s) {
   return out;
 }
 
-double total_dissipation(const FrequencyPoint& p) {
-  double e = 0;
-  for (const PairResponse& r : p.pairs) e += r.cycle.dissipated_energy;
-  return e;
-}
-
 // Name of the contact pair's axis rows: 3D contacts t1, t2, n; 1D laws "u".
 std::string local_axis(const PreparedModel& model, int pair, int row) {
   return model.pairs[pair].frame.rows() == 3 ? kLocalAxes[row] : "u";
@@ -81,7 +76,7 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       fmt::print(out, "{},{:.17g},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
-                 p.converged ? 1 : 0, p.iterations, p.residual_norm, total_dissipation(p),
+                 p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
                  p.residual_norm / solved.system->residual_scale());
     }
   });
