@@ -184,9 +184,15 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
   if (stats.converged && jac && first.stick == n && counts.stick == n) {
     // Stuck at every sample of both periods: the stick recursion from the virgin state telescopes
     // to τ(t_j) = kt u_t(t_j), so ∂f = diag(kt, kt, kn) ∂u sample by sample.
-    const double k[3] = {parameters_.kt, parameters_.kt, parameters_.kn};
+    const double kt = parameters_.kt, kn = parameters_.kn;
     for (int q = 0; q < np; ++q) {
-      for (Eigen::Index i = 0; i < ld; ++i) df[i + q * ld] = k[i % 3] * du[i + q * ld];
+      const double* duq = du + q * ld;
+      double* dfq = df + q * ld;
+      for (int j = 0; j < n; ++j) {
+        dfq[3 * j] = kt * duq[3 * j];
+        dfq[3 * j + 1] = kt * duq[3 * j + 1];
+        dfq[3 * j + 2] = kn * duq[3 * j + 2];
+      }
     }
   } else if (stats.converged && jac) {
     tau.setZero();
