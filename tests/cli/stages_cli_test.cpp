@@ -94,6 +94,13 @@ double relative_difference(const std::map<std::string, double>& a,
   return scale > 0 ? diff / scale : diff;
 }
 
+// relative_difference of column `value` of the CSV file `file` in folders a and b.
+double file_difference(const fs::path& a, const fs::path& b, const std::string& file,
+                       const std::vector<std::string>& key_columns, const std::string& value) {
+  return relative_difference(csv_values(a / file, key_columns, value),
+                             csv_values(b / file, key_columns, value));
+}
+
 class StagesCli : public ::testing::Test {
  protected:
   // One run, one solve + recover, one reduce + solve + recover of the same case, shared by the
@@ -131,15 +138,9 @@ const std::vector<std::string> kForceKey{"point", "contact", "pair", "frame", "a
 TEST_F(StagesCli, SolveWritesRunsFilesAndRecoverFromThemEqualsRunsRecovery) {
   const fs::path a = root_ / "run", b = root_ / "staged";
   for (const char* value : {"real", "imag"}) {
-    EXPECT_LT(relative_difference(csv_values(a / "master_response.csv", kMasterKey, value),
-                                  csv_values(b / "master_response.csv", kMasterKey, value)),
-              kRoundOff);
-    EXPECT_LT(relative_difference(csv_values(a / "contact_forces.csv", kForceKey, value),
-                                  csv_values(b / "contact_forces.csv", kForceKey, value)),
-              kRoundOff);
-    EXPECT_LT(relative_difference(csv_values(a / "recovered_nodes.csv", kMasterKey, value),
-                                  csv_values(b / "recovered_nodes.csv", kMasterKey, value)),
-              kRoundOff);
+    EXPECT_LT(file_difference(a, b, "master_response.csv", kMasterKey, value), kRoundOff);
+    EXPECT_LT(file_difference(a, b, "contact_forces.csv", kForceKey, value), kRoundOff);
+    EXPECT_LT(file_difference(a, b, "recovered_nodes.csv", kMasterKey, value), kRoundOff);
   }
   // Both recovered nodes are there (one per body), three directions, harmonics 0 and 1.
   EXPECT_EQ(read_csv(b / "recovered_nodes.csv").size(), 2u * 3 * 2);
@@ -174,12 +175,8 @@ TEST_F(StagesCli, SolveReusesFreshReducedMatricesAndMatchesRun) {
   EXPECT_EQ(log.find("reduce beam1"), std::string::npos) << log;  // no Craig–Bampton run
   const fs::path a = root_ / "run", b = root_ / "reduced";
   for (const char* value : {"real", "imag"}) {
-    EXPECT_LT(relative_difference(csv_values(a / "master_response.csv", kMasterKey, value),
-                                  csv_values(b / "master_response.csv", kMasterKey, value)),
-              kThroughHb);
-    EXPECT_LT(relative_difference(csv_values(a / "recovered_nodes.csv", kMasterKey, value),
-                                  csv_values(b / "recovered_nodes.csv", kMasterKey, value)),
-              kThroughHb);
+    EXPECT_LT(file_difference(a, b, "master_response.csv", kMasterKey, value), kThroughHb);
+    EXPECT_LT(file_difference(a, b, "recovered_nodes.csv", kMasterKey, value), kThroughHb);
   }
 }
 
@@ -401,8 +398,7 @@ TEST(StagesCliSingle, MeshWritesTheBodiesWithTheirSetsThatReadBack) {
             0)
       << slurp(dir / "log.txt");
   for (const char* value : {"real", "imag"}) {
-    EXPECT_LT(relative_difference(csv_values(dir / "a" / "master_response.csv", kMasterKey, value),
-                                  csv_values(dir / "b" / "master_response.csv", kMasterKey, value)),
+    EXPECT_LT(file_difference(dir / "a", dir / "b", "master_response.csv", kMasterKey, value),
               kRoundOff);
   }
 }
