@@ -3,10 +3,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
+#include "cli/progress.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "fe/stress.h"
@@ -223,6 +225,13 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     }
     const auto [full_dofs, reduced_dofs] = master_dofs(body);
     const int n = body.mesh.num_dofs();
+    // Nodal stresses as one sparse operator, built once per body (element by element per point
+    // would re-condense every C3D8I at every call).
+    std::optional<NodalStressOperator> stress_operator;
+    if (want_stress && def.output.vtu) {
+      stress_operator.emplace(body.mesh, body.material, AssemblyOptions{});
+    }
+    RecoverySummary summary;
     for (int pi : points) {
       const FrequencyPoint& p = response.points[pi];
       const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
@@ -234,7 +243,13 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       const Eigen::MatrixXcd x =
           method == "expansion" ? expand_reduced_response(
                                       body.T, p.master.middleRows(body.offset, body.reduced.size()))
-                                : harmonic_response(*solver, F, harmonics, p.omega);
+                                : harmonic_response(*solver, F, harmonics, p.omega, &summary);
+      if (!summary.ok()) {
+        // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
+        // harmonics are NaN in every output of this point; the other harmonics are valid.
+        stderr_warning(fmt::format("recovery of {} at point {} ({:.6g} Hz): {}", body.name, pi,
+                                   rad_s_to_hz(p.omega), summary.message));
+      }
       for (const auto& [dof, series] : frf_dofs) {
         (*full_frf)[series].x.push_back(rad_s_to_hz(p.omega));
         (*full_frf)[series].y.push_back(std::abs(x(dof, h1)));
@@ -274,21 +289,17 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         data.point_data.push_back({fmt::format("displacement_h{}_real", harmonics[h]), re});
         data.point_data.push_back({fmt::format("displacement_h{}_imag", harmonics[h]), im});
       }
-      if (want_stress) {
-        std::vector<ComplexStressMatrix> S;
+      if (stress_operator) {
+        const std::vector<ComplexStressMatrix> S = stress_operator->apply(x);
         for (int h = 0; h < nh; ++h) {
-          S.push_back(nodal_stress(body.mesh, body.material, AssemblyOptions{},
-                                   Eigen::VectorXcd(x.col(h))));
           // VTU tensors are in ParaView order xx, yy, zz, xy, yz, xz; ours xx, yy, zz, xy, xz, yz.
-          Eigen::MatrixXd re = S.back().real(), im = S.back().imag();
+          Eigen::MatrixXd re = S[h].real(), im = S[h].imag();
           re.row(4).swap(re.row(5));
           im.row(4).swap(im.row(5));
           data.point_data.push_back({fmt::format("stress_h{}_real", harmonics[h]), re});
           data.point_data.push_back({fmt::format("stress_h{}_imag", harmonics[h]), im});
         }
-        StressEnvelopeOptions eo;
-        eo.time_samples = std::max(64, 4 * (2 * harmonics.back() + 1));
-        const StressEnvelope env = stress_envelope(S, harmonics, eo);
+        const StressEnvelope env = stress_envelope(S, harmonics, StressEnvelopeOptions{});
         data.point_data.push_back({"von_mises_max", env.von_mises_max.transpose()});
         data.point_data.push_back({"von_mises_alternating", env.von_mises_alternating.transpose()});
         data.point_data.push_back({"von_mises_mean", env.von_mises_mean.transpose()});
