@@ -2,6 +2,7 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -35,9 +36,11 @@ inline std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-// An empty folder under the system's temporary directory.
+// An empty folder under the system's temporary directory, private to this process (two test
+// runs at once, e.g. two build folders, must not share it).
 inline fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("stickslip_cli_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("stickslip_cli_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
