@@ -249,9 +249,12 @@ ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const Moda
   return result;
 }
 
-// GCC 12 at -O3 reports a false -Wuse-after-free inside Eigen's aligned_free, inlined here.
+// GCC 12 at -O3 reports a false -Wuse-after-free inside Eigen's aligned_free, inlined here
+// (clang has no such warning and would reject the unknown option under -Werror).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuse-after-free"
+#endif
 ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
                         const ModalOptions& options) {
   validate(options);
@@ -374,6 +377,8 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
   return result;
 }
 
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 }  // namespace stickslip
