@@ -275,7 +275,7 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
   constexpr double kSymmetryTolerance = 1e-10;
   const AnsysMapping mapping = read_ansys_mapping(r.mapping);
   const int n = static_cast<int>(mapping.entries.size());
-  ReducedBody body;
+  Eigen::MatrixXd K, M;
   for (const std::string* path : {&r.stiffness, &r.mass}) {
     const MatrixMarketMatrix m = read_matrix_market(*path);
     if (m.matrix.rows() != n || m.matrix.cols() != n) {
@@ -292,35 +292,9 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
                                      "max |a_ij| = {:g}",
                                      asym, scale));
     }
-    (path == &r.stiffness ? body.K : body.M) = 0.5 * (dense + dense.transpose());
+    (path == &r.stiffness ? K : M) = 0.5 * (dense + dense.transpose());
   }
-  body.dofs.resize(static_cast<size_t>(n));
-  int mode = 0;
-  for (int k = 0; k < n; ++k) {
-    const AnsysMappingEntry& e = mapping.entries[k];
-    ReducedDof& d = body.dofs[k];
-    int direction = -1;
-    switch (classify_ansys_label(e.label, &direction)) {
-      case AnsysDofKind::kTranslation:
-        d.kind = ReducedDof::Kind::kPhysical;
-        d.node_id = e.node;
-        d.direction = direction;
-        break;
-      case AnsysDofKind::kRotation:
-        throw InvalidInput({r.mapping, e.line, "DOF"},
-                           fmt::format("equation {} is the rotation {} of node {}: stickslip "
-                                       "bodies are solids with translational DOFs only",
-                                       e.equation, e.label, e.node));
-      case AnsysDofKind::kGeneralized: {
-        d.kind = ReducedDof::Kind::kModal;
-        d.mode = mode++;
-        const double k_jj = body.K(k, k), m_jj = body.M(k, k);
-        d.frequency_hz = m_jj > 0.0 && k_jj > 0.0 ? rad_s_to_hz(std::sqrt(k_jj / m_jj)) : 0.0;
-        break;
-      }
-    }
-  }
-  return body;
+  return reduced_body_from_mapping(std::move(K), std::move(M), mapping, r.mapping);
 }
 
 void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const BodyDefinition& bd,

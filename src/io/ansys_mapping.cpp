@@ -136,6 +136,48 @@ std::string ansys_mapping_path(const std::string& matrix_path) {
   return std::filesystem::path(matrix_path).replace_extension(".mapping").string();
 }
 
+ReducedBody reduced_body_from_mapping(Eigen::MatrixXd K, Eigen::MatrixXd M,
+                                      const AnsysMapping& mapping,
+                                      const std::string& mapping_path) {
+  const int n = static_cast<int>(mapping.entries.size());
+  if (K.rows() != n || K.cols() != n || M.rows() != n || M.cols() != n) {
+    throw InvalidInput("reduced_body_from_mapping: K is " + std::to_string(K.rows()) + " x " +
+                       std::to_string(K.cols()) + ", M is " + std::to_string(M.rows()) + " x " +
+                       std::to_string(M.cols()) + " but the mapping " + mapping_path + " has " +
+                       std::to_string(n) + " equations");
+  }
+  ReducedBody body;
+  body.K = std::move(K);
+  body.M = std::move(M);
+  body.dofs.resize(static_cast<size_t>(n));
+  int mode = 0;
+  for (int k = 0; k < n; ++k) {
+    const AnsysMappingEntry& e = mapping.entries[k];
+    int direction = -1;
+    ReducedDof& d = body.dofs[k];
+    switch (classify_ansys_label(e.label, &direction)) {
+      case AnsysDofKind::kTranslation:
+        d.kind = ReducedDof::Kind::kPhysical;
+        d.node_id = e.node;
+        d.direction = direction;
+        break;
+      case AnsysDofKind::kRotation:
+        throw InvalidInput({mapping_path, e.line, "DOF"},
+                           "equation " + std::to_string(e.equation) + " is the rotation " +
+                               e.label + " of node " + std::to_string(e.node) +
+                               ": stickslip bodies are solids with translational DOFs only");
+      case AnsysDofKind::kGeneralized: {
+        d.kind = ReducedDof::Kind::kModal;
+        d.mode = mode++;
+        const double k_jj = body.K(k, k), m_jj = body.M(k, k);
+        d.frequency_hz = m_jj > 0.0 && k_jj > 0.0 ? rad_s_to_hz(std::sqrt(k_jj / m_jj)) : 0.0;
+        break;
+      }
+    }
+  }
+  return body;
+}
+
 ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std::string& mass_path,
                                     const std::string& mapping_path) {
   const std::string map_path =
@@ -163,36 +205,8 @@ ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std
       }
     }
   }
-  ReducedBody body;
-  body.K = Eigen::MatrixXd(K.matrix);
-  body.M = Eigen::MatrixXd(M.matrix);
-  body.dofs.resize(static_cast<size_t>(n));
-  int mode = 0;
-  for (int k = 0; k < n; ++k) {
-    const AnsysMappingEntry& e = mapping.entries[k];
-    int direction = -1;
-    ReducedDof& d = body.dofs[k];
-    switch (classify_ansys_label(e.label, &direction)) {
-      case AnsysDofKind::kTranslation:
-        d.kind = ReducedDof::Kind::kPhysical;
-        d.node_id = e.node;
-        d.direction = direction;
-        break;
-      case AnsysDofKind::kRotation:
-        throw InvalidInput({map_path, e.line, "DOF"},
-                           "equation " + std::to_string(e.equation) + " is the rotation " +
-                               e.label + " of node " + std::to_string(e.node) +
-                               ": stickslip bodies are solids with translational DOFs only");
-      case AnsysDofKind::kGeneralized: {
-        d.kind = ReducedDof::Kind::kModal;
-        d.mode = mode++;
-        const double k_jj = body.K(k, k), m_jj = body.M(k, k);
-        d.frequency_hz = m_jj > 0.0 && k_jj > 0.0 ? rad_s_to_hz(std::sqrt(k_jj / m_jj)) : 0.0;
-        break;
-      }
-    }
-  }
-  return body;
+  return reduced_body_from_mapping(Eigen::MatrixXd(K.matrix), Eigen::MatrixXd(M.matrix), mapping,
+                                   map_path);
 }
 
 void write_ansys_reduced_body(const std::string& stiffness_path, const std::string& mass_path,

@@ -46,6 +46,14 @@ void write_ansys_mapping(std::ostream& out, const AnsysMapping& mapping);
 // `path` with its extension replaced by ".mapping" (ANSYS names the file Fname.mapping).
 std::string ansys_mapping_path(const std::string& matrix_path);
 
+// A reduced body from K, M (n x n, any source; taken as given, not symmetrised) and a parsed
+// mapping with n entries: nodal translations become physical DOFs (node_id = node number,
+// direction), generalised coordinates modal DOFs numbered in order with frequency_hz =
+// sqrt(K_jj / M_jj) / 2π (0 when either is not positive). A rotation throws InvalidInput naming
+// mapping_path and its line; sizes that disagree with the mapping throw InvalidInput too.
+ReducedBody reduced_body_from_mapping(Eigen::MatrixXd K, Eigen::MatrixXd M,
+                                      const AnsysMapping& mapping, const std::string& mapping_path);
+
 // A reduced body from HBMAT exports: stiffness and mass in Harwell–Boeing (RSA or symmetric RUA)
 // and the mapping (default: ansys_mapping_path(stiffness_path)). Nodal translations become
 // physical DOFs (node_id = node number, direction); generalised coordinates become modal DOFs

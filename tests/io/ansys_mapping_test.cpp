@@ -170,6 +170,40 @@ TEST(AnsysMapping, MatrixSizeMustMatchMapping) {
   fs::remove_all(dir);
 }
 
+// The DOF map alone, from matrices of any source: physical DOFs, modal DOFs numbered in order
+// with f = sqrt(K_jj / M_jj) / 2π (closed form of the chosen diagonal), rotations and sizes
+// rejected naming the mapping.
+TEST(AnsysMapping, ReducedBodyFromMatricesAndAParsedMapping) {
+  std::istringstream in("Matrix Eqn   Node   DOF\n1 7 UZ\n2 0 GEN\n3 0 GEN\n");
+  const AnsysMapping mapping = read_ansys_mapping(in, "B.mapping");
+  const Eigen::MatrixXd K = Eigen::Vector3d(5.0, 4.0 * kPi * kPi * 100.0, -1.0).asDiagonal();
+  const Eigen::MatrixXd M = Eigen::Vector3d(1.0, 1.0, 1.0).asDiagonal();
+  const ReducedBody body = reduced_body_from_mapping(K, M, mapping, "B.mapping");
+  ASSERT_EQ(body.size(), 3);
+  EXPECT_EQ(body.dofs[0].kind, ReducedDof::Kind::kPhysical);
+  EXPECT_EQ(body.dofs[0].node_id, 7);
+  EXPECT_EQ(body.dofs[0].direction, 2);
+  EXPECT_EQ(body.dofs[1].kind, ReducedDof::Kind::kModal);
+  EXPECT_EQ(body.dofs[1].mode, 0);
+  EXPECT_NEAR(body.dofs[1].frequency_hz, 10.0, 1e-12);  // sqrt(4π²·100)/2π = 10 Hz
+  EXPECT_EQ(body.dofs[2].mode, 1);
+  EXPECT_EQ(body.dofs[2].frequency_hz, 0.0);  // K_jj < 0: no frequency
+  EXPECT_EQ(body.K, K);
+  EXPECT_EQ(body.M, M);
+  EXPECT_THROW(reduced_body_from_mapping(Eigen::MatrixXd::Identity(2, 2), M, mapping, "B.mapping"),
+               InvalidInput);
+  std::istringstream rot("1 7 UX\n2 7 ROTX\n");
+  const AnsysMapping with_rotation = read_ansys_mapping(rot, "R.mapping");
+  try {
+    reduced_body_from_mapping(Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Identity(2, 2),
+                              with_rotation, "R.mapping");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_NE(std::string(e.what()).find("R.mapping"), std::string::npos);
+  }
+}
+
 // ---- Malformed mapping files: one test per kind of error. ----
 
 TEST(AnsysMappingMalformed, WrongFieldCount) {
