@@ -185,10 +185,44 @@ ContactParametersDefinition pair_parameters(const ContactDefinition& cd, double 
   return p;
 }
 
-// Stiffness of a pair's local rows when stuck: friction (kt, kt, kn), jenkins kt, gap kn,
-// cubic k1 (the tangent at rest), linear k.
+// Law linear in 3D: independent linear springs on the local rows, f_d = k_d u_d (N/m), e.g.
+// (kt, kt, kn) on (t1, t2, n). Elastic: no memory, no dissipation; exact derivative
+// ∂f_d(t_j)/∂p = k_d ∂u_d(t_j)/∂p (row j·m + d of the NonlinearElement layout).
+class DiagonalLinearSprings final : public NonlinearElement {
+ public:
+  explicit DiagonalLinearSprings(Eigen::VectorXd k) : k_(std::move(k)) {}
+  int dimension() const override { return static_cast<int>(k_.size()); }
+  std::string name() const override { return "linear_springs"; }
+  CycleStatistics march(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp, Eigen::MatrixXd& f,
+                        Eigen::MatrixXd* df_dp) const override {
+    const Eigen::Index m = k_.size(), n = u.cols();
+    if (u.rows() != m || (du_dp == nullptr) != (df_dp == nullptr) ||
+        (du_dp && du_dp->rows() != m * n)) {
+      throw InvalidInput("linear_springs: u must have " + std::to_string(m) +
+                         " rows and du_dp (m·N rows) and df_dp must be given together");
+    }
+    f = k_.asDiagonal() * u;
+    if (df_dp) {
+      df_dp->resize(du_dp->rows(), du_dp->cols());
+      for (Eigen::Index j = 0; j < n; ++j) {
+        for (Eigen::Index d = 0; d < m; ++d) df_dp->row(j * m + d) = k_(d) * du_dp->row(j * m + d);
+      }
+    }
+    CycleStatistics stats;
+    stats.stick_fraction = 1.0;
+    stats.periods = 1;
+    return stats;
+  }
+
+ private:
+  Eigen::VectorXd k_;
+};
+
+// Stiffness of a pair's local rows when stuck: friction and 3D linear (kt, kt, kn), jenkins kt,
+// gap kn, cubic k1 (the tangent at rest), 1D linear k.
 Eigen::VectorXd stuck_stiffness(const ContactDefinition& cd, const ContactParametersDefinition& p) {
-  if (cd.law == "friction") return Eigen::Vector3d(p.kt, p.kt, p.kn);
+  if (cd.law == "friction" || (cd.law == "linear" && cd.spring_3d))
+    return Eigen::Vector3d(p.kt, p.kt, p.kn);
   if (cd.law == "jenkins") return Eigen::VectorXd::Constant(1, p.kt);
   if (cd.law == "gap") return Eigen::VectorXd::Constant(1, p.kn);
   if (cd.law == "cubic") return Eigen::VectorXd::Constant(1, p.k1);
@@ -529,7 +563,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const PreparedBody& A = model.bodies[rc.body_a];
     Eigen::MatrixXd row_frame;  // m x 3
     try {
-      if (cd.law == "friction") {
+      if (cd.law == "friction" || (cd.law == "linear" && cd.spring_3d)) {
         row_frame = vec3(cd.t1).squaredNorm() > 0 ? frame_from_normal(vec3(cd.normal), vec3(cd.t1))
                                                   : frame_from_normal(vec3(cd.normal));
       } else {
@@ -579,6 +613,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
             std::make_shared<UnilateralSpring>(UnilateralSpringParameters{p.kn, cd.gap, preload});
       } else if (cd.law == "cubic") {
         pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k1, p.k3});
+      } else if (cd.law == "linear" && cd.spring_3d) {
+        pair.element = std::make_shared<DiagonalLinearSprings>(info.stuck_stiffness);
       } else if (cd.law == "linear") {
         pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k, 0.0});
       } else {

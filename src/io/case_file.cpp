@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -60,16 +61,30 @@ const std::map<std::string, std::vector<std::string>>& law_parameters() {
       {"jenkins", {"kt", "mu", "preload"}},
       {"gap", {"kn", "preload"}},
       {"cubic", {"k1", "k3"}},
-      {"linear", {"k"}},
+      {"linear", {"k", "kt", "kn"}},  // 1D: k; 3D: kt, kn (parameter_keys)
   };
   return laws;
 }
 const std::map<std::string, std::vector<std::string>>& law_required() {
   static const std::map<std::string, std::vector<std::string>> laws{
-      {"friction", {"kt", "kn", "mu"}}, {"jenkins", {"kt", "mu"}}, {"gap", {"kn"}},
-      {"cubic", {"k1", "k3"}},          {"linear", {"k"}},
+      {"friction", {"kt", "kn", "mu"}},
+      {"jenkins", {"kt", "mu"}},
+      {"gap", {"kn"}},
+      {"cubic", {"k1", "k3"}},  // linear: its parameter_keys, 1D or 3D
   };
   return laws;
+}
+
+// The parameters a parsed contact has: its law's, the 1D or the 3D set for law linear.
+std::vector<std::string> parameter_keys(const ContactDefinition& d) {
+  if (d.law == "linear")
+    return d.spring_3d ? std::vector<std::string>{"kt", "kn"} : std::vector<std::string>{"k"};
+  return law_parameters().at(d.law);
+}
+
+// Whether the contact acts in the frame normal/t1 (3D) rather than along `direction` (1D).
+bool uses_frame(const ContactDefinition& d) {
+  return d.law == "friction" || (d.law == "linear" && d.spring_3d);
 }
 
 double* contact_parameter(ContactParametersDefinition& p, const std::string& key) {
@@ -787,9 +802,47 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
     }
 
+    // law linear: one spring k along direction (1D) or springs kt, kt, kn in the frame normal/t1
+    // (3D), decided by the keys given, never keys of both. The parameter block is only looked at
+    // here (checked below, after the frame, like every law's).
+    if (d.law == "linear") {
+      struct Given {
+        std::string key, path;
+        int line = 0;
+      };
+      const std::string block = m.has("per_pair") ? "per_pair" : m.has("total") ? "total" : "";
+      const auto find =
+          [&](const std::vector<std::string>& frame_keys,
+              const std::vector<std::string>& parameter_keys) -> std::optional<Given> {
+        for (const std::string& key : frame_keys) {
+          if (m.has(key)) return Given{key, m.full(key), m.line(key)};
+        }
+        if (block.empty() || !m.value(block).IsMap()) return std::nullopt;
+        for (const std::string& key : parameter_keys) {
+          for (auto it = m.value(block).begin(); it != m.value(block).end(); ++it) {
+            if (it->first.IsScalar() && it->first.Scalar() == key) {
+              const int at = line_of(it->first);
+              return Given{key, m.full(block) + "." + key, at > 0 ? at : m.line(block)};
+            }
+          }
+        }
+        return std::nullopt;
+      };
+      const std::optional<Given> given_3d = find({"normal", "t1"}, {"kt", "kn"});
+      const std::optional<Given> given_1d = find({"direction"}, {"k"});
+      d.spring_3d = given_3d.has_value();
+      if (given_3d && given_1d) {
+        p.fail(given_1d->path, given_1d->line,
+               "law linear is either one spring 'k' along 'direction' (1D) or springs 'kt', 'kn' "
+               "in the frame 'normal'/'t1' (3D), not both: '" +
+                   given_1d->key + "' here, '" + given_3d->key + "' on line " +
+                   std::to_string(given_3d->line));
+      }
+    }
+
     // Frame.
-    if (d.law == "friction") {
-      m.forbid("direction", "for law friction (it uses 'normal' and 't1')");
+    if (uses_frame(d)) {
+      m.forbid("direction", "for law " + d.law + " (it uses 'normal' and 't1')");
       m.require("normal", "unit normal out of the first body into the second, e.g. [1, 0, 0]");
       d.normal = p.direction(m.value("normal"), m.full("normal"), m.line("normal"));
       if (m.has("t1")) {
@@ -814,8 +867,10 @@ void parse_contacts(Parser& p, const MapView& top) {
     std::vector<std::string> known = law_parameters().at(d.law);
     if (block == "total") known.push_back("split");
     MapView params(p, m.value(block), m.full(block), m.line(block), known, " for law " + d.law);
-    for (const std::string& key : law_required().at(d.law)) params.require(key);
-    for (const std::string& key : law_parameters().at(d.law))
+    const std::vector<std::string> required =
+        d.law == "linear" ? parameter_keys(d) : law_required().at(d.law);
+    for (const std::string& key : required) params.require(key);
+    for (const std::string& key : parameter_keys(d))
       params.number(key, contact_parameter(d.parameters, key));
     params.choice("split", &d.split, {"equal", "area"});
 
@@ -1322,7 +1377,7 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
       if (per_pair != (parts[2] == "per_pair"))
         fail("contact '" + it->name + "' gives its parameters " +
              (per_pair ? "per_pair" : "as total"));
-      const auto& allowed = law_parameters().at(it->law);
+      const std::vector<std::string> allowed = parameter_keys(*it);
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
         fail("'" + key + "' is not a parameter of law " + it->law);
       if (key == "preload" && !it->preload_file.empty())
@@ -1465,9 +1520,9 @@ std::string describe_case(const CaseDefinition& c) {
       for (const auto& pr : d.pairs) vec(pr);
       e << YAML::EndSeq;
     }
-    e << YAML::Key << (d.law == "friction" ? "normal" : "direction") << YAML::Value;
-    vec(d.law == "friction" ? d.normal : d.direction);
-    if (d.law == "friction") {
+    e << YAML::Key << (uses_frame(d) ? "normal" : "direction") << YAML::Value;
+    vec(uses_frame(d) ? d.normal : d.direction);
+    if (uses_frame(d)) {
       e << YAML::Key << "t1" << YAML::Value;
       vec(d.t1);
     }
@@ -1475,7 +1530,7 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
       << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
-    for (const std::string& key : law_parameters().at(d.law))
+    for (const std::string& key : parameter_keys(d))
       e << YAML::Key << key << YAML::Value << num(*contact_parameter(params, key));
     if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
     e << YAML::EndMap;

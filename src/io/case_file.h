@@ -104,11 +104,11 @@ struct BodyDefinition {
 // Contact parameters; which apply depends on the law (docs/case-file.md). Per pair, or totals
 // over all pairs of the contact (kt, kn, k, k1, k3, preload split; mu, gap not).
 struct ContactParametersDefinition {
-  double kt = 0.0;       // tangential stiffness, N/m (friction, jenkins)
-  double kn = 0.0;       // normal stiffness, N/m (friction, gap)
+  double kt = 0.0;       // tangential stiffness, N/m (friction, jenkins, 3D linear)
+  double kn = 0.0;       // normal stiffness, N/m (friction, gap, 3D linear)
   double mu = 0.0;       // friction coefficient (friction, jenkins)
   double preload = 0.0;  // N0, N, compression positive (friction, jenkins, gap)
-  double k = 0.0;        // stiffness, N/m (linear)
+  double k = 0.0;        // stiffness, N/m (1D linear)
   double k1 = 0.0;       // linear part, N/m (cubic)
   double k3 = 0.0;       // cubic coefficient, N/m³ (cubic)
 };
@@ -130,6 +130,9 @@ struct ContactDefinition {
   std::array<double, 3> normal{0, 0, 0};
   std::array<double, 3> t1{0, 0, 0};
   std::array<double, 3> direction{0, 0, 0};
+  // law linear: false = one spring k along `direction` (1D); true = springs (kt, kt, kn) along
+  // (t1, t2, n) of the frame `normal`/`t1`, like a stuck friction contact (3D).
+  bool spring_3d = false;
   enum class Parameters { kPerPair, kTotal };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;

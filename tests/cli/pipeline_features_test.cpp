@@ -8,7 +8,9 @@
 //    reduced model, with the springs K_s assembled here from the hand areas and C built here from
 //    α, β and ζ (2ζω_j on each fixed-interface DOF, ω_j² = K_jj / M_jj);
 //  - its stuck natural frequencies are the generalised eigenvalues of (K + K_s, M);
-//  - a body written as Harwell–Boeing and as Matrix Market files gives the same response.
+//  - a body written as Harwell–Boeing and as Matrix Market files gives the same response;
+//  - 3D linear springs (kt, kt, kn) in a tilted contact frame: K_s = kt (I − n nᵀ) + kn n nᵀ per
+//    pair, and the same response and stuck frequencies as a friction joint that cannot slip.
 #include "cli/pipeline.h"
 
 #include <gtest/gtest.h>
@@ -289,6 +291,103 @@ excitation:
   const Eigen::MatrixXd C = reference_damping(body.K, body.M, body, kZeta);
   EXPECT_LT(relative_difference(solved_hb, Kt, body.M, C, F), kLinearTolerance);
   for (const FrequencyPoint& p : solved_hb.response.points) {
+    for (const PairResponse& q : p.pairs) EXPECT_EQ(q.cycle.stick_fraction, 1.0);
+  }
+}
+
+// The block bonded to the ground at its top face by 3D linear springs in a tilted contact frame
+// (`law: linear` with kt, kn, normal, t1; totals split by area), and the same joint as a friction
+// contact that cannot slip (μ = 1e6, a preload that keeps it closed). References: per pair
+// K_s = kt (I − n nᵀ) + kn n nᵀ on the node's DOFs (springs kt, kt, kn along t1, t2, n, written
+// without the tangents, which kt on both makes irrelevant), with k = total · a_i / face from the
+// hand areas; the dense complex solve and the generalised eigenvalues of (K + K_s, M).
+TEST(PipelineFeatures, LinearSprings3DInTheContactFrameMatchDenseSolveAndStuckFriction) {
+  const fs::path dir = fresh_dir("linear3d");
+  write_block_mesh(dir / "block.inp");
+  constexpr double kTangential = 3.0e9, kNormal = 8.0e9;  // N/m, totals
+  const auto text = [&](const std::string& law, const std::string& extra) {
+    return fmt::format(R"(stickslip: 1
+materials:
+  steel: {{youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}}
+meshes:
+  part: {{file: block.inp}}
+bodies:
+  block: {{mesh: part, material: steel, clamp: BOTTOM, masters: [FORCE], modes: 8}}
+contacts:
+  - name: bond
+    law: {}
+    between: {{block: TOP}}
+    normal: [1, -1, 2]
+    t1: [1, 1, 0]
+    total: {{kt: {}, kn: {}{}, split: area}}
+excitation:
+  - {{body: block, node_set: FORCE, direction: [0, 1, 1], amplitude: 10}}
+)",
+                       law, kTangential, kNormal, extra) +
+           analysis_sections();
+  };
+  const CaseDefinition linear = parse_case(text("linear", ""), "linear.yaml", dir.string());
+  ASSERT_TRUE(linear.contacts[0].spring_3d);
+  // Preload 1e6 N in total: each pair's static normal force (≥ 1e6 · 0.0025 / 0.0018 / 24 ~
+  // 5e4 N) far exceeds its dynamic normal force (~10 N), so the contact never opens.
+  const CaseDefinition friction =
+      parse_case(text("friction", ", mu: 1.0e6, preload: 1.0e6"), "friction.yaml", dir.string());
+  const PreparedModel model = prepare_model(linear, nullptr);
+  const PreparedModel model_f = prepare_model(friction, nullptr);
+  const PreparedBody& body = model.bodies[0];
+
+  const double face = 0.06 * 0.03;
+  const Eigen::Vector3d n = Eigen::Vector3d(1, -1, 2).normalized();
+  const Eigen::Matrix3d P = n * n.transpose();
+  Eigen::MatrixXd Ks = Eigen::MatrixXd::Zero(model.num_dofs, model.num_dofs);
+  ASSERT_EQ(model.pair_info.size(), static_cast<size_t>((kNx + 1) * (kNy + 1)));
+  for (const PreparedPair& q : model.pair_info) {
+    const int index = q.node_a_id - 1;  // structured_hex_box: id = index + 1
+    const double a = hand_area(index % (kNx + 1), (index / (kNx + 1)) % (kNy + 1));
+    const double kt = kTangential * a / face, kn = kNormal * a / face;
+    EXPECT_NEAR(q.parameters.kt, kt, 1e-12 * kt);
+    EXPECT_NEAR(q.parameters.kn, kn, 1e-12 * kn);
+    const Eigen::Matrix3d k_pair = kt * (Eigen::Matrix3d::Identity() - P) + kn * P;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        Ks(body.global_dof(q.node_a_id, r), body.global_dof(q.node_a_id, c)) += k_pair(r, c);
+      }
+    }
+  }
+  const Eigen::MatrixXd Kt = model.K + Ks;
+
+  // Stuck frequencies: the eigenvalues of (K + K_s, M), and those of the stuck friction joint.
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Kt, model.M,
+                                                                Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd f_ref = eig.eigenvalues().cwiseSqrt() / (2 * kPi);
+  const Eigen::VectorXd f = stuck_frequencies_hz(model, linear);
+  const Eigen::VectorXd f_friction = stuck_frequencies_hz(model_f, friction);
+  EXPECT_LT((f - f_ref).cwiseAbs().maxCoeff(), 1e-9 * f_ref.maxCoeff());
+  EXPECT_LT((f - f_friction).cwiseAbs().maxCoeff(), 1e-9 * f_ref.maxCoeff());
+  // kt ≠ kn in a tilted frame: springs kt·I (the frame ignored) give other frequencies.
+  Eigen::MatrixXd Kiso = model.K;
+  for (const PreparedPair& q : model.pair_info) {
+    for (int r = 0; r < 3; ++r) {
+      const int g = body.global_dof(q.node_a_id, r);
+      Kiso(g, g) += q.parameters.kt;
+    }
+  }
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> iso(Kiso, model.M,
+                                                                Eigen::EigenvaluesOnly);
+  EXPECT_GT((iso.eigenvalues().cwiseSqrt() / (2 * kPi) - f_ref).cwiseAbs().maxCoeff(),
+            1e-3 * f_ref(0));
+
+  // Harmonic-1 response against the dense solve, and equal to the stuck friction joint's.
+  Eigen::VectorXcd F = Eigen::VectorXcd::Zero(model.num_dofs);
+  const Eigen::Vector3d e = Eigen::Vector3d(0, 1, 1).normalized();
+  for (int r = 0; r < 3; ++r) F(body.global_dof(kForceNode + 1, r)) = 10.0 * e(r);
+  const Eigen::MatrixXd C = kAlpha * model.M + kBeta * model.K;
+  const SolvedCase solved = solve_case(model, linear, nullptr);
+  const SolvedCase solved_f = solve_case(model_f, friction, nullptr);
+  ASSERT_EQ(solved.response.points.size(), 3u);
+  EXPECT_LT(relative_difference(solved, Kt, model.M, C, F), kLinearTolerance);
+  EXPECT_LT(relative_difference(solved_f, Kt, model.M, C, F), kLinearTolerance);
+  for (const FrequencyPoint& p : solved_f.response.points) {
     for (const PairResponse& q : p.pairs) EXPECT_EQ(q.cycle.stick_fraction, 1.0);
   }
 }

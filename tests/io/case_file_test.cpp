@@ -352,6 +352,53 @@ TEST(CaseFile, DescribeCaseIsYamlWithExactNumbers) {
   EXPECT_EQ(d["recovery"]["points"][1].as<double>(), 250.5);
 }
 
+// law linear, 3D: springs kt, kt, kn in the frame normal/t1, per pair or as totals; the 1D form
+// (k along direction) is unchanged. Study parameters and describe_case follow the form given.
+TEST(CaseFile, LinearLawIn3DTakesKtKnAndTheContactFrame) {
+  std::string text = edited(
+      "normal: [1, 0, 0]\n    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, "
+      "preload: 150}",
+      "normal: [1, 0, 0]\n    t1: [0, 0, 1]\n    per_pair: {kt: 1.5e9, kn: "
+      "2.5e9}");
+  text.replace(text.find("law: friction"), 13, "law: linear");
+  const CaseDefinition c = parse(text);
+  const ContactDefinition& d = c.contacts[0];
+  EXPECT_TRUE(d.spring_3d);
+  EXPECT_EQ(d.parameters.kt, 1.5e9);
+  EXPECT_EQ(d.parameters.kn, 2.5e9);
+  EXPECT_EQ(d.parameters.k, 0.0);
+  EXPECT_EQ(d.normal, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(d.t1, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(with_parameter(c, "contacts.joint.per_pair.kn", 7e9).contacts[0].parameters.kn, 7e9);
+  EXPECT_THROW(with_parameter(c, "contacts.joint.per_pair.k", 1), InvalidInput);  // 1D key
+  const YAML::Node y = YAML::Load(describe_case(c));
+  EXPECT_EQ(y["contacts"][0]["law"].as<std::string>(), "linear");
+  EXPECT_EQ(y["contacts"][0]["normal"][0].as<double>(), 1.0);
+  EXPECT_EQ(y["contacts"][0]["per_pair"]["kn"].as<double>(), 2.5e9);
+  EXPECT_FALSE(y["contacts"][0]["per_pair"]["k"]);
+  EXPECT_FALSE(y["contacts"][0]["direction"]);
+
+  std::string total = edited("per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}",
+                             "total: {kt: 3.0e9, kn: 4.0e9, split: area}");
+  total.replace(total.find("law: friction"), 13, "law: linear");
+  const CaseDefinition t = parse(total);
+  EXPECT_TRUE(t.contacts[0].spring_3d);
+  EXPECT_EQ(t.contacts[0].parameters_given, ContactDefinition::Parameters::kTotal);
+  EXPECT_EQ(t.contacts[0].split, "area");
+  EXPECT_EQ(t.contacts[0].parameters.kt, 3.0e9);
+
+  std::string one_d = edited(
+      "normal: [1, 0, 0]\n    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: "
+      "0.5, preload: 150}",
+      "direction: y\n    per_pair: {k: 2.0e9}");
+  one_d.replace(one_d.find("law: friction"), 13, "law: linear");
+  const CaseDefinition o = parse(one_d);
+  EXPECT_FALSE(o.contacts[0].spring_3d);
+  EXPECT_EQ(o.contacts[0].parameters.k, 2.0e9);
+  EXPECT_EQ(o.contacts[0].direction, (std::array<double, 3>{0, 1, 0}));
+  EXPECT_THROW(with_parameter(o, "contacts.joint.per_pair.kt", 1), InvalidInput);  // 3D key
+}
+
 // ----------------------------------------------------------------------- bad input, one by one ---
 
 TEST(CaseFileErrors, UnknownTopLevelKeyIsRejectedWithASuggestion) {
@@ -635,9 +682,40 @@ TEST(CaseFileErrors, FrameChecks) {
                  "contacts.joint.t1", "must not be parallel to the normal");
   expect_invalid(edited("law: friction", "law: jenkins"), 13, "contacts.joint.normal",
                  "not allowed for law jenkins");
-  std::string linear = edited("normal: [1, 0, 0]", "direction: w");
+  std::string linear = edited(
+      "normal: [1, 0, 0]\n    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: "
+      "0.5, preload: 150}",
+      "direction: w\n    per_pair: {k: 1.0e9}");
   linear.replace(linear.find("law: friction"), 13, "law: linear");
   expect_invalid(linear, 13, "contacts.joint.direction", "must be one of x | y | z");
+}
+
+// law linear: the 1D keys (k, direction) and the 3D keys (kt, kn, normal, t1) never mix; the
+// error names the 1D key, its line, and the 3D key it clashes with.
+TEST(CaseFileErrors, LinearLawDoesNotMix1DAnd3DKeys) {
+  const std::string params = "per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}";
+  const auto linear = [&](const std::string& frame, const std::string& per_pair) {
+    std::string text = edited("normal: [1, 0, 0]\n    " + params, frame + "\n    " + per_pair);
+    text.replace(text.find("law: friction"), 13, "law: linear");
+    return text;
+  };
+  // Line 13: the frame key; line 14: the parameters.
+  expect_invalid(linear("direction: x", "per_pair: {kt: 1.0e9, kn: 2.0e9}"), 13,
+                 "contacts.joint.direction", "not both: 'direction' here, 'kt' on line 14");
+  expect_invalid(linear("normal: z", "per_pair: {k: 1.0e9}"), 14, "contacts.joint.per_pair.k",
+                 "not both: 'k' here, 'normal' on line 13");
+  expect_invalid(linear("direction: x", "per_pair: {k: 1.0e9, kn: 2.0e9}"), 13,
+                 "contacts.joint.direction", "'direction' here, 'kn' on line 14");
+  expect_invalid(linear("t1: x", "total: {k: 1.0e9}"), 14, "contacts.joint.total.k",
+                 "'t1' on line 13");
+  // 3D without its frame or one of its stiffnesses.
+  std::string no_frame = edited("normal: [1, 0, 0]\n    " + params, "per_pair: {kt: 1, kn: 2}");
+  no_frame.replace(no_frame.find("law: friction"), 13, "law: linear");
+  expect_invalid(no_frame, 10, "contacts.joint.normal", "required key missing");
+  expect_invalid(linear("normal: z", "per_pair: {kt: 1.0e9}"), 14, "contacts.joint.per_pair.kn",
+                 "required key missing");
+  expect_invalid(linear("normal: z", "per_pair: {kt: 1.0e9, kn: -2}"), 14,
+                 "contacts.joint.per_pair.kn", "must be > 0");
 }
 
 TEST(CaseFileErrors, KeysThatDoNotApply) {
