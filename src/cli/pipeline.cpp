@@ -614,7 +614,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       } else if (cd.law == "cubic") {
         pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k1, p.k3});
       } else if (cd.law == "linear" && cd.spring_3d) {
-        pair.element = std::make_shared<DiagonalLinearSprings>(info.stuck_stiffness);
+        pair.element = make_linear_springs(info.stuck_stiffness);
       } else if (cd.law == "linear") {
         pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k, 0.0});
       } else {
@@ -684,6 +684,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
   return model;
+}
+
+ElementPtr make_linear_springs(const Eigen::VectorXd& k) {
+  return std::make_shared<DiagonalLinearSprings>(k);
 }
 
 Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
