@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include <fmt/core.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include "contact/friction_contact.h"
@@ -303,6 +304,34 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
 }
 
 // A body given by Matrix Market stiffness and mass plus an ANSYS mapping file: the same reduced
+// An imported body must be a physical one: M positive definite (else it has no modes) and K
+// positive semi-definite (a negative eigenvalue is a negative stiffness: the body would buckle
+// away, and the harmonic balance would return a meaningless response). By the inertia of the
+// LDLᵀ factors (Sylvester), relative to the largest pivot.
+void check_reduced_matrices(const CaseDefinition& def, const std::string& name,
+                            const ReducedBody& body) {
+  const std::string key = "bodies." + name + ".reduced";
+  const ReducedMatricesDefinition& r = def.bodies.at(name).reduced;
+  if (Eigen::LLT<Eigen::MatrixXd> llt(body.M); llt.info() != Eigen::Success) {
+    throw InvalidInput(def.where(key + ".mass"),
+                       "the mass matrix of " + r.mass + " is not positive definite");
+  }
+  // Pivots below this fraction of the largest are zero (rigid-body modes of a free body, round-off
+  // of the exported digits), not negative stiffness.
+  constexpr double kPivotTolerance = 1e-9;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(body.K);
+  const Eigen::VectorXd d = ldlt.vectorD();
+  const double largest = d.cwiseAbs().maxCoeff();
+  Eigen::Index worst = 0;
+  if (ldlt.info() != Eigen::Success || d.minCoeff(&worst) < -kPivotTolerance * largest) {
+    throw InvalidInput(def.where(key + ".stiffness"),
+                       "the stiffness matrix of " + r.stiffness +
+                           " is not positive semi-definite (a negative stiffness: pivot " +
+                           fmt::format("{:.3e}", d(worst)) + " against a largest " +
+                           fmt::format("{:.3e}", largest) + ")");
+  }
+}
+
 // body read_ansys_reduced_body builds from Harwell–Boeing files (io/ansys_mapping.h).
 ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
   // Symmetry of a "general" file: the tolerance of the Harwell–Boeing importer for RUA files.
@@ -490,6 +519,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       body.reduced = r.format == "matrix_market"
                          ? read_matrix_market_body(r)
                          : read_ansys_reduced_body(r.stiffness, r.mass, r.mapping);
+      check_reduced_matrices(def, body.name, body.reduced);
     }
     body_index[body.name] = static_cast<int>(model.bodies.size());
     model.bodies.push_back(std::move(body));

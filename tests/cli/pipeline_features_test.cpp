@@ -471,6 +471,77 @@ analysis:
   }
 }
 
+// Imported matrices must describe a physical body: a mass matrix that is not positive definite
+// and a stiffness with a negative eigenvalue stop at the case line of the file that holds them;
+// a free body (K singular, rigid-body modes) is physical and passes.
+TEST(PipelineFeatures, ImportedMassNotPositiveDefiniteOrNegativeStiffnessStopAtTheirKey) {
+  const fs::path dir = fresh_dir("bad_matrices");
+  // The three DOFs of node 5 coupled like a chain of springs to ground (positive definite), and
+  // its variants.
+  Eigen::MatrixXd chain(3, 3);
+  chain << 2, -1, 0, -1, 2, -1, 0, -1, 2;
+  Eigen::MatrixXd free_chain(3, 3);  // no spring to ground: one zero eigenvalue
+  free_chain << 1, -1, 0, -1, 2, -1, 0, -1, 1;
+  Eigen::MatrixXd indefinite_mass = Eigen::MatrixXd::Identity(3, 3);
+  indefinite_mass(1, 1) = -0.5;
+  Eigen::MatrixXd negative_spring = chain;  // 2 - 3 < 0: the middle DOF has stiffness -1
+  negative_spring(1, 1) = -1;
+  const auto write = [&](const std::string& stem, const Eigen::MatrixXd& K,
+                         const Eigen::MatrixXd& M) {
+    ReducedBody body;
+    body.K = 1e6 * K;
+    body.M = M;
+    for (int r = 0; r < 3; ++r) {
+      ReducedDof d;
+      d.node_id = 5;
+      d.direction = r;
+      body.dofs.push_back(d);
+    }
+    write_ansys_reduced_body((dir / (stem + "_k.hb")).string(), (dir / (stem + "_m.hb")).string(),
+                             body);
+  };
+  write("good", chain, Eigen::MatrixXd::Identity(3, 3));
+  write("free", free_chain, Eigen::MatrixXd::Identity(3, 3));
+  write("mass", chain, indefinite_mass);
+  write("stiff", negative_spring, Eigen::MatrixXd::Identity(3, 3));
+  const auto model_of = [&](const std::string& stem) {
+    const std::string text = fmt::format(R"(stickslip: 1
+bodies:
+  b: {{reduced: {{stiffness: {0}_k.hb, mass: {0}_m.hb}}}}
+contacts:
+  - name: c
+    law: linear
+    bodies: [b, ground]
+    pairs: [5]
+    direction: x
+    per_pair: {{k: 1.0e6}}
+excitation:
+  - {{body: b, node: 5, direction: x, amplitude: 1}}
+analysis:
+  frequency: {{start_hz: 10, stop_hz: 20, step_hz: 5}}
+)",
+                                         stem);
+    return prepare_model(parse_case(text, "case.yaml", dir.string()), nullptr);
+  };
+  EXPECT_NO_THROW(model_of("good"));
+  EXPECT_NO_THROW(model_of("free"));
+  const auto expect_error = [&](const std::string& stem, const std::string& key,
+                                const std::string& words) {
+    try {
+      model_of(stem);
+      ADD_FAILURE() << stem << ": expected InvalidInput";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().key, key) << e.what();
+      EXPECT_EQ(e.where().file, "case.yaml") << e.what();
+      EXPECT_EQ(e.where().line, 3) << e.what();
+      EXPECT_NE(e.message().find(words), std::string::npos) << e.what();
+      EXPECT_NE(e.message().find(stem + "_"), std::string::npos) << e.what();  // the file
+    }
+  };
+  expect_error("mass", "bodies.b.reduced.mass", "not positive definite");
+  expect_error("stiff", "bodies.b.reduced.stiffness", "negative stiffness");
+}
+
 }  // namespace
 }  // namespace stickslip
 
