@@ -21,6 +21,7 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "hbm/frequency_response.h"
+#include "hbm_test_support.h"
 
 namespace stickslip {
 namespace {
@@ -127,26 +128,8 @@ TEST(HarmonicBalance, JacobiansMatchFiniteDifferences) {
     std::uniform_real_distribution<double> dist(-1, 1);
     Eigen::VectorXd x(sys.size());
     for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = 6e-4 * dist(rng);  // ~ lift-off amplitude
-    const double omega = 110.0;
-    Eigen::VectorXd R, dRdw;
-    Eigen::MatrixXd J;
-    sys.evaluate(x, omega, R, &J, &dRdw);
-    const double h = 1e-7 * 6e-4;
-    Eigen::MatrixXd fd(J.rows(), J.cols());
-    for (Eigen::Index q = 0; q < x.size(); ++q) {
-      Eigen::VectorXd xp = x, xm = x, Rp, Rm;
-      xp[q] += h;
-      xm[q] -= h;
-      sys.evaluate(xp, omega, Rp, nullptr, nullptr);
-      sys.evaluate(xm, omega, Rm, nullptr, nullptr);
-      fd.col(q) = (Rp - Rm) / (2 * h);
-    }
-    EXPECT_LE((fd - J).norm(), kFdRelativeTolerance * J.norm());
-    const double hw = 1e-6 * omega;
-    Eigen::VectorXd Rp, Rm;
-    sys.evaluate(x, omega + hw, Rp, nullptr, nullptr);
-    sys.evaluate(x, omega - hw, Rm, nullptr, nullptr);
-    EXPECT_LE(((Rp - Rm) / (2 * hw) - dRdw).norm(), kFdRelativeTolerance * dRdw.norm());
+    testing::expect_derivatives_match_central_differences(sys, x, 110.0, 1e-7 * 6e-4,
+                                                          kFdRelativeTolerance);
     // Cycle covers the regimes the derivatives must handle.
     std::vector<CycleStatistics> stats;
     Eigen::VectorXd F;
