@@ -434,12 +434,11 @@ TEST(PipelineFeatures, LinearSpringsElementForceAndDerivativeMatchFiniteDifferen
   EXPECT_THROW(e->march(Eigen::MatrixXd::Zero(2, kSamples), nullptr, f, nullptr), InvalidInput);
 }
 
-TEST(PipelineFeatures, AreaSplitOfBodiesWithoutMeshIsRejectedWithItsKey) {
-  const fs::path dir = fresh_dir("area_no_mesh");
-  Eigen::MatrixXd K(3, 3), M = Eigen::MatrixXd::Identity(3, 3);
-  K << 2, -1, 0, -1, 2, -1, 0, -1, 2;
+// A body of one node (id 5, its x, y, z DOFs) given by matrices, written as HBMAT files.
+void write_node5_body(const fs::path& k_file, const fs::path& m_file, const Eigen::MatrixXd& K,
+                      const Eigen::MatrixXd& M) {
   ReducedBody body;
-  body.K = 1e6 * K;
+  body.K = K;
   body.M = M;
   for (int r = 0; r < 3; ++r) {
     ReducedDof d;
@@ -447,7 +446,14 @@ TEST(PipelineFeatures, AreaSplitOfBodiesWithoutMeshIsRejectedWithItsKey) {
     d.direction = r;
     body.dofs.push_back(d);
   }
-  write_ansys_reduced_body((dir / "k.hb").string(), (dir / "m.hb").string(), body);
+  write_ansys_reduced_body(k_file.string(), m_file.string(), body);
+}
+
+TEST(PipelineFeatures, AreaSplitOfBodiesWithoutMeshIsRejectedWithItsKey) {
+  const fs::path dir = fresh_dir("area_no_mesh");
+  Eigen::MatrixXd K(3, 3), M = Eigen::MatrixXd::Identity(3, 3);
+  K << 2, -1, 0, -1, 2, -1, 0, -1, 2;
+  write_node5_body(dir / "k.hb", dir / "m.hb", 1e6 * K, M);
   const std::string text = R"(stickslip: 1
 bodies:
   b: {reduced: {stiffness: k.hb, mass: m.hb}}
@@ -488,17 +494,7 @@ TEST(PipelineFeatures, ImportedMassNotPositiveDefiniteOrNegativeStiffnessStopAtT
   negative_spring(1, 1) = -1;
   const auto write = [&](const std::string& stem, const Eigen::MatrixXd& K,
                          const Eigen::MatrixXd& M) {
-    ReducedBody body;
-    body.K = 1e6 * K;
-    body.M = M;
-    for (int r = 0; r < 3; ++r) {
-      ReducedDof d;
-      d.node_id = 5;
-      d.direction = r;
-      body.dofs.push_back(d);
-    }
-    write_ansys_reduced_body((dir / (stem + "_k.hb")).string(), (dir / (stem + "_m.hb")).string(),
-                             body);
+    write_node5_body(dir / (stem + "_k.hb"), dir / (stem + "_m.hb"), 1e6 * K, M);
   };
   write("good", chain, Eigen::MatrixXd::Identity(3, 3));
   write("free", free_chain, Eigen::MatrixXd::Identity(3, 3));

@@ -1,6 +1,8 @@
 // Shared checks of the harmonic-balance tests.
 #pragma once
 
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
@@ -32,6 +34,18 @@ inline void expect_derivatives_match_central_differences(const HarmonicBalanceSy
   sys.evaluate(x, omega + hw, Rp, nullptr, nullptr);
   sys.evaluate(x, omega - hw, Rm, nullptr, nullptr);
   EXPECT_LE(((Rp - Rm) / (2 * hw) - dRdw).norm(), tolerance * dRdw.norm());
+}
+
+// The first pair's cycle at x both slips and separates somewhere: the regimes a derivative check
+// at x must cover.
+inline void expect_first_pair_slips_and_separates(const HarmonicBalanceSystem& sys,
+                                                  const Eigen::VectorXd& x) {
+  std::vector<CycleStatistics> stats;
+  Eigen::VectorXd F;
+  sys.contact_forces(x, F, &stats);
+  ASSERT_FALSE(stats.empty());
+  EXPECT_GT(stats[0].separation_fraction, 0.0);
+  EXPECT_GT(stats[0].slip_fraction, 0.0);
 }
 
 }  // namespace stickslip::testing
