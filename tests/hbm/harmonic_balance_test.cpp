@@ -93,6 +93,36 @@ NewtonOptions tight_newton() {
   return n;
 }
 
+// Unit-mass oscillator (stiffness k, modal damping c) with `element` from its DOF to the ground,
+// force F cos Ωt, followed by arc-length continuation from Ω = 80 rad/s to lambda_end with N
+// time samples (steps 1e-6 .. 1 rad/s, x scaled by 1 mm).
+FrequencyResponse oscillator_arclength(double k, double c, double F, ElementPtr element,
+                                       int time_samples, double lambda_end) {
+  LinearModel model{.omega2 = Eigen::VectorXd::Constant(1, k),
+                    .Phi = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                    .modal_damping = Eigen::VectorXd::Constant(1, c)};
+  ContactPair pair{.dofs_a = {0},
+                   .dofs_b = {},
+                   .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                   .element = std::move(element)};
+  Excitation e;
+  e.harmonics[1] = Eigen::VectorXcd::Constant(1, F);
+  HarmonicBalanceOptions opt;
+  opt.time_samples = time_samples;
+  const HarmonicBalanceSystem sys(model, {pair}, e, opt);
+  FrequencyResponseOptions o;
+  o.method = ContinuationMethod::kArcLength;
+  o.arclength.lambda_start = 80;
+  o.arclength.lambda_end = lambda_end;
+  o.arclength.initial_step = 0.5;
+  o.arclength.min_step = 1e-6;
+  o.arclength.max_step = 1.0;
+  o.arclength.max_points = 5000;
+  o.arclength.newton = tight_newton();
+  o.arclength.x_scale = 1e-3;
+  return frequency_response(sys, o);
+}
+
 TEST(HarmonicBalance, JacobiansMatchFiniteDifferences) {
   // Mixed cycle (stick, slip, lift-off) of the 3D contact plus a Jenkins element to ground and a
   // cubic spring, H = 2, coupled and uncoupled. Central differences with h = 1e-7 of the
@@ -561,29 +591,8 @@ TEST(HarmonicBalance, DuffingArcLengthFollowsBothFoldsOfTheAmplitudeEquation) {
   // must satisfy it to round-off, and the branch must pass through all three solutions at
   // frequencies inside the hysteresis region.
   const double m = 1, k = 1e4, c = 1.0, k3 = 4e9, F = 0.25;
-  LinearModel model{.omega2 = Eigen::VectorXd::Constant(1, k),
-                    .Phi = Eigen::MatrixXd::Constant(1, 1, 1.0),
-                    .modal_damping = Eigen::VectorXd::Constant(1, c)};
-  ContactPair pair{.dofs_a = {0},
-                   .dofs_b = {},
-                   .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
-                   .element = std::make_shared<CubicSpring>(CubicSpringParameters{.k3 = k3})};
-  Excitation e;
-  e.harmonics[1] = Eigen::VectorXcd::Constant(1, F);
-  HarmonicBalanceOptions opt;
-  opt.time_samples = 16;
-  const HarmonicBalanceSystem sys(model, {pair}, e, opt);
-  FrequencyResponseOptions o;
-  o.method = ContinuationMethod::kArcLength;
-  o.arclength.lambda_start = 80;
-  o.arclength.lambda_end = 160;
-  o.arclength.initial_step = 0.5;
-  o.arclength.min_step = 1e-6;
-  o.arclength.max_step = 1.0;
-  o.arclength.max_points = 5000;
-  o.arclength.newton = tight_newton();
-  o.arclength.x_scale = 1e-3;
-  const FrequencyResponse r = frequency_response(sys, o);
+  const FrequencyResponse r = oscillator_arclength(
+      k, c, F, std::make_shared<CubicSpring>(CubicSpringParameters{.k3 = k3}), 16, 160);
   ASSERT_TRUE(r.completed) << r.message;
   auto equation = [&](double w, double a) {
     const double re = k - m * w * w + 0.75 * k3 * a * a;
@@ -644,30 +653,9 @@ TEST(HarmonicBalance, GapOscillatorArcLengthFollowsBothFoldsOfItsDescribingFunct
   // AFT error: the rectangle rule over the contact kink, O((2π/N)²) ≈ 1e-5 at N = 2048.
   constexpr double kAftTolerance = 1e-4;
   const double m = 1, k = 1e4, c = 2.0, kg = 3e4, gap = 1e-3, F = 1.0;
-  LinearModel model{.omega2 = Eigen::VectorXd::Constant(1, k),
-                    .Phi = Eigen::MatrixXd::Constant(1, 1, 1.0),
-                    .modal_damping = Eigen::VectorXd::Constant(1, c)};
-  ContactPair pair{.dofs_a = {0},
-                   .dofs_b = {},
-                   .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
-                   .element = std::make_shared<UnilateralSpring>(
-                       UnilateralSpringParameters{.k = kg, .gap = gap})};
-  Excitation e;
-  e.harmonics[1] = Eigen::VectorXcd::Constant(1, F);
-  HarmonicBalanceOptions opt;
-  opt.time_samples = 2048;
-  const HarmonicBalanceSystem sys(model, {pair}, e, opt);
-  FrequencyResponseOptions o;
-  o.method = ContinuationMethod::kArcLength;
-  o.arclength.lambda_start = 80;
-  o.arclength.lambda_end = 200;
-  o.arclength.initial_step = 0.5;
-  o.arclength.min_step = 1e-6;
-  o.arclength.max_step = 1.0;
-  o.arclength.max_points = 5000;
-  o.arclength.x_scale = 1e-3;
-  o.arclength.newton = tight_newton();
-  const FrequencyResponse r = frequency_response(sys, o);
+  const FrequencyResponse r = oscillator_arclength(
+      k, c, F, std::make_shared<UnilateralSpring>(UnilateralSpringParameters{.k = kg, .gap = gap}),
+      2048, 200);
   ASSERT_TRUE(r.completed) << r.message;
   auto a1_over_a = [&](double a) {
     if (a <= gap) return 0.0;
