@@ -824,6 +824,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     o.method = ContinuationMethod::kSteppedSweep;
     for (double hz : solved.frequencies_hz) o.omegas.push_back(hz_to_rad_s(hz));
     o.sweep.newton = newton;
+    o.sweep.secant_predictor = an.predictor == "secant";
   }
   if (progress) {
     progress(fmt::format(

@@ -100,8 +100,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
   point.unknowns = x;
   Eigen::VectorXd forces;
   std::vector<CycleStatistics> stats;
-  std::vector<AftSamples> samples;
-  system.contact_forces(x, forces, &stats, history_pairs.empty() ? nullptr : &samples);
+  system.contact_forces(x, forces, &stats);  // usually the last residual's, kept by the system
   const bool frozen = !system.unknown_harmonics().has_static();
   const Eigen::MatrixXcd u =
       system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd());
@@ -118,7 +117,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
     out.force_global = pair.frame.transpose().cast<std::complex<double>>() * out.force_local;
     out.cycle = stats[p];
   }
-  for (int p : history_pairs) point.pairs[p].history = samples[p];
+  for (int p : history_pairs) point.pairs[p].history = system.pair_cycle(x, p);
   return point;
 }
 

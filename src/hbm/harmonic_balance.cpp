@@ -391,6 +391,18 @@ void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::Vect
   }
 }
 
+AftSamples HarmonicBalanceSystem::pair_cycle(const Eigen::VectorXd& x, int pair) const {
+  STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
+  STICKSLIP_VERIFY(pair >= 0 && pair < static_cast<int>(pairs_.size()),
+                   "HarmonicBalanceSystem::pair_cycle: no such pair");
+  const int m = pairs_[pair].element->dimension(), r = pair_rows_[pair];
+  AftSamples samples;
+  Eigen::VectorXd fp;
+  aft_.evaluate(*pairs_[pair].element, x.segment(r * nc_, m * nc_), pair_offset_[pair], fp, nullptr,
+                &samples);
+  return samples;
+}
+
 void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& R,
                                      Eigen::MatrixXd* dR_dx, Eigen::VectorXd* dR_domega) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");

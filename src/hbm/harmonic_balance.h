@@ -163,6 +163,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   void contact_forces(const Eigen::VectorXd& x, Eigen::VectorXd& forces,
                       std::vector<CycleStatistics>* stats,
                       std::vector<AftSamples>* samples = nullptr) const;
+  // The sampled cycle (u, f over one period, local axes) of one pair at unknowns x.
+  AftSamples pair_cycle(const Eigen::VectorXd& x, int pair) const;
   // Complex harmonics of a coefficient vector in the unknown layout: rows x output harmonics
   // (harmonic 0 from `static_part` when S has no 0; pass the uncoupled u0 or f0).
   Eigen::MatrixXcd to_complex(const Eigen::VectorXd& coefficients,

@@ -989,7 +989,7 @@ void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
             {"frequency", "method", "harmonics", "time_samples", "static", "tolerance",
-             "max_iterations", "max_points", "initial_guess"});
+             "max_iterations", "max_points", "initial_guess", "predictor"});
   AnalysisDefinition& a = p.out().analysis;
   m.choice("method", &a.method, {"stepped", "continuation"});
   m.require("frequency");
@@ -1079,6 +1079,8 @@ void parse_analysis(Parser& p, const MapView& top) {
   if (a.method != "continuation") m.forbid("max_points", "with method stepped");
   m.integer("max_points", &a.max_points, 2);
   m.choice("initial_guess", &a.initial_guess, {"stuck", "free"});
+  if (a.method == "continuation") m.forbid("predictor", "with method continuation");
+  m.choice("predictor", &a.predictor, {"secant", "previous"});
 }
 
 void parse_recovery(Parser& p, const MapView& top) {
@@ -1579,6 +1581,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
   if (a.method == "continuation") e << YAML::Key << "max_points" << YAML::Value << a.max_points;
   e << YAML::Key << "initial_guess" << YAML::Value << a.initial_guess;
+  if (a.method != "continuation") e << YAML::Key << "predictor" << YAML::Value << a.predictor;
   e << YAML::EndMap;
   if (c.study.active()) {
     e << YAML::Key << "study" << YAML::Value << YAML::Flow << YAML::BeginMap;

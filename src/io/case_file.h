@@ -184,6 +184,7 @@ struct AnalysisDefinition {
   int max_iterations = 30;                    // Newton iterations per point (≥ 1)
   int max_points = 10000;                     // continuation: points at most (≥ 2)
   std::string initial_guess = "stuck";        // stuck | free
+  std::string predictor = "secant";           // stepped: secant | previous (guess per point)
   int max_harmonic() const { return harmonics.empty() ? 0 : harmonics.back(); }
 };
 

@@ -297,6 +297,7 @@ TEST(CaseFile, OmittedKeysTakeTheStructDefaults) {
   EXPECT_EQ(c.analysis.harmonics, defaults.harmonics);
   EXPECT_EQ(c.analysis.time_samples, defaults.time_samples);
   EXPECT_EQ(c.analysis.tolerance, defaults.tolerance);
+  EXPECT_EQ(c.analysis.predictor, "secant");
   EXPECT_EQ(c.bodies.at("beam1").modes, BodyDefinition{}.modes);
   EXPECT_EQ(c.contacts[0].tolerance, ContactDefinition{}.tolerance);
   EXPECT_EQ(c.recovery.points, RecoveryDefinition{}.points);
@@ -728,6 +729,14 @@ TEST(CaseFileErrors, KeysThatDoNotApply) {
                  "bodies.beam2.mesh", "not allowed with 'reduced'");
   expect_invalid(kMinimal + "recovery: {method: direct, modes: 20}\n", 19, "recovery.modes",
                  "not allowed unless method is modal");
+}
+
+TEST(CaseFile, PredictorIsAStepSweepChoice) {
+  EXPECT_EQ(parse(kMinimal + "  predictor: previous\n").analysis.predictor, "previous");
+  expect_invalid(kMinimal + "  predictor: tangent\n", 19, "analysis.predictor",
+                 "must be one of secant | previous, got 'tangent'");
+  expect_invalid(kMinimal + "  method: continuation\n  predictor: secant\n", 20,
+                 "analysis.predictor", "not allowed with method continuation");
 }
 
 TEST(CaseFileErrors, NonConformingTwoBeamMesh) {
