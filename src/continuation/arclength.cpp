@@ -226,7 +226,9 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     augmented.set_step(y, t, dsigma);
     const Eigen::VectorXd y_predicted = y + dsigma * t;
     Eigen::VectorXd y_new = y_predicted;
-    NewtonSummary summary = solve_newton(augmented, 0.0, y_new, options.newton);
+    NewtonOptions corrector = options.newton;
+    corrector.trial_jacobian = true;  // the tangent at the new point uses its dR/dy
+    NewtonSummary summary = solve_newton(augmented, 0.0, y_new, corrector);
 
     // 4. Accept or reject.
     std::optional<Eigen::VectorXd> t_new;

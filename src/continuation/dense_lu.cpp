@@ -15,22 +15,37 @@ void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, 
 namespace stickslip {
 
 bool DenseLu::compute(const Eigen::MatrixXd& A) {
+  Eigen::MatrixXd copy = A;
+  return factor(copy);
+}
+
+bool DenseLu::factor(Eigen::MatrixXd& A) {
   STICKSLIP_VERIFY(A.rows() == A.cols(), "DenseLu: the matrix must be square");
   ok_ = false;
   rcond_ = 0.0;
   const int n = static_cast<int>(A.rows());
   if (n == 0 || !A.allFinite()) return false;
+  anorm_ = A.cwiseAbs().colwise().sum().maxCoeff();
   const ScopedBlasThreads single_thread(1);
-  lu_ = A;
+  lu_.swap(A);
+  A.resize(n, n);
   pivots_.resize(n);
   int info = 0;
   dgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
   if (info != 0) return false;  // info > 0: exact zero pivot
   ok_ = true;
-  const double anorm = A.cwiseAbs().colwise().sum().maxCoeff();
-  const double inverse_norm = inverse_norm_estimate();
-  rcond_ = anorm > 0 && inverse_norm > 0 ? 1.0 / anorm / inverse_norm : 0.0;
+  rcond_ = -1.0;
   return true;
+}
+
+double DenseLu::rcond() const {
+  if (!ok_) return 0.0;
+  if (rcond_ < 0.0) {
+    const ScopedBlasThreads single_thread(1);
+    const double inverse_norm = inverse_norm_estimate();
+    rcond_ = anorm_ > 0 && inverse_norm > 0 ? 1.0 / anorm_ / inverse_norm : 0.0;
+  }
+  return rcond_;
 }
 
 Eigen::VectorXd DenseLu::solve_with(char trans, const Eigen::VectorXd& b) const {

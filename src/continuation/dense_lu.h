@@ -3,10 +3,13 @@
 // sizes of Newton's dR/dx), with the BLAS held to one thread during each call (threads on a
 // 2-core machine only spin at these sizes; see linalg/blas_threads.h).
 //
-// compute(A) factors a copy of A and returns false when A is not finite or exactly singular (a
-// zero pivot); rcond() estimates 1 / (‖A‖₁ ‖A⁻¹‖₁) (0 when singular; ‖A⁻¹‖₁ by the Hager–Higham
-// method of LAPACK's dgecon and Eigen's rcond, a lower bound, with its solves through dgetrs);
-// solve(b) returns A⁻¹ b (only after a successful compute). Same contract as Eigen::PartialPivLU.
+// compute(A) factors a copy of A, factor(A) factors A in place (A receives scratch storage of
+// the same size: the caller's buffer is reused, nothing is copied); both return false when A is
+// not finite or exactly singular (a zero pivot). rcond() estimates 1 / (‖A‖₁ ‖A⁻¹‖₁) (0 when
+// singular; ‖A⁻¹‖₁ by the Hager–Higham method of LAPACK's dgecon and Eigen's rcond, a lower bound,
+// with its solves through dgetrs) on first request only: the estimate costs about half a
+// factorisation at Newton's sizes, so callers ask for it when they need it. solve(b) returns
+// A⁻¹ b (only after a successful factorisation). Same contract as Eigen::PartialPivLU.
 #pragma once
 
 #include <vector>
@@ -18,7 +21,9 @@ namespace stickslip {
 class DenseLu {
  public:
   bool compute(const Eigen::MatrixXd& A);
-  double rcond() const { return rcond_; }
+  bool factor(Eigen::MatrixXd& A);
+  bool factored() const { return ok_; }
+  double rcond() const;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
 
  private:
@@ -26,7 +31,8 @@ class DenseLu {
   double inverse_norm_estimate() const;                                    // of ‖A⁻¹‖₁
   Eigen::MatrixXd lu_;
   std::vector<int> pivots_;
-  double rcond_ = 0.0;
+  double anorm_ = 0.0;           // ‖A‖₁
+  mutable double rcond_ = -1.0;  // < 0: not estimated yet
   bool ok_ = false;
 };
 

@@ -96,10 +96,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   Eigen::VectorXd R(n), R_trial(n), dx(n), x_trial(n);
   // Structured systems solve their own Newton systems (no dense dR/dx here).
   const bool structured = sys.has_structured_jacobian();
-  Eigen::MatrixXd J(structured ? 0 : n, structured ? 0 : n);
-  Eigen::MatrixXd J_trial(structured ? 0 : n, structured ? 0 : n);
+  Eigen::MatrixXd J(structured ? 0 : n, structured ? 0 : n), J_trial;
   Eigen::MatrixXd* const J_out = structured ? nullptr : &J;
-  Eigen::MatrixXd* const J_trial_out = structured ? nullptr : &J_trial;
   sys.evaluate(x, lambda, R, J_out, nullptr);
   STICKSLIP_VERIFY(R.size() == n && (structured || (J.rows() == n && J.cols() == n)),
                    "ParametrizedSystem::evaluate returned outputs of the wrong size");
@@ -135,14 +133,10 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
         have_jacobian = true;
       }
       if (!J.allFinite()) return finish(NewtonTermination::kNonFinite, "dR/dx is not finite");
-      if (!lu.compute(J)) {  // J is finite here: an exact zero pivot
+      if (!lu.factor(J)) {  // J is finite here: an exact zero pivot
         return finish(NewtonTermination::kSingularJacobian, "dR/dx has an exact zero pivot");
       }
-      const double rcond = lu.rcond();
-      if (!(rcond >= options.min_rcond)) {
-        return finish(NewtonTermination::kSingularJacobian,
-                      "rcond(dR/dx) = " + str(rcond) + " < min_rcond = " + str(options.min_rcond));
-      }
+      have_jacobian = false;  // J now holds the factors
       dx = lu.solve(-R);
     }
     if (!all_finite(dx)) {
@@ -159,7 +153,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
     bool accepted = false;
     bool any_finite = false;
     x_trial = x + dx;
-    sys.evaluate(x_trial, lambda, R_trial, J_trial_out, nullptr);
+    const bool trial_jacobian = options.trial_jacobian && !structured;
+    sys.evaluate(x_trial, lambda, R_trial, trial_jacobian ? &J_trial : nullptr, nullptr);
     if (all_finite(R_trial)) {
       any_finite = true;
       const double r_trial = R_trial.norm();
@@ -169,8 +164,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       if (decrease || relaxed) {
         x.swap(x_trial);
         R.swap(R_trial);
-        J.swap(J_trial);
-        have_jacobian = true;
+        if (trial_jacobian) J.swap(J_trial);
+        have_jacobian = trial_jacobian;
         r = r_trial;
         accepted = true;
         if (r <= (1 - kSufficientDecrease) * r_watch) {
@@ -194,7 +189,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
           if (!sys.solve_jacobian(x, lambda, -R, dx)) dx.setZero();
         } else {
           sys.evaluate(x, lambda, R, &J, nullptr);
-          if (lu.compute(J)) {
+          if (J.allFinite() && lu.factor(J)) {
             dx = lu.solve(-R);
           } else {
             dx.setZero();
@@ -203,7 +198,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       }
       for (double s = 0.5; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
         x_trial = x + s * dx;
-        sys.evaluate(x_trial, lambda, R_trial, nullptr, nullptr);
+        const bool trial_jacobian = options.trial_jacobian && !structured;
+    sys.evaluate(x_trial, lambda, R_trial, trial_jacobian ? &J_trial : nullptr, nullptr);
         if (!all_finite(R_trial)) continue;
         any_finite = true;
         const double r_trial = R_trial.norm();
@@ -219,6 +215,12 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
           break;
         }
       }
+    }
+    if (!accepted && !structured && lu.factored() && !(lu.rcond() >= options.min_rcond)) {
+      // The step failed from a (nearly) singular dR/dx: say so rather than "line search failed".
+      return finish(NewtonTermination::kSingularJacobian, "rcond(dR/dx) = " + str(lu.rcond()) +
+                                                              " < min_rcond = " +
+                                                              str(options.min_rcond));
     }
     if (!accepted) {
       return finish(

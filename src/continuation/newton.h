@@ -3,7 +3,9 @@
 // Iteration k: solve dR/dx(x_k) Δx = −R(x_k) by dense LU with partial pivoting (LAPACK,
 // dense_lu.h), then take x_{k+1} = x_k + s Δx with the largest s ∈ {1, 1/2, 1/4, ...,
 // >= min_step_fraction} that gives a sufficient decrease ||R(x_{k+1})|| <= (1 − 1e-4 s) ||R(x_k)||
-// (backtracking on the 2-norm of R).
+// (backtracking on the 2-norm of R). The full-step trial is evaluated with R only, and dR/dx is
+// asked for at an accepted iterate only when another step follows (the last iterate's dR/dx is
+// never needed), unless NewtonOptions.trial_jacobian asks for both at once.
 // Watchdog: the full step (s = 1) is also taken when it does not decrease ||R||, up to
 // watchdog_steps times in a row and while ||R|| stays below 100 × that of the best iterate (the
 // watch point); if no iterate improves on the watch point by then, the solver returns to it and
@@ -19,7 +21,9 @@
 //   kMaxIterations     max_iterations steps taken without convergence.
 //   kLineSearchFailed  no step fraction down to min_step_fraction decreased ||R|| (e.g. a local
 //                      minimum of ||R||, or no root near x).
-//   kSingularJacobian  the reciprocal condition number estimate of dR/dx is below min_rcond.
+//   kSingularJacobian  dR/dx has an exact zero pivot or the step is not finite, or no step
+//                      fraction decreased ||R|| and the reciprocal condition number estimate of
+//                      dR/dx is below min_rcond (estimated only then: it costs about half an LU).
 //   kNonFinite         R or dR/dx is NaN/inf at an accepted iterate (incl. the initial guess), or
 //                      at every trial point of a line search.
 // Bad options, a size mismatch between x and sys.size(), or a residual_scale() that is not a
@@ -49,6 +53,12 @@ struct NewtonOptions {
   // even though they do not decrease ||R||, before returning to the best iterate and
   // backtracking from it. >= 0; 0 = monotone line search only.
   int watchdog_steps = 4;
+  // Evaluate dR/dx together with R at every full-step trial (true), or R alone and dR/dx only at
+  // accepted, unconverged iterates (false). true pays a Jacobian per solve that is not used for a
+  // step, but keeps the one at the solution (arc-length takes its tangent from it) and evaluates
+  // R once per iteration instead of twice; false is cheaper when dR/dx costs much more than R
+  // (harmonic balance: the AFT derivative march and 𝔾 J_f, about 4 x the residual).
+  bool trial_jacobian = false;
 };
 
 // Throws InvalidInput naming the field ("NewtonOptions.tolerance = ...") and the rule it broke.

@@ -104,6 +104,35 @@ TEST(Newton, DampingConvergesWhereTheFullStepOvershoots) {
   EXPECT_EQ(y(0), 3.0);  // the last accepted iterate is returned
 }
 
+TEST(Newton, TrialJacobianOptionChangesOnlyWhereTheJacobiansAreEvaluated) {
+  // Both settings take the same steps (bitwise: the same LU of the same dR/dx at the same
+  // iterates); without trial Jacobians dR/dx is evaluated once per step taken (at the guess and at
+  // every accepted iterate that is not yet converged) and never at the solution.
+  int residuals = 0, jacobians = 0;
+  const FunctionSystem counted(
+      2, [&](const VectorXd& x, double, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
+        ++(J ? jacobians : residuals);
+        R << x(0) * x(0) + x(1) * x(1) - 4, x(0) * x(1) - 1;
+        if (J) *J << 2 * x(0), 2 * x(1), x(1), x(0);
+        if (Rl) Rl->setZero();
+      });
+  NewtonOptions eager;
+  eager.trial_jacobian = true;
+  VectorXd x_eager{{3.0, 1.0}}, x_lazy{{3.0, 1.0}};
+  const NewtonSummary e = solve_newton(counted, 0.0, x_eager, eager);
+  const int eager_jacobians = jacobians, eager_residuals = residuals;
+  residuals = jacobians = 0;
+  const NewtonSummary l = solve_newton(counted, 0.0, x_lazy, NewtonOptions{});
+  ASSERT_TRUE(e.converged() && l.converged());
+  EXPECT_EQ(x_eager, x_lazy);
+  EXPECT_EQ(e.residual_history, l.residual_history);
+  ASSERT_GE(l.iterations, 3);
+  EXPECT_EQ(eager_jacobians, e.iterations + 1);  // the guess and every trial
+  EXPECT_EQ(eager_residuals, 0);
+  EXPECT_EQ(jacobians, l.iterations);  // the guess and the unconverged iterates
+  EXPECT_EQ(residuals, l.iterations);  // every trial
+}
+
 TEST(Newton, ReportsASingularJacobian) {
   // Two parallel lines: dR/dx = [1 1; 2 2] everywhere.
   const FunctionSystem parallel(

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <vector>
@@ -78,10 +79,11 @@ class CountingSystem final : public ParametrizedSystem {
   double residual_scale() const override { return s_.residual_scale(); }
   void evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& R, Eigen::MatrixXd* J,
                 Eigen::VectorXd* dR) const override {
-    ++count;
+    ++(J ? jacobians : residuals);
     s_.evaluate(x, lambda, R, J, dR);
   }
-  mutable int count = 0;
+  mutable int residuals = 0;  // evaluations of R alone
+  mutable int jacobians = 0;  // evaluations of R and dR/dx
 
  private:
   const ParametrizedSystem& s_;
@@ -197,12 +199,18 @@ TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
   }
   // The regime the test is about: many pairs in partial slip over a good part of the sweep.
   EXPECT_GE(partial_slip_points, 10);
-  // Few evaluations of R per point (Newton steps, line-search trials), no fallbacks: the step
-  // from the previous point crosses few stick/slip kinks.
-  constexpr double kMeanEvaluations = 10.0;
-  EXPECT_LE(static_cast<double>(counting.count) / points.size(), kMeanEvaluations);
-  // Measured: 5.8 iterations and 7.5 evaluations per point on average, at most 17 iterations
-  // (contacts 100 times stiffer than the bodies' springs, as in the reference case); the bounds
+  // Few evaluations per point (Newton steps, line-search trials), no fallbacks: the step from
+  // the previous point crosses few stick/slip kinks.
+  const double n_points = static_cast<double>(points.size());
+  std::printf("per point: %.2f Jacobians, %.2f residuals alone, %.2f iterations\n",
+              counting.jacobians / n_points, counting.residuals / n_points,
+              total_iterations / n_points);
+  constexpr double kMeanJacobians = 7.5, kMeanResiduals = 8.0;
+  EXPECT_LE(counting.jacobians / n_points, kMeanJacobians);
+  EXPECT_LE(counting.residuals / n_points, kMeanResiduals);
+  // Measured: 5.8 iterations per point on average, at most 17 iterations (contacts 100 times
+  // stiffer than the bodies' springs, as in the reference case), 6.0 Jacobians and 6.1
+  // residual-only evaluations per point (the full-step trials and line-search points); the bounds
   // leave a margin of about 1.3.
   constexpr double kMeanIterations = 7.5;
   constexpr int kMaxIterations = 22;
