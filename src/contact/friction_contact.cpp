@@ -90,14 +90,17 @@ PeriodCounts march_period(const FrictionContactParameters& prm, const Eigen::Mat
     } else {
       const Eigen::Vector2d tau_pred = tau + kt * (ut - ut_prev);
       const double limit = mu * normal;
-      const double norm_pred = tau_pred.norm();
-      const bool sticks = norm_pred <= limit;
+      // |τ_pred| <= μN compared squared: no square root on the (common) stick path, whose march
+      // is a chain of dependent samples.
+      const bool sticks = tau_pred.squaredNorm() <= limit * limit;
+      double norm_pred = 0.0;
       Eigen::Vector2d e = Eigen::Vector2d::Zero();
       if (sticks) {
         ++counts.stick;
         tau = tau_pred;
       } else {  // slip: radial return onto the circle |τ| = μN
         ++counts.slip;
+        norm_pred = tau_pred.norm();
         e = tau_pred / norm_pred;
         tau = limit * e;
       }
@@ -170,18 +173,23 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
   // The two periods are marched without derivatives first: only a cycle that closes here takes
   // its derivatives from them (marched again with derivatives, same forces); the others get theirs
   // from the periodicity condition below.
+  // A period that sticks at every sample from the virgin state has τ(t_j) = kt u_t(t_j) (the stick
+  // recursion telescopes), so the second period starts at τ = kt u_t(t_{N−1}) and its predictor
+  // is again kt u_t(t_j) at every sample: it repeats the first exactly and is not marched.
   Eigen::Vector2d tau = Eigen::Vector2d::Zero();
   Eigen::MatrixXd dtau;
   if (jac) dtau.setZero(2, np);
   const PeriodCounts first =
       march_period(parameters_, u, false, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   Eigen::Vector2d tau_start = tau;
-  PeriodCounts counts =
-      march_period(parameters_, u, true, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
+  PeriodCounts counts = first;
+  if (first.stick != n) {
+    counts = march_period(parameters_, u, true, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
+  }
   CycleStatistics stats;
   stats.periods = 2;
-  stats.converged = closed(tau, tau_start, counts.force_scale);
-  if (stats.converged && jac && first.stick == n && counts.stick == n) {
+  stats.converged = first.stick == n || closed(tau, tau_start, counts.force_scale);
+  if (stats.converged && jac && first.stick == n) {
     // Stuck at every sample of both periods: the stick recursion from the virgin state telescopes
     // to τ(t_j) = kt u_t(t_j), so ∂f = diag(kt, kt, kn) ∂u sample by sample.
     const double kt = parameters_.kt, kn = parameters_.kn;
@@ -238,6 +246,8 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
     // The converged cycle starts at τ_s = best_start. Its exact derivative: τ_s = P(τ_s, p) gives
     // ∂τ_s/∂p = (I − M)⁻¹ ∂P/∂p (implicit function theorem; (I − M) is invertible when the cycle
     // slips). Pass 1 gives ∂P/∂p (τ_s held fixed) and M, pass 2 the cycle with the exact df.
+    // Without derivatives a closed cycle is already in f (the last period marched started at
+    // best_start); otherwise the cycle from best_start is marched once more.
     tau = best_start;
     if (jac) {
       dtau.setZero();
@@ -246,7 +256,10 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
       if (std::abs(A.determinant()) > 1e-14) dtau = A.inverse() * dtau;
       tau = best_start;
     }
-    counts = march_period(parameters_, u, true, tau, nullptr, jac ? &dtau : nullptr, du, df, ld, f);
+    if (jac || !stats.converged) {
+      counts = march_period(parameters_, u, true, tau, nullptr, jac ? &dtau : nullptr, du, df, ld,
+                            f);
+    }
   }
   stats.stick_fraction = static_cast<double>(counts.stick) / n;
   stats.slip_fraction = static_cast<double>(counts.slip) / n;

@@ -38,7 +38,8 @@ struct CycleStatistics {
   // ∮ f_t · du_t over the cycle (tangential components; trapezoidal rule on the samples), J.
   // Energy taken out of the structure by the element; 0 for elastic elements.
   double dissipated_energy = 0.0;
-  int periods = 0;        // periods marched (a stuck cycle: 2; memoryless elements: 1)
+  int periods = 0;  // periods of the march (a stuck cycle: 2, the second known to repeat the
+                    // first without being marched; memoryless elements: 1)
   bool converged = true;  // cycle repeated within MarchOptions.tolerance
 };
 

@@ -143,11 +143,11 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       return finish(NewtonTermination::kSingularJacobian, "the Newton step is not finite");
     }
 
-    // 1. The full step, evaluated with its Jacobian. Accepted if it decreases ||R|| enough, or,
-    //    as a relaxed step (watchdog), if fewer than watchdog_steps relaxed steps have been taken
-    //    since the watch point (the best iterate) and ||R|| stays below kWatchdogGrowth times the
-    //    watch point's. A relaxed iterate that decreases ||R|| below the watch point's becomes
-    //    the new watch point.
+    // 1. The full step, evaluated (R only unless trial_jacobian). Accepted if it decreases ||R||
+    //    enough, or, as a relaxed step (watchdog), if fewer than watchdog_steps relaxed steps have
+    //    been taken since the watch point (the best iterate) and ||R|| stays below
+    //    kWatchdogGrowth times the watch point's. A relaxed iterate that decreases ||R|| below the
+    //    watch point's becomes the new watch point.
     // 2. Otherwise, return to the watch point (if we left it) and backtrack from there: s = 1/2,
     //    1/4, ... with R only; the Jacobian is then computed at the start of the next iteration.
     bool accepted = false;
