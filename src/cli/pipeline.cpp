@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "cli/results_files.h"
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
 #include "core/errors.h"
@@ -68,6 +69,22 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
     if (!e.where().file.empty()) throw;  // a mesh file's own error names its file and line
     throw InvalidInput(where, e.message());
   }
+}
+
+// What loading a mesh depends on, as text (part of the reduction fingerprints: changing this text
+// makes every manifest of `reduce` stale).
+std::string mesh_description(const MeshDefinition& m) {
+  if (m.source == MeshDefinition::Source::kGenerate) {
+    const TwoBeamDefinition& t = m.two_beam;
+    return fmt::format(
+        "generate {} arrangement {} element {} coarse {} box {} {} {} end_block {} {} {} "
+        "size {:.17g} {:.17g} {:.17g} {:.17g}",
+        m.generate, t.arrangement, t.element, t.coarse, t.box[0], t.box[1], t.box[2],
+        t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
+        t.end_length);
+  }
+  return fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format, m.hexahedron8,
+                     m.hexahedron20, file_fingerprint_hex(m.file));
 }
 
 // Node indices of a selection in a body's mesh (sets first, then ids, duplicates removed while
@@ -414,12 +431,55 @@ int PreparedModel::body_index(const std::string& name) const {
   return -1;
 }
 
-CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& progress) {
+std::string mesh_fingerprint(const CaseDefinition& def, const std::string& name) {
+  return fingerprint_hex(mesh_description(def.meshes.at(name)));
+}
+
+std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
+                                                const CaseBodies& bodies) {
+  std::map<std::string, std::string> mesh_text;  // each mesh file is hashed once
+  std::vector<std::string> out;
+  for (const CaseBody& body : bodies.bodies) {
+    out.emplace_back();
+    if (!body.from_mesh) continue;
+    const BodyDefinition& bd = def.bodies.at(body.name);
+    auto [it, inserted] = mesh_text.try_emplace(bd.mesh);
+    if (inserted) it->second = mesh_description(def.meshes.at(bd.mesh));
+    std::string text = "stickslip reduce 1\n";
+    text += it->second + "\n";
+    text += "element_set " + bd.element_set + "\n";
+    text += fmt::format("material {:.17g} {:.17g} {:.17g}\n", body.material.youngs_modulus,
+                        body.material.poisson_ratio, body.material.density);
+    text += "clamp";
+    for (int n : body.clamp) text += fmt::format(" {}", body.node_id(n));
+    text += "\nmasters";
+    for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
+    text += fmt::format("\nmodes {}\n", bd.modes);
+    out.back() = fingerprint_hex(text);
+  }
+  return out;
+}
+
+CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& progress,
+                               ModelCache* cache) {
   CaseBodies out;
   std::map<std::string, Mesh> meshes;
   for (const auto& [name, md] : def.meshes) {
-    if (progress) progress("mesh " + name);
-    meshes.emplace(name, load_mesh(def, name, md));
+    if (cache == nullptr) {
+      if (progress) progress("mesh " + name);
+      meshes.emplace(name, load_mesh(def, name, md));
+      continue;
+    }
+    const std::string fingerprint = mesh_fingerprint(def, name);
+    auto& [cached_fingerprint, cached_mesh] = cache->meshes[name];
+    if (cached_fingerprint != fingerprint) {
+      if (progress) progress("mesh " + name);
+      cached_mesh = load_mesh(def, name, md);
+      cached_fingerprint = fingerprint;
+    } else if (progress) {
+      progress("mesh " + name + ": the one already loaded (same definition)");
+    }
+    meshes.emplace(name, cached_mesh);
   }
 
   // Bodies: the part of their mesh (bodies given by matrices: only their name here).
@@ -489,21 +549,24 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
 }
 
 PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progress,
-                            const std::map<std::string, const Mesh*>& geometry) {
+                            const std::map<std::string, const Mesh*>& geometry, ModelCache* cache) {
   const auto t0 = Clock::now();
-  PreparedModel model = prepare_model(def, resolve_case_bodies(def, progress), progress, geometry);
+  PreparedModel model =
+      prepare_model(def, resolve_case_bodies(def, progress, cache), progress, geometry, cache);
   model.seconds_prepare = seconds_since(t0);  // the meshes included
   return model;
 }
 
 PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                             const ProgressFn& progress,
-                            const std::map<std::string, const Mesh*>& geometry) {
+                            const std::map<std::string, const Mesh*>& geometry, ModelCache* cache) {
   const auto t0 = Clock::now();
   const auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
   PreparedModel model;
+  const std::vector<std::string> fingerprints =
+      cache ? reduction_fingerprints(def, resolved) : std::vector<std::string>{};
 
   // Bodies: the resolved mesh part, or the matrices read.
   std::map<std::string, int> body_index;
@@ -530,7 +593,32 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const int b = body_index.at(name);
     PreparedBody& body = model.bodies[b];
     const std::vector<int>& m = resolved.bodies[b].masters;
-    if (body.from_mesh) {
+    if (body.from_mesh && cache != nullptr) {
+      auto& [cached_fingerprint, cached] = cache->bodies[name];
+      if (cached_fingerprint == fingerprints[b]) {
+        say(
+            fmt::format("reduce {}: the reduction already made (same mesh, element set, material, "
+                        "clamps, masters and modes)",
+                        name));
+        body.constraints = cached.constraints;
+        body.K = cached.K;
+        body.M = cached.M;
+        body.reduced = cached.reduced;
+        body.T = cached.T;
+        body.seconds_reduction = 0.0;
+      } else {
+        say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
+                        m.size(), bd.modes));
+        reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
+        cached_fingerprint.clear();  // no stale pair if the copy below throws
+        cached.constraints = body.constraints;
+        cached.K = body.K;
+        cached.M = body.M;
+        cached.reduced = body.reduced;
+        cached.T = body.T;
+        cached_fingerprint = fingerprints[b];
+      }
+    } else if (body.from_mesh) {
       say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                       m.size(), bd.modes));
       reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);

@@ -76,7 +76,23 @@ struct CaseBodies {
   std::vector<CaseContact> contacts;               // CaseDefinition::contacts order
   std::vector<std::vector<int>> excitation_nodes;  // per excitation entry: as CaseBody::masters
 };
-CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressFn& progress);
+struct ModelCache;
+// `cache` (may be null): meshes whose fingerprint (mesh_fingerprint) is in it are not loaded again;
+// those loaded are stored in it.
+CaseBodies resolve_case_bodies(const CaseDefinition& definition, const ProgressFn& progress,
+                               ModelCache* cache = nullptr);
+
+// The fingerprint of what loading mesh `name` depends on: its definition (generated: every
+// generator option; file: path, format, element types and the file's bytes).
+std::string mesh_fingerprint(const CaseDefinition& definition, const std::string& name);
+
+// Per body of `bodies` (resolve_case_bodies(definition, ...)): the fingerprint of what its
+// Craig–Bampton reduction depends on (mesh, element set, material, clamps, master nodes, modes);
+// empty for bodies given by matrices. Damping, contact laws and their parameters, excitation
+// amplitudes and the analysis do not enter: two analyses whose bodies have the same fingerprints
+// share one reduction (`run` and `reduce` with a study, ModelCache).
+std::vector<std::string> reduction_fingerprints(const CaseDefinition& definition,
+                                                const CaseBodies& bodies);
 
 struct PreparedBody {
   std::string name;
@@ -92,6 +108,19 @@ struct PreparedBody {
   std::map<std::pair<int, int>, int> master_dof;
   double seconds_reduction = 0.0;
   int global_dof(int node_id, int direction) const;  // -1 if not a master DOF
+};
+
+// What the analyses of one study share (`run`, `reduce`): the last mesh loaded under each mesh
+// name and the last reduction of each mesh body, with the fingerprints they were made for
+// (mesh_fingerprint, reduction_fingerprints). An analysis finds them here when its fingerprints
+// are the same (a studied contact, damping, excitation or analysis parameter) and makes them
+// again, replacing them, when they are not (a studied material re-reduces the bodies made of it,
+// and only those). One entry per name bounds the memory to one copy of each body.
+struct ModelCache {
+  std::map<std::string, std::pair<std::string, Mesh>> meshes;  // name -> (fingerprint, mesh)
+  // body name -> (reduction fingerprint, the body as reduce_mesh_body left it: constraints, full
+  // K and M, reduced, T, seconds_reduction)
+  std::map<std::string, std::pair<std::string, PreparedBody>> bodies;
 };
 
 struct PreparedPair {
@@ -121,12 +150,18 @@ struct PreparedModel {
 // `geometry` (optional): for bodies given by matrices that were reduced from a mesh (a stage that
 // reuses reduced matrices), that mesh by body name, node ids = the body's node ids; used only to
 // split totals by area (split: area).
+// `cache` (may be null): meshes and reductions of earlier analyses of the same study, reused when
+// their fingerprints match and stored otherwise (ModelCache); a reused body has
+// seconds_reduction 0. Everything else (the assembled reduced model and its modes, damping,
+// contact pairs, preload loads, excitation, options) is built from `definition` every time.
 PreparedModel prepare_model(const CaseDefinition& definition, const ProgressFn& progress,
-                            const std::map<std::string, const Mesh*>& geometry = {});
+                            const std::map<std::string, const Mesh*>& geometry = {},
+                            ModelCache* cache = nullptr);
 // The same from bodies already resolved by resolve_case_bodies(definition, ...) (consumed).
 PreparedModel prepare_model(const CaseDefinition& definition, CaseBodies resolved,
                             const ProgressFn& progress,
-                            const std::map<std::string, const Mesh*>& geometry = {});
+                            const std::map<std::string, const Mesh*>& geometry = {},
+                            ModelCache* cache = nullptr);
 
 // Stiffness of the assembled reduced model with every contact stuck: model.K plus, per pair,
 // BᵀkB with B its relative-displacement rows and k its stuck stiffness (friction pairs as springs

@@ -55,52 +55,6 @@ std::string stage_hint(const std::string& stage, const CaseDefinition& base,
 
 // ---- fingerprints ------------------------------------------------------------------------------
 
-namespace {
-
-std::string mesh_description(const MeshDefinition& m) {
-  if (m.source == MeshDefinition::Source::kGenerate) {
-    const TwoBeamDefinition& t = m.two_beam;
-    return fmt::format(
-        "generate {} arrangement {} element {} coarse {} box {} {} {} end_block {} {} {} "
-        "size {:.17g} {:.17g} {:.17g} {:.17g}",
-        m.generate, t.arrangement, t.element, t.coarse, t.box[0], t.box[1], t.box[2],
-        t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
-        t.end_length);
-  }
-  return fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format, m.hexahedron8,
-                     m.hexahedron20, file_fingerprint_hex(m.file));
-}
-
-// Per body of `bodies` (resolve_case_bodies(def)): the fingerprint of what its Craig–Bampton
-// reduction depends on (mesh, element set, material, clamps, master nodes, modes); empty for
-// bodies given by matrices.
-std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
-                                                const CaseBodies& bodies) {
-  std::map<std::string, std::string> mesh_text;  // each mesh file is hashed once
-  std::vector<std::string> out;
-  for (const CaseBody& body : bodies.bodies) {
-    out.emplace_back();
-    if (!body.from_mesh) continue;
-    const BodyDefinition& bd = def.bodies.at(body.name);
-    auto [it, inserted] = mesh_text.try_emplace(bd.mesh);
-    if (inserted) it->second = mesh_description(def.meshes.at(bd.mesh));
-    std::string text = "stickslip reduce 1\n";
-    text += it->second + "\n";
-    text += "element_set " + bd.element_set + "\n";
-    text += fmt::format("material {:.17g} {:.17g} {:.17g}\n", body.material.youngs_modulus,
-                        body.material.poisson_ratio, body.material.density);
-    text += "clamp";
-    for (int n : body.clamp) text += fmt::format(" {}", body.node_id(n));
-    text += "\nmasters";
-    for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
-    text += fmt::format("\nmodes {}\n", bd.modes);
-    out.back() = fingerprint_hex(text);
-  }
-  return out;
-}
-
-}  // namespace
-
 std::string solve_fingerprint(const CaseDefinition& definition) {
   CaseDefinition d = definition;
   d.recovery = RecoveryDefinition{};
@@ -273,11 +227,13 @@ int run_reduce(const ReduceCommand& reduce) {
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   // One reduction for all study values unless the studied parameter changes a body's reduction
-  // (a material): then one per study folder.
+  // (a material): then one per study folder, each body reduced again only when its own
+  // fingerprint changed (ModelCache, as `run` does); the meshes are loaded once.
+  ModelCache cache;
   std::vector<CaseBodies> resolved;
   std::vector<std::vector<std::string>> fingerprints;
   for (const StageRun& run : runs) {
-    resolved.push_back(resolve_case_bodies(run.definition, progress));
+    resolved.push_back(resolve_case_bodies(run.definition, progress, &cache));
     fingerprints.push_back(reduction_fingerprints(run.definition, resolved.back()));
   }
   const bool shared = std::all_of(fingerprints.begin(), fingerprints.end(),
@@ -287,7 +243,8 @@ int run_reduce(const ReduceCommand& reduce) {
     const fs::path dir = (shared ? out_dir : runs[r].dir) / "reduced";
     fs::create_directories(dir);
     fs::remove(dir / "manifest.txt");  // files being replaced belong to no case until it is back
-    const PreparedModel model = prepare_model(runs[r].definition, std::move(resolved[r]), progress);
+    const PreparedModel model =
+        prepare_model(runs[r].definition, std::move(resolved[r]), progress, {}, &cache);
     ReduceManifest manifest;
     manifest.case_file = base.file;
     for (size_t b = 0; b < model.bodies.size(); ++b) {  // the order of resolved[r].bodies

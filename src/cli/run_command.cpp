@@ -2,6 +2,10 @@
 // earlier runs: reduction and harmonic balance (cli/pipeline.h), the solve files
 // (write_solve_results), the full-model recovery (cli/recovery_stage.h) and the plots, drawn from
 // the files just written (as `stickslip plot` draws them). Every file is written atomically.
+// With a study, the analyses share their meshes and reductions (ModelCache, cli/pipeline.h): a
+// body is reduced again only when the studied parameter changes its reduction fingerprint (a
+// material), as `stickslip reduce` decides; the assembled model, contacts, preload loads,
+// excitation, frequency window and harmonic balance are built again for every value.
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -30,11 +34,12 @@ int run_case(const StageCommand& command) {
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   int failed_points = 0;
   std::vector<PlotSeries> overlay;
+  ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : runs) {
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
     const auto t_run = Clock::now();
-    const PreparedModel model = prepare_model(def, progress);
+    const PreparedModel model = prepare_model(def, progress, {}, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     write_solve_results(run.dir, def, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
