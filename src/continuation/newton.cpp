@@ -17,6 +17,11 @@ constexpr double kSufficientDecrease = 1e-4;
 // A relaxed (watchdog) step may raise ||R|| up to this factor above the watch point's: beyond it
 // the step is taken as a sign of divergence, not of a kink being crossed.
 constexpr double kWatchdogGrowth = 100.0;
+// A chord step (NewtonOptions.reuse_jacobian) follows a full step that reduced ||R|| at least this
+// much, and is kept only if it does so again: a step that contracts ||R|| tenfold is in the
+// region where the old dR/dx still steers well, and a kept chord step never converges slower
+// than that.
+constexpr double kChordContraction = 0.1;
 
 std::string str(double v) {
   std::ostringstream s;
@@ -118,10 +123,37 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   R_watch = R;
   r_watch = r;
   int relaxed_steps = 0;  // relaxed steps taken since the watch point
+  bool chord_ready = false;  // the next step may reuse the factored dR/dx
   while (true) {
     if (r <= threshold) return finish(NewtonTermination::kConverged, "");
     if (summary.iterations >= options.max_iterations) {
       return finish(NewtonTermination::kMaxIterations, "");
+    }
+    if (chord_ready) {
+      // Chord step: the last factored dR/dx again (see NewtonOptions.reuse_jacobian). Kept only if
+      // it contracts ||R|| as strongly as the step before; otherwise discarded, and a fresh
+      // dR/dx is evaluated at the same iterate below.
+      chord_ready = false;
+      dx = lu.solve(-R);
+      if (all_finite(dx)) {
+        x_trial = x + dx;
+        sys.evaluate(x_trial, lambda, R_trial, nullptr, nullptr);
+        const double r_trial = R_trial.norm();
+        if (all_finite(R_trial) && r_trial <= kChordContraction * r) {
+          x.swap(x_trial);
+          R.swap(R_trial);
+          r = r_trial;
+          x_watch = x;
+          R_watch = R;
+          r_watch = r;
+          relaxed_steps = 0;
+          chord_ready = true;
+          ++summary.iterations;
+          summary.residual_norm = r;
+          summary.residual_history.push_back(r);
+          continue;
+        }
+      }
     }
     if (structured) {
       if (!sys.solve_jacobian(x, lambda, -R, dx)) {
@@ -162,6 +194,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       const bool relaxed = !decrease && relaxed_steps < options.watchdog_steps &&
                            r_trial <= kWatchdogGrowth * r_watch;
       if (decrease || relaxed) {
+        chord_ready = options.reuse_jacobian && !structured && !trial_jacobian &&
+                      relaxed_steps == 0 && r_trial <= kChordContraction * r;
         x.swap(x_trial);
         R.swap(R_trial);
         if (trial_jacobian) J.swap(J_trial);

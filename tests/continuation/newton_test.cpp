@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -46,6 +47,7 @@ TEST(Newton, ConvergesQuadraticallyToTheClosedFormRoot) {
   VectorXd x{{3.0, 1.0}};
   NewtonOptions options;
   options.tolerance = 1e-14;  // iterate down to round-off to see the asymptotic rate
+  options.reuse_jacobian = false;  // the textbook iteration (chord steps: the test below)
   const NewtonSummary s = solve_newton(sys, 0.0, x, options);
   ASSERT_TRUE(s.converged()) << s.message;
   const double x0 = std::sqrt(2 + std::sqrt(3.0));
@@ -116,13 +118,14 @@ TEST(Newton, TrialJacobianOptionChangesOnlyWhereTheJacobiansAreEvaluated) {
         if (J) *J << 2 * x(0), 2 * x(1), x(1), x(0);
         if (Rl) Rl->setZero();
       });
-  NewtonOptions eager;
+  NewtonOptions eager, lazy;
   eager.trial_jacobian = true;
+  lazy.reuse_jacobian = false;
   VectorXd x_eager{{3.0, 1.0}}, x_lazy{{3.0, 1.0}};
   const NewtonSummary e = solve_newton(counted, 0.0, x_eager, eager);
   const int eager_jacobians = jacobians, eager_residuals = residuals;
   residuals = jacobians = 0;
-  const NewtonSummary l = solve_newton(counted, 0.0, x_lazy, NewtonOptions{});
+  const NewtonSummary l = solve_newton(counted, 0.0, x_lazy, lazy);
   ASSERT_TRUE(e.converged() && l.converged());
   EXPECT_EQ(x_eager, x_lazy);
   EXPECT_EQ(e.residual_history, l.residual_history);
@@ -131,6 +134,43 @@ TEST(Newton, TrialJacobianOptionChangesOnlyWhereTheJacobiansAreEvaluated) {
   EXPECT_EQ(eager_residuals, 0);
   EXPECT_EQ(jacobians, l.iterations);  // the guess and the unconverged iterates
   EXPECT_EQ(residuals, l.iterations);  // every trial
+}
+
+TEST(Newton, ChordStepsReachTheSameRootWithFewerJacobians) {
+  // Textbook Newton and Newton with chord steps from the same guess: the same root (closed form),
+  // every chord step (an accepted step without a new dR/dx) contracts ||R|| at least tenfold, and
+  // fewer Jacobians are evaluated than steps are taken.
+  int residuals = 0, jacobians = 0;
+  const FunctionSystem counted(
+      2, [&](const VectorXd& x, double, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
+        ++(J ? jacobians : residuals);
+        R << x(0) * x(0) + x(1) * x(1) - 4, x(0) * x(1) - 1;
+        if (J) *J << 2 * x(0), 2 * x(1), x(1), x(0);
+        if (Rl) Rl->setZero();
+      });
+  NewtonOptions textbook, chord;
+  textbook.tolerance = chord.tolerance = 1e-12;
+  textbook.reuse_jacobian = false;
+  ASSERT_TRUE(chord.reuse_jacobian);  // the default
+  VectorXd xt{{3.0, 1.0}}, xc{{3.0, 1.0}};
+  const NewtonSummary t = solve_newton(counted, 0.0, xt, textbook);
+  const int textbook_jacobians = jacobians;
+  residuals = jacobians = 0;
+  const NewtonSummary c = solve_newton(counted, 0.0, xc, chord);
+  ASSERT_TRUE(t.converged() && c.converged());
+  const double x0 = std::sqrt(2 + std::sqrt(3.0));
+  constexpr double kRootTolerance = 1e-10;  // residual 1e-12, |J⁻¹| = O(1)
+  EXPECT_NEAR(xc(0), x0, kRootTolerance);
+  EXPECT_NEAR(xc(1), 1 / x0, kRootTolerance);
+  EXPECT_EQ(textbook_jacobians, t.iterations);
+  EXPECT_LT(jacobians, c.iterations);  // some steps were chord steps
+  const int chord_steps = c.iterations - jacobians;
+  // The chord steps are the last ones (once ||R|| falls tenfold per step it keeps doing so here):
+  // each of them contracts ||R|| tenfold.
+  const std::vector<double>& h = c.residual_history;
+  for (int k = c.iterations - chord_steps; k < c.iterations; ++k) {
+    EXPECT_LE(h[k + 1], 0.1 * h[k]) << "step " << k;
+  }
 }
 
 TEST(Newton, ReportsASingularJacobian) {
