@@ -183,8 +183,9 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
       march_period(parameters_, u, false, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
   Eigen::Vector2d tau_start = tau;
   PeriodCounts counts = first;
+  Eigen::Matrix2d M;  // ∂τ_end/∂τ_start of period 2: the first Newton step below if it is needed
   if (first.stick != n) {
-    counts = march_period(parameters_, u, true, tau, nullptr, nullptr, nullptr, nullptr, ld, f);
+    counts = march_period(parameters_, u, true, tau, &M, nullptr, nullptr, nullptr, ld, f);
   }
   CycleStatistics stats;
   stats.periods = 2;
@@ -215,11 +216,13 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
     // alongside; a step that does not reduce |P(τ_s) − τ_s| is replaced by one plain period.
     // With slip in the cycle P is a contraction (products of a (I − e eᵀ), a < 1), so the fixed
     // point is unique and the same one marching converges to.
-    Eigen::Vector2d ts = tau, best_start = tau_start, best_end = tau;
+    // The first trial is the Newton step from period 2 (start tau_start, end tau, M).
+    Eigen::Vector2d best_start = tau_start, best_end = tau;
     double best = (tau - tau_start).norm();
-    Eigen::Matrix2d M;
-    bool newton = true;
-    ts = tau;  // first trial: one plain period from the end of period 2
+    const Eigen::Matrix2d A2 = Eigen::Matrix2d::Identity() - M;
+    Eigen::Vector2d ts = std::abs(A2.determinant()) > 1e-14
+                             ? Eigen::Vector2d(tau_start + A2.inverse() * (tau - tau_start))
+                             : tau;
     while (stats.periods < march_.max_periods) {
       Eigen::Vector2d te = ts;
       counts = march_period(parameters_, u, true, te, &M, nullptr, nullptr, nullptr, ld, f);
@@ -236,7 +239,7 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
         best_start = ts;
         best_end = te;
         const Eigen::Matrix2d A = Eigen::Matrix2d::Identity() - M;
-        newton = std::abs(A.determinant()) > 1e-14;
+        const bool newton = std::abs(A.determinant()) > 1e-14;
         ts = newton ? Eigen::Vector2d(ts + A.inverse() * (te - ts)) : te;
       } else {
         ts = best_end;  // the Newton step did not help: a plain period from the best state
