@@ -7,7 +7,10 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -159,28 +162,106 @@ void BM_ResidualNewFrequency(benchmark::State& state) {
 BENCHMARK(BM_ResidualNewFrequency)->Unit(benchmark::kMicrosecond);
 
 // The same with the non-proportional damping path (LinearModel::modal_damping_matrix, here the
-// same α M damping given as a dense 300 x 300 modal matrix): per new Ω a complex LU of the modal
-// impedance and 90 solves instead of the diagonal h.
-void BM_ResidualNewFrequencyDampingMatrix(benchmark::State& state) {
-  static const std::unique_ptr<HarmonicBalanceSystem> system = [] {
-    const Model m = build(150.0);
+// same α M damping given as a dense 300 x 300 modal matrix; the two bodies are identical, so
+// every damped mode is repeated). Argument: 0 = state-space expansion (the default), 1 = the
+// impedance LU (per new Ω a complex LU of the modal impedance and 90 solves).
+LinearModel damping_matrix_model(const Model& m, bool proportional) {
+  if (proportional) {
     LinearModel linear = linear_model_from_matrices(m.K, m.M, 5.0, 0.0);
     linear.modal_damping_matrix = linear.modal_damping.asDiagonal();
+    return linear;
+  }
+  // Non-proportional: C = 5 M + 2e-7 K₁, stiffness-proportional damping on body 1 only.
+  const int half = static_cast<int>(m.K.rows()) / 2;
+  Eigen::MatrixXd C = 5.0 * m.M;
+  C.topLeftCorner(half, half) += 2e-7 * m.K.topLeftCorner(half, half);
+  return linear_model_from_matrices(m.K, m.M, C);
+}
+
+const HarmonicBalanceSystem& damping_matrix_system(bool proportional, DampingMatrixMethod method) {
+  static std::map<std::pair<bool, DampingMatrixMethod>, std::unique_ptr<HarmonicBalanceSystem>>
+      systems;
+  auto& system = systems[{proportional, method}];
+  if (!system) {
+    const Model m = build(150.0);
     HarmonicBalanceOptions options;
     options.harmonics = 1;
     options.time_samples = 64;
-    return std::make_unique<HarmonicBalanceSystem>(linear, m.pairs, m.excitation, options);
-  }();
+    options.damping_matrix_method = method;
+    system = std::make_unique<HarmonicBalanceSystem>(damping_matrix_model(m, proportional), m.pairs,
+                                                     m.excitation, options);
+  }
+  return *system;
+}
+
+void residual_new_frequency(benchmark::State& state, bool proportional) {
+  const DampingMatrixMethod method =
+      state.range(0) == 0 ? DampingMatrixMethod::kStateSpace : DampingMatrixMethod::kImpedanceLu;
+  const HarmonicBalanceSystem& system = damping_matrix_system(proportional, method);
   const Case& c = reference_case();
   const Eigen::VectorXd x = c.system->linear_guess(c.omegas[200], true);
   Eigen::VectorXd R;
   int i = 0;
   for (auto _ : state) {
-    system->evaluate(x, c.omegas[200 + (i++ % 2)], R, nullptr, nullptr);
+    system.evaluate(x, c.omegas[200 + (i++ % 2)], R, nullptr, nullptr);
     benchmark::DoNotOptimize(R.data());
   }
+  state.counters["state_space"] = system.state_space_damping() ? 1 : 0;
 }
-BENCHMARK(BM_ResidualNewFrequencyDampingMatrix)->Unit(benchmark::kMicrosecond);
+void BM_ResidualNewFrequencyDampingMatrix(benchmark::State& state) {
+  residual_new_frequency(state, true);
+}
+BENCHMARK(BM_ResidualNewFrequencyDampingMatrix)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+// The same with genuinely non-proportional damping (C = 5 M + 2e-7 K on body 1 only).
+void BM_ResidualNewFrequencyNonProportional(benchmark::State& state) {
+  residual_new_frequency(state, false);
+}
+BENCHMARK(BM_ResidualNewFrequencyNonProportional)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// The 401-point reference sweep with the damping matrix (C_m = 5 I, as above); 0 = state space,
+// 1 = impedance LU. Includes building the system (and the expansion) once per run.
+void BM_ReferenceSweepDampingMatrix(benchmark::State& state) {
+  const Case& c = reference_case();
+  const Model m = build(150.0);
+  HarmonicBalanceOptions options;
+  options.harmonics = 1;
+  options.time_samples = 64;
+  options.damping_matrix_method =
+      state.range(0) == 0 ? DampingMatrixMethod::kStateSpace : DampingMatrixMethod::kImpedanceLu;
+  FrequencyResponseOptions o;
+  o.omegas = c.omegas;
+  int converged = 0;
+  for (auto _ : state) {
+    const HarmonicBalanceSystem system(damping_matrix_model(m, true), m.pairs, m.excitation,
+                                       options);
+    const FrequencyResponse r = frequency_response(system, o);
+    converged = 0;
+    for (const FrequencyPoint& p : r.points) converged += p.converged;
+  }
+  state.counters["converged"] = converged;
+}
+BENCHMARK(BM_ReferenceSweepDampingMatrix)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+// The one-off cost of the state-space expansion (damped_modal_expansion: dgeev of order 600,
+// the bilinear products, clusters, two probe LUs) for nm = 300. Argument: 1 = C_m = 5 I (every
+// eigenvalue repeated: 150 clusters), 0 = the non-proportional C above.
+void BM_DampedModalExpansion(benchmark::State& state) {
+  const Model m = build(150.0);
+  const LinearModel linear = damping_matrix_model(m, state.range(0) == 1);
+  const Eigen::VectorXd elastic = Eigen::VectorXd::Ones(linear.omega2.size());
+  std::string failure;
+  for (auto _ : state) {
+    const auto d =
+        damped_modal_expansion(linear.omega2, linear.modal_damping_matrix, elastic, failure);
+    benchmark::DoNotOptimize(d.get());
+    if (!d) state.SkipWithError(failure.c_str());
+  }
+}
+BENCHMARK(BM_DampedModalExpansion)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 // The AFT alone (forces and cycle statistics of 30 pairs, no Jacobian).
 void BM_ContactForces(benchmark::State& state) {

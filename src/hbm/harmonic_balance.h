@@ -8,10 +8,25 @@
 // Non-proportional damping: LinearModel.modal_damping_matrix C_m = ΦᵀCΦ (nm x nm, symmetric,
 // positive semi-definite), when given, replaces the diagonal c_r and the flexibility becomes dense:
 //   D_k⁻¹ = Φ H_k Φᵀ,  H_k(Ω) = (diag(ω_r²) − (kΩ)² I + i kΩ C_m)⁻¹  (k ≥ 1; complex symmetric),
-// obtained per harmonic and Ω by a complex LU of the nm x nm modal impedance (cost O(nm³) per
-// Ω and harmonic instead of O(nm)); harmonic 0 is undamped, H_0 = diag(1/ω_r²) either way.
-// Everything below that is written with diag(h_k) then reads H_k, and
-// dH_k/dΩ = −H_k (−2k²Ω I + i k C_m) H_k.
+// harmonic 0 is undamped, H_0 = diag(1/ω_r²) either way. Everything below that is written with
+// diag(h_k) then reads H_k, and dH_k/dΩ = −H_k (−2k²Ω I + i k C_m) H_k. Two ways to apply H_k
+// (HarmonicBalanceOptions.damping_matrix_method):
+//   state space (default): the damped modal problem is diagonalised once, at construction. Its
+//     elastic part (ω_r² > 1e-12 max ω²) in y = [diag(ω) q; q̇] is ẏ = A y with
+//     A = [0 diag(ω); −diag(ω) −C_ee]; the 2·ne eigenpairs A y_j = s_j y_j, normalised so that
+//     y_jᵀ diag(I, −I) y_j = 1, give with ψ_j = diag(ω)⁻¹ y_j,top
+//       H_k(Ω) = Σ_j ψ_j ψ_jᵀ (−s_j) / (i kΩ − s_j)  (+ the rigid-body block, below),
+//     equivalently Σ_j ψ_j ψ_jᵀ / (a_j (i kΩ − s_j)), a_j = ψ_jᵀ (2 s_j I + C_m) ψ_j for ψ_j of
+//     any scale. G_k, dG_k/dΩ, u_lin, du_lin/dΩ and the master response are then weighted sums
+//     over 2·ne vectors, like the diagonal path (about twice its work per Ω). Rigid-body modes
+//     (ω_r² ≤ 1e-12 max ω²) must not be coupled to the elastic ones by C_m (else: LU path); their
+//     block is diagonalised by a rotation among themselves, h = 1/(−(kΩ)² + i kΩ c). Eigenvalues
+//     that the eigenvectors cannot separate (repeated modes, e.g. identical bodies) are grouped
+//     and their invariant subspace re-diagonalised. When the eigenvector basis is ill-conditioned
+//     (defective or nearly defective: critical damping of some mode, eigenvalues near the real
+//     axis coupled to their conjugates), or a check of the expansion against the LU at probe
+//     frequencies fails, the LU path is used instead: damping_matrix_note() says why.
+//   impedance LU: a complex LU of the nm x nm modal impedance per harmonic and Ω (O(nm³) per Ω).
 //
 // Contact pairs: pair p joins node A (DOFs dofs_a) and node B (dofs_b; either may be empty =
 // ground) through a NonlinearElement of dimension m_p with frame R_p (m_p x k, k = DOFs per node):
@@ -95,6 +110,10 @@ struct Excitation {
 
 enum class StaticCoupling { kUncoupled, kCoupled };
 
+// How H_k is applied with a modal damping matrix (see the header comment). kStateSpace falls back
+// to kImpedanceLu (with a note) when the damped modes are (nearly) defective.
+enum class DampingMatrixMethod { kStateSpace, kImpedanceLu };
+
 // How Newton solves dR/dx Δ = −R. Dense: LU of the n x n matrix. Structured: GMRES on
 // (I + 𝔾 J_f) (products per harmonic with the complex nu x nu G_k and per pair with J_f),
 // right-preconditioned by P = I + 𝔾 J_f,0, J_f,0 the element tangents at the zero-vibration state
@@ -112,8 +131,36 @@ struct HarmonicBalanceOptions {
   double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
   NewtonOptions static_newton;  // for the uncoupled static problem
   HbmLinearSolver linear_solver = HbmLinearSolver::kAuto;
+  DampingMatrixMethod damping_matrix_method = DampingMatrixMethod::kStateSpace;
 };
 void validate(const HarmonicBalanceOptions& options);
+
+// State-space expansion of the damped modal flexibility (see the header comment), k ≥ 1:
+//   H(iκ) = (diag(ω²) − κ² I + iκ C_m)⁻¹ = X diag(w(κ)) Xᵀ
+// over its entries e (the rigid modes plus 2 per elastic mode): first `rigid` rigid-body entries,
+// w_e = 1/(−κ² + iκ c_e); then `real` real poles, then conjugate pairs (e, e + 1) with
+// X.col(e + 1) = conj(X.col(e)), pole(e + 1) = conj(pole(e)); for poles
+// w_e = f_e (−s_e) / (iκ − s_e) (f_e = 1 for the pairs, whose columns are normalised).
+struct DampedModalExpansion {
+  int rigid = 0, real = 0;
+  Eigen::MatrixXcd X;             // nm x entries
+  Eigen::VectorXcd pole, factor;  // s_e (1/s), f_e (rigid entries: unused)
+  Eigen::VectorXd rigid_damping;  // c_e (1/s) of the rigid entries
+  Eigen::VectorXcd weights(double kappa) const;                    // w_e(κ), κ = kΩ
+  Eigen::VectorXcd weight_derivatives(int k, double omega) const;  // dw_e/dΩ at κ = kΩ
+  // Filled by HarmonicBalanceSystem: P = Ψ X (nu x entries) and its real columns (entries of the
+  // rigid and real blocks: Preal; pairs: U + iV), load k -> Xᵀ Φᵀ F_k.
+  Eigen::MatrixXcd P;
+  Eigen::MatrixXd Preal, U, V;
+  std::map<int, Eigen::VectorXcd> load;
+};
+// The expansion of ω² (nm), C_m (nm x nm, symmetric PSD) with the elastic modes flagged (1) in
+// `elastic`, or null with `failure` set (why it is not usable: then use the impedance LU).
+// Cost: one real eigen-decomposition of order 2·ne, O(ne³).
+std::shared_ptr<DampedModalExpansion> damped_modal_expansion(const Eigen::VectorXd& omega2,
+                                                             const Eigen::MatrixXd& C_m,
+                                                             const Eigen::VectorXd& elastic,
+                                                             std::string& failure);
 
 class HarmonicBalanceSystem final : public ParametrizedSystem {
  public:
@@ -144,6 +191,11 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   const std::vector<ContactPair>& pairs() const { return pairs_; }
   const Aft& aft() const { return aft_; }
   const HarmonicBalanceOptions& options() const { return options_; }
+
+  // With a modal damping matrix: whether the state-space expansion is used, and if it was asked
+  // for but not used, why (empty otherwise).
+  bool state_space_damping() const { return damped_ != nullptr; }
+  const std::string& damping_matrix_note() const { return damping_matrix_note_; }
 
   const NewtonSummary& static_summary() const { return static_summary_; }
   const Eigen::VectorXd& static_displacement() const { return u0_; }  // uncoupled u0 (nu)
@@ -181,6 +233,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     bool has_derivative = false;
     std::vector<Eigen::MatrixXcd> G;   // per harmonic position
     std::vector<Eigen::VectorXcd> dh;  // dh_k/dΩ per position (diagonal damping)
+    std::vector<Eigen::VectorXcd> dw;  // dw_e/dΩ per position (state-space damping)
     // Dense damping: LU of the modal impedance Z_k = H_k⁻¹ per position (empty for k = 0).
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> modal_lu;
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
@@ -206,6 +259,9 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::MatrixXcd modal_flexibility_times(int k, double omega, const Eigen::MatrixXcd& rhs) const;
   // Dense damping: G, u_lin (and du_lin/dΩ) of harmonic k at position pos (offset o) into op.
   void dense_damping_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
+  // The same through the state-space expansion (damped_ set).
+  void state_space_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
+
   void solve_static();
 
   LinearModel model_;
@@ -235,6 +291,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   };
   std::shared_ptr<ForceCache> force_cache_ = std::make_shared<ForceCache>();
   std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
+  std::shared_ptr<const DampedModalExpansion> damped_;  // state-space damping, else null
+  std::string damping_matrix_note_;
 };
 
 }  // namespace stickslip

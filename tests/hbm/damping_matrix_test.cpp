@@ -1,5 +1,6 @@
-// Non-proportional modal damping (LinearModel.modal_damping_matrix = ΦᵀCΦ, dense H_k): the dense
-// path with a diagonal matrix reproduces the diagonal path; with a general C the receptance and
+// Non-proportional modal damping (LinearModel.modal_damping_matrix = ΦᵀCΦ, dense H_k), through
+// the state-space expansion and (where both are listed) the impedance LU: the dense path with a
+// diagonal matrix reproduces the diagonal path; with a general C the receptance and
 // the linear contact response equal dense solves of the physical matrices; μ → 0 and μN → ∞ give
 // the free and stuck linear FRFs of (K + Bᵀ Kc B − Ω² M + i Ω C); dR/dx and dR/dΩ against central
 // differences; the structured Newton solve against the dense LU; bad matrices are rejected.
@@ -83,8 +84,10 @@ Eigen::MatrixXcd dynamic_flexibility(const TwoNodes& s, const Eigen::Vector3d& k
   return D.partialPivLu().inverse();
 }
 
-HarmonicBalanceOptions options(StaticCoupling coupling, int harmonics, HbmLinearSolver solver) {
+HarmonicBalanceOptions options(StaticCoupling coupling, int harmonics, HbmLinearSolver solver,
+                               DampingMatrixMethod method = DampingMatrixMethod::kStateSpace) {
   HarmonicBalanceOptions o;
+  o.damping_matrix_method = method;
   o.harmonics = harmonics;
   o.time_samples = 32;
   o.static_coupling = coupling;
@@ -171,19 +174,23 @@ TEST(DampingMatrix, DiagonalMatrixReproducesTheDiagonalPath) {
 TEST(DampingMatrix, ReceptanceEqualsDenseSolveOfThePhysicalMatrices) {
   // G_k = B (K − (kΩ)² M + i kΩ C)⁻¹ Bᵀ and u_lin,k = B (...)⁻¹ F_k, across the resonances.
   const TwoNodes s = two_nodes();
-  const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.C),
-                                  {mixed_pairs(s, s.contact)[0]}, excitation(s),
-                                  options(StaticCoupling::kCoupled, 2, HbmLinearSolver::kDense));
-  const Eigen::MatrixXd B = contact_map(s);
-  for (double omega : {30.0, 72.0, 100.0, 118.0, 160.0}) {
-    for (int k : {1, 2}) {
-      const Eigen::MatrixXcd Dinv = dynamic_flexibility(s, Eigen::Vector3d::Zero(), k * omega);
-      const Eigen::MatrixXcd ref = B.cast<Complex>() * Dinv * B.transpose().cast<Complex>();
-      EXPECT_LE((sys.receptance(k, omega) - ref).norm(), kRoundOff * ref.norm()) << omega;
+  for (DampingMatrixMethod method :
+       {DampingMatrixMethod::kStateSpace, DampingMatrixMethod::kImpedanceLu}) {
+    const HarmonicBalanceSystem sys(
+        linear_model_from_matrices(s.K, s.M, s.C), {mixed_pairs(s, s.contact)[0]}, excitation(s),
+        options(StaticCoupling::kCoupled, 2, HbmLinearSolver::kDense, method));
+    EXPECT_EQ(sys.state_space_damping(), method == DampingMatrixMethod::kStateSpace);
+    const Eigen::MatrixXd B = contact_map(s);
+    for (double omega : {30.0, 72.0, 100.0, 118.0, 160.0}) {
+      for (int k : {1, 2}) {
+        const Eigen::MatrixXcd Dinv = dynamic_flexibility(s, Eigen::Vector3d::Zero(), k * omega);
+        const Eigen::MatrixXcd ref = B.cast<Complex>() * Dinv * B.transpose().cast<Complex>();
+        EXPECT_LE((sys.receptance(k, omega) - ref).norm(), kRoundOff * ref.norm()) << omega;
+      }
+      const Eigen::VectorXcd ul =
+          B.cast<Complex>() * dynamic_flexibility(s, Eigen::Vector3d::Zero(), omega) * s.load1;
+      EXPECT_LE((sys.linear_contact_response(1, omega) - ul).norm(), kRoundOff * ul.norm());
     }
-    const Eigen::VectorXcd ul =
-        B.cast<Complex>() * dynamic_flexibility(s, Eigen::Vector3d::Zero(), omega) * s.load1;
-    EXPECT_LE((sys.linear_contact_response(1, omega) - ul).norm(), kRoundOff * ul.norm());
   }
 }
 
@@ -197,25 +204,28 @@ TEST(DampingMatrix, ZeroFrictionGivesFreeAndHugeFrictionGivesStuckLinearFrf) {
   for (HbmLinearSolver solver : {HbmLinearSolver::kDense, HbmLinearSolver::kStructured}) {
     for (StaticCoupling coupling : {StaticCoupling::kCoupled, StaticCoupling::kUncoupled}) {
       for (bool stuck : {false, true}) {
-        FrictionContactParameters p = s.contact;
-        p.mu = stuck ? 1e9 : 0.0;
-        const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.C),
-                                        {{.dofs_a = {0, 1, 2},
-                                          .dofs_b = {3, 4, 5},
-                                          .frame = s.R,
-                                          .element = std::make_shared<FrictionContact3D>(p)}},
-                                        excitation(s), options(coupling, 2, solver));
-        FrequencyResponseOptions o;
-        o.omegas = {50, 90, 100, 118, 140, 160, 220};
-        o.sweep.newton.tolerance = 1e-12;
-        o.sweep.newton.max_iterations = 50;
-        const FrequencyResponse r = frequency_response(sys, o);
-        ASSERT_TRUE(r.completed) << r.message;
-        for (const FrequencyPoint& pt : r.points) {
-          const Eigen::VectorXcd ref =
-              dynamic_flexibility(s, stuck ? stuck_k : free_k, pt.omega) * s.load1;
-          EXPECT_LE((pt.master.col(1) - ref).norm(), kSolutionRoundOff * ref.norm()) << pt.omega;
-          EXPECT_LE(pt.master.col(2).norm(), kSolutionRoundOff * ref.norm());
+        for (DampingMatrixMethod method :
+             {DampingMatrixMethod::kStateSpace, DampingMatrixMethod::kImpedanceLu}) {
+          FrictionContactParameters p = s.contact;
+          p.mu = stuck ? 1e9 : 0.0;
+          const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.C),
+                                          {{.dofs_a = {0, 1, 2},
+                                            .dofs_b = {3, 4, 5},
+                                            .frame = s.R,
+                                            .element = std::make_shared<FrictionContact3D>(p)}},
+                                          excitation(s), options(coupling, 2, solver, method));
+          FrequencyResponseOptions o;
+          o.omegas = {50, 90, 100, 118, 140, 160, 220};
+          o.sweep.newton.tolerance = 1e-12;
+          o.sweep.newton.max_iterations = 50;
+          const FrequencyResponse r = frequency_response(sys, o);
+          ASSERT_TRUE(r.completed) << r.message;
+          for (const FrequencyPoint& pt : r.points) {
+            const Eigen::VectorXcd ref =
+                dynamic_flexibility(s, stuck ? stuck_k : free_k, pt.omega) * s.load1;
+            EXPECT_LE((pt.master.col(1) - ref).norm(), kSolutionRoundOff * ref.norm()) << pt.omega;
+            EXPECT_LE(pt.master.col(2).norm(), kSolutionRoundOff * ref.norm());
+          }
         }
       }
     }
@@ -227,14 +237,17 @@ TEST(DampingMatrix, JacobiansMatchFiniteDifferences) {
   // through dH/dΩ = −H (dZ/dΩ) H) against central differences; the cycle must slip and lift off.
   const TwoNodes s = two_nodes();
   for (StaticCoupling coupling : {StaticCoupling::kCoupled, StaticCoupling::kUncoupled}) {
-    const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.C),
-                                    mixed_pairs(s, s.contact), excitation(s),
-                                    options(coupling, 2, HbmLinearSolver::kDense));
-    ASSERT_TRUE(sys.static_summary().converged());
-    const Eigen::VectorXd x = random_unknowns(sys.size(), 6e-4, 3);
-    testing::expect_derivatives_match_central_differences(sys, x, 110.0, 1e-7 * 6e-4,
-                                                          kFdRelativeTolerance);
-    testing::expect_first_pair_slips_and_separates(sys, x);
+    for (DampingMatrixMethod method :
+         {DampingMatrixMethod::kStateSpace, DampingMatrixMethod::kImpedanceLu}) {
+      const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.C),
+                                      mixed_pairs(s, s.contact), excitation(s),
+                                      options(coupling, 2, HbmLinearSolver::kDense, method));
+      ASSERT_TRUE(sys.static_summary().converged());
+      const Eigen::VectorXd x = random_unknowns(sys.size(), 6e-4, 3);
+      testing::expect_derivatives_match_central_differences(sys, x, 110.0, 1e-7 * 6e-4,
+                                                            kFdRelativeTolerance);
+      testing::expect_first_pair_slips_and_separates(sys, x);
+    }
   }
 }
 
