@@ -109,9 +109,14 @@ std::string solve_fingerprint(const CaseDefinition& definition);
 // the bodies are reduced again. Reused mesh bodies get their mesh, material and clamps back;
 // `full_matrices` also assembles their full K and M (for the recovery) and loads T (required for
 // recovery.method: expansion); `load_basis_if_present` loads T whenever reduce wrote it.
+// `cache` (may be null): what the analyses of one study share (ModelCache, cli/pipeline.h): the
+// meshes are loaded once, a body reduced here (no reduced files) is reduced again only when its
+// reduction fingerprint changes, and a body read from reduced files gets the full K, M and T
+// made for an earlier analysis with the same fingerprint.
 PreparedModel prepare_stage_model(const StageRun& run, const std::filesystem::path& out_dir,
                                   const std::string& case_file, bool full_matrices,
-                                  const ProgressFn& progress, bool load_basis_if_present = false);
+                                  const ProgressFn& progress, bool load_basis_if_present = false,
+                                  ModelCache* cache = nullptr);
 
 // The solve files of `run` (read_solve_results), refused (InvalidInput naming summary.json and
 // the solve command) if their fingerprint is not the case's.

@@ -25,6 +25,7 @@ int run_export(const ExportCommand& command) {
   const bool quiet = command.stage.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
+  ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
     const SolveResults results = read_stage_solve(run, base, out_dir);
@@ -39,8 +40,9 @@ int run_export(const ExportCommand& command) {
       throw InvalidInput({(run.dir / "points.csv").string(), 0, "--point"},
                          fmt::format("point {} did not converge", command.point));
     }
-    const PreparedModel model = prepare_stage_model(run, out_dir, command.stage.case_file,
-                                                    /*full_matrices=*/false, progress);
+    const PreparedModel model =
+        prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/false,
+                            progress, /*load_basis_if_present=*/false, &cache);
     check_solve_matches_model(results, model, def, run, stage_hint("solve", base, out_dir));
     const std::vector<int>& harmonics = results.response.harmonics;
     int written = 0;

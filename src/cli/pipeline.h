@@ -110,17 +110,30 @@ struct PreparedBody {
   int global_dof(int node_id, int direction) const;  // -1 if not a master DOF
 };
 
-// What the analyses of one study share (`run`, `reduce`): the last mesh loaded under each mesh
-// name and the last reduction of each mesh body, with the fingerprints they were made for
-// (mesh_fingerprint, reduction_fingerprints). An analysis finds them here when its fingerprints
-// are the same (a studied contact, damping, excitation or analysis parameter) and makes them
-// again, replacing them, when they are not (a studied material re-reduces the bodies made of it,
-// and only those). One entry per name bounds the memory to one copy of each body.
+// What the analyses of one study share (`run`, `reduce`, `solve`, `recover`, `export`): the last
+// mesh loaded under each mesh name and the last reduction of each mesh body, with the fingerprints
+// they were made for (mesh_fingerprint, reduction_fingerprints). An analysis finds them here when
+// its fingerprints are the same (a studied contact, damping, excitation or analysis parameter) and
+// makes them again, replacing them, when they are not (a studied material re-reduces the bodies
+// made of it, and only those). One entry per name bounds the memory to one copy of each body.
 struct ModelCache {
   std::map<std::string, std::pair<std::string, Mesh>> meshes;  // name -> (fingerprint, mesh)
   // body name -> (reduction fingerprint, the body as reduce_mesh_body left it: constraints, full
   // K and M, reduced, T, seconds_reduction)
   std::map<std::string, std::pair<std::string, PreparedBody>> bodies;
+  // The stage commands that read reduce's files (prepare_stage_model, cli/commands.h): per body
+  // name, the full-model side given back to a body read from DIR/reduced, for the reduction
+  // fingerprint it was made for: the full K and M and the basis T, once a stage asked for them.
+  // Reduced files with the same fingerprint (DIR/reduced, or DIR/<folder>/reduced of a studied
+  // material that this body is not made of) hold the same reduction, so T is read once.
+  struct StageBody {
+    std::string fingerprint;
+    bool has_full_matrices = false;
+    SparseMatrix K, M;
+    bool has_basis = false;
+    Eigen::MatrixXd T;
+  };
+  std::map<std::string, StageBody> stage_bodies;
 };
 
 struct PreparedPair {

@@ -78,6 +78,7 @@ int run_recover(const RecoverCommand& command) {
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
   const std::string hint = stage_hint("solve", base, out_dir);
+  ModelCache cache;  // meshes, reductions and full matrices shared by the study's analyses
   for (const StageRun& stage_run : stage_runs(base, out_dir)) {
     StageRun run = stage_run;
     if (command.point == "peak" || command.point == "all") {
@@ -104,8 +105,9 @@ int run_recover(const RecoverCommand& command) {
       }
       explicit_point = static_cast<int>(n);
     }
-    const PreparedModel model = prepare_stage_model(run, out_dir, command.stage.case_file,
-                                                    /*full_matrices=*/true, progress);
+    const PreparedModel model =
+        prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/true, progress,
+                            /*load_basis_if_present=*/false, &cache);
     check_solve_matches_model(results, model, def, run, hint);
     // The reduced model's response at every reduced DOF from the contact forces of the files.
     const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);

@@ -101,7 +101,8 @@ fs::path reduced_dir_of(const StageRun& run, const fs::path& out_dir) {
 
 PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
                                   const std::string& case_file, bool full_matrices,
-                                  const ProgressFn& progress, bool load_basis_if_present) {
+                                  const ProgressFn& progress, bool load_basis_if_present,
+                                  ModelCache* cache) {
   const CaseDefinition& def = run.definition;
   const fs::path dir = reduced_dir_of(run, out_dir);
   const fs::path manifest_path = dir / "manifest.txt";
@@ -116,10 +117,10 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       progress("no reduced matrices in " + dir.string() + ": reducing (run `" + reduce_hint +
                "` once to reuse them)");
     }
-    return prepare_model(def, progress);
+    return prepare_model(def, progress, {}, cache);
   }
   const ReduceManifest manifest = read_reduce_manifest(manifest_path);
-  CaseBodies bodies = resolve_case_bodies(def, progress);
+  CaseBodies bodies = resolve_case_bodies(def, progress, cache);
   const std::vector<std::string> fingerprints = reduction_fingerprints(def, bodies);
 
   // The case with every mesh body given by its reduced matrices, node sets replaced by ids and
@@ -197,10 +198,32 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       d.node_index = by_id.at(d.node_id);
       d.full_dof = 3 * d.node_index + d.direction;
     }
+    // What an earlier analysis of the study made for the same reduction (fingerprints[b]: the
+    // mesh part, material and reduced DOFs are the same, so are K, M and T).
+    ModelCache::StageBody* shared = nullptr;
+    if (cache != nullptr) {
+      shared = &cache->stage_bodies[body.name];
+      if (shared->fingerprint != fingerprints[b]) {
+        *shared = ModelCache::StageBody{};
+        shared->fingerprint = fingerprints[b];
+      }
+    }
     const fs::path t = dir / (body.name + "_T.bin");
     const bool need_basis = full_matrices && def.recovery.method == "expansion";
-    if (full_matrices) {
+    if (full_matrices && shared != nullptr && shared->has_full_matrices) {
+      if (progress) {
+        progress("full K and M of " + body.name +
+                 ": the ones already assembled (same reduction fingerprint)");
+      }
+      body.K = shared->K;
+      body.M = shared->M;
+    } else if (full_matrices) {
       assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &body.K, &body.M);
+      if (shared != nullptr) {
+        shared->K = body.K;
+        shared->M = body.M;
+        shared->has_full_matrices = true;
+      }
     }
     if (need_basis || (load_basis_if_present && fs::exists(t))) {
       if (!fs::exists(t)) {
@@ -209,10 +232,16 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
                            "run `" +
                                reduce_hint + "` again");
       }
-      body.T = read_dense_matrix(t);
+      const bool reuse = shared != nullptr && shared->has_basis;
+      if (reuse && progress) progress("basis T of " + body.name + ": the one already read");
+      body.T = reuse ? shared->T : read_dense_matrix(t);
       if (body.T.rows() != body.mesh.num_dofs() || body.T.cols() != body.reduced.size()) {
         throw InvalidInput({t.string(), 0, ""},
                            "the basis does not fit the body: run `" + reduce_hint + "` again");
+      }
+      if (shared != nullptr && !reuse) {
+        shared->T = body.T;
+        shared->has_basis = true;
       }
     }
   }

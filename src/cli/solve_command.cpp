@@ -233,11 +233,13 @@ int run_solve(const StageCommand& command) {
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   int failed_points = 0;
+  ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     if (!run.folder.empty()) progress("study: " + run.folder);
     const auto t_run = Clock::now();
     const PreparedModel model =
-        prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress);
+        prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
+                            /*load_basis_if_present=*/false, &cache);
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     write_solve_results(run.dir, run.definition, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());

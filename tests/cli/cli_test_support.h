@@ -1,9 +1,12 @@
 // Helpers shared by the end-to-end tests of the stickslip program: run it, read its files.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +105,71 @@ inline std::vector<std::map<std::string, std::string>> read_csv(const fs::path& 
     rows.push_back(row);
   }
   return rows;
+}
+
+// Same arithmetic in the same order gives the same bits; this only allows for a library that
+// would reorder a sum. Relative to the largest magnitude of the column, so that round-off noise
+// in a column of tiny values (forces of separated pairs) is measured against the column's scale.
+inline constexpr double kSameResultTolerance = 1e-12;
+
+// Writes `text` to DIR/NAME.yaml; returns that path.
+inline fs::path write_case(const fs::path& dir, const std::string& name, const std::string& text) {
+  const fs::path file = dir / (name + ".yaml");
+  std::ofstream(file) << text;
+  return file;
+}
+
+// Runs `stickslip STAGE FILE -o OUT` (progress on), expects exit code 0 and returns its log
+// (kept in OUT.STAGE.log).
+inline std::string run_stage(const std::string& stage, const fs::path& file, const fs::path& out) {
+  const fs::path log = out.string() + "." + stage + ".log";
+  EXPECT_EQ(run(stage + " " + file.string() + " -o " + out.string(), log), 0) << slurp(log);
+  return slurp(log);
+}
+
+// How many times `what` occurs in `text` (overlaps counted).
+inline int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+inline bool parse_number(const std::string& s, double* x) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  *x = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size();
+}
+
+// Every row, column and cell of `actual` equals `expected`: text cells exactly, numbers within
+// kSameResultTolerance of the column's largest magnitude.
+inline void expect_same_csv(const fs::path& expected, const fs::path& actual) {
+  SCOPED_TRACE(actual.string() + " vs " + expected.string());
+  ASSERT_TRUE(fs::exists(expected));
+  ASSERT_TRUE(fs::exists(actual));
+  const auto e = read_csv(expected), a = read_csv(actual);
+  ASSERT_FALSE(e.empty());
+  ASSERT_EQ(e.size(), a.size());
+  std::map<std::string, double> scale;
+  for (const auto& row : e) {
+    for (const auto& [column, cell] : row) {
+      double x;
+      if (parse_number(cell, &x)) scale[column] = std::max(scale[column], std::abs(x));
+    }
+  }
+  for (size_t i = 0; i < e.size(); ++i) {
+    ASSERT_EQ(e[i].size(), a[i].size()) << "row " << i;
+    for (const auto& [column, cell] : e[i]) {
+      ASSERT_TRUE(a[i].count(column)) << column;
+      double x, y;
+      if (parse_number(cell, &x) && parse_number(a[i].at(column), &y)) {
+        EXPECT_LE(std::abs(x - y), kSameResultTolerance * scale[column])
+            << "row " << i << " column " << column << ": " << cell << " vs " << a[i].at(column);
+      } else {
+        EXPECT_EQ(cell, a[i].at(column)) << "row " << i << " column " << column;
+      }
+    }
+  }
 }
 
 }  // namespace stickslip::cli_test

@@ -24,72 +24,15 @@ namespace {
 
 using namespace stickslip::cli_test;
 
-// Same arithmetic in the same order gives the same bits; this only allows for a library that
-// would reorder a sum. Relative to the largest magnitude of the column, so that round-off noise
-// in a column of tiny values (forces of separated pairs) is measured against the column's scale.
-constexpr double kSameResultTolerance = 1e-12;
-
 // The small joint (cli_test_support.h), friction coefficient 0.5, with `sections` appended
 // (recovery, output, study).
 std::string joint_case(double preload, const std::string& sections) {
   return small_joint_case(0.5, preload, sections);
 }
 
-fs::path write_case(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path file = dir / (name + ".yaml");
-  std::ofstream(file) << text;
-  return file;
-}
-
 // Runs `stickslip run FILE -o OUT` (progress on) and returns its log.
 std::string run_case(const fs::path& file, const fs::path& out) {
-  const fs::path log = out.string() + ".log";
-  EXPECT_EQ(run("run " + file.string() + " -o " + out.string(), log), 0) << slurp(log);
-  return slurp(log);
-}
-
-int count(const std::string& text, const std::string& what) {
-  int n = 0;
-  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
-
-bool parse_number(const std::string& s, double* x) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  *x = std::strtod(s.c_str(), &end);
-  return end == s.c_str() + s.size();
-}
-
-// Every row, column and cell of `actual` equals `expected`: text cells exactly, numbers within
-// kSameResultTolerance of the column's largest magnitude.
-void expect_same_csv(const fs::path& expected, const fs::path& actual) {
-  SCOPED_TRACE(actual.string() + " vs " + expected.string());
-  ASSERT_TRUE(fs::exists(expected));
-  ASSERT_TRUE(fs::exists(actual));
-  const auto e = read_csv(expected), a = read_csv(actual);
-  ASSERT_FALSE(e.empty());
-  ASSERT_EQ(e.size(), a.size());
-  std::map<std::string, double> scale;
-  for (const auto& row : e) {
-    for (const auto& [column, cell] : row) {
-      double x;
-      if (parse_number(cell, &x)) scale[column] = std::max(scale[column], std::abs(x));
-    }
-  }
-  for (size_t i = 0; i < e.size(); ++i) {
-    ASSERT_EQ(e[i].size(), a[i].size()) << "row " << i;
-    for (const auto& [column, cell] : e[i]) {
-      ASSERT_TRUE(a[i].count(column)) << column;
-      double x, y;
-      if (parse_number(cell, &x) && parse_number(a[i].at(column), &y)) {
-        EXPECT_LE(std::abs(x - y), kSameResultTolerance * scale[column])
-            << "row " << i << " column " << column << ": " << cell << " vs " << a[i].at(column);
-      } else {
-        EXPECT_EQ(cell, a[i].at(column)) << "row " << i << " column " << column;
-      }
-    }
-  }
+  return run_stage("run", file, out);
 }
 
 const std::vector<std::string> kSolveFiles = {"points.csv", "master_response.csv",
