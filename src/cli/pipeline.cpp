@@ -354,12 +354,13 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
   // Symmetry of a "general" file: the tolerance of the Harwell–Boeing importer for RUA files.
   constexpr double kSymmetryTolerance = 1e-10;
   const AnsysMapping mapping = read_ansys_mapping(r.mapping);
+  check_reduced_body_size(mapping, r.mapping);  // bounds the dense matrices below
   const int n = static_cast<int>(mapping.entries.size());
   Eigen::MatrixXd K, M;
   for (const std::string* path : {&r.stiffness, &r.mass}) {
-    const MatrixMarketMatrix m = read_matrix_market(*path);
+    const MatrixMarketMatrix m = read_matrix_market(*path);  // sparse: what its data backs
     if (m.matrix.rows() != n || m.matrix.cols() != n) {
-      throw InvalidInput({*path, 1, ""},
+      throw InvalidInput({*path, m.size_line, "rows columns"},
                          fmt::format("matrix is {} x {} but the mapping {} has {} equations",
                                      m.matrix.rows(), m.matrix.cols(), r.mapping, n));
     }
@@ -404,6 +405,13 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   const int interior = body.constraints.num_free() - static_cast<int>(boundary.size());
   CraigBamptonOptions options;
   options.num_modes = std::min(bd.modes, std::max(0, interior - 1));
+  const long long reduced_dofs = static_cast<long long>(boundary.size()) + options.num_modes;
+  if (reduced_dofs > kMaxReducedBodyDofs) {  // the limit of imported bodies (io/ansys_mapping.h)
+    throw InvalidInput(
+        def.where(key),
+        fmt::format("body {}: {} master nodes x 3 + {} modes = {}: {}", name, masters.size(),
+                    options.num_modes, reduced_dofs, reduced_body_size_message(reduced_dofs)));
+  }
   CraigBamptonResult cb = craig_bampton(K, M, constrained, boundary, options);
   if (!cb.summary.ok()) {
     throw InvalidInput(def.where(key), "Craig–Bampton reduction of body " + name +

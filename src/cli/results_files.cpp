@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -541,8 +542,27 @@ Eigen::MatrixXd read_dense_matrix(const fs::path& path) {
   int version = 0;
   long rows = -1, cols = -1;
   ss >> magic >> version >> rows >> cols;
-  if (magic != "stickslip-dense-matrix" || version != 1 || rows < 0 || cols < 0) {
+  if (magic != "stickslip-dense-matrix" || version != 1 || rows < 0 || cols < 0 ||
+      rows > std::numeric_limits<int>::max() || cols > std::numeric_limits<int>::max()) {
     throw InvalidInput({path.string(), 1, ""}, "not a stickslip dense matrix file");
+  }
+  // The values present are counted before the matrix is allocated: a damaged header announcing
+  // a huge matrix stops here instead of in the allocator (rows * cols < 2^62 fits).
+  const std::istream::pos_type here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::istream::pos_type end = in.tellg();
+  in.seekg(here);
+  const unsigned long long announced =
+      static_cast<unsigned long long>(rows) * static_cast<unsigned long long>(cols);
+  const unsigned long long present =
+      here == std::istream::pos_type(-1) || end < here
+          ? 0
+          : static_cast<unsigned long long>(end - here) / sizeof(double);
+  if (present < announced) {
+    throw InvalidInput({path.string(), 1, ""},
+                       fmt::format("the matrix file is truncated: {} x {} values announced, the "
+                                   "file holds {}",
+                                   rows, cols, present));
   }
   Eigen::MatrixXd m(rows, cols);
   in.read(reinterpret_cast<char*>(m.data()),

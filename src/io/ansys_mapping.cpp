@@ -136,6 +136,27 @@ std::string ansys_mapping_path(const std::string& matrix_path) {
   return std::filesystem::path(matrix_path).replace_extension(".mapping").string();
 }
 
+std::string reduced_body_size_message(long long n) {
+  const auto gigabytes = [](long long dofs) {
+    const double bytes = static_cast<double>(dofs) * static_cast<double>(dofs) * sizeof(double);
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g GB", bytes / 1e9);
+    return std::string(buffer);
+  };
+  return "a reduced body of " + std::to_string(n) + " DOFs needs dense K and M of " + gigabytes(n) +
+         " each (n² x 8 bytes): at most " + std::to_string(kMaxReducedBodyDofs) + " DOFs (" +
+         gigabytes(kMaxReducedBodyDofs) + " each) are accepted";
+}
+
+void check_reduced_body_size(const AnsysMapping& mapping, const std::string& mapping_path) {
+  const long long n = static_cast<long long>(mapping.entries.size());
+  if (n <= kMaxReducedBodyDofs) return;
+  const AnsysMappingEntry& first_beyond = mapping.entries[kMaxReducedBodyDofs];
+  throw InvalidInput(
+      {mapping_path, first_beyond.line, "equation"},
+      "the mapping has " + std::to_string(n) + " equations: " + reduced_body_size_message(n));
+}
+
 ReducedBody reduced_body_from_mapping(Eigen::MatrixXd K, Eigen::MatrixXd M,
                                       const AnsysMapping& mapping,
                                       const std::string& mapping_path) {
@@ -182,10 +203,13 @@ ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std
                                     const std::string& mapping_path) {
   const std::string map_path =
       mapping_path.empty() ? ansys_mapping_path(stiffness_path) : mapping_path;
+  // The mapping first: its count bounds the dense matrices (kMaxReducedBodyDofs). The sparse
+  // reads below allocate only what their data backs (io/harwell_boeing.h).
+  const AnsysMapping mapping = read_ansys_mapping(map_path);
+  check_reduced_body_size(mapping, map_path);
+  const int n = static_cast<int>(mapping.entries.size());
   const HarwellBoeingMatrix K = read_harwell_boeing(stiffness_path);
   const HarwellBoeingMatrix M = read_harwell_boeing(mass_path);
-  const AnsysMapping mapping = read_ansys_mapping(map_path);
-  const int n = static_cast<int>(mapping.entries.size());
   for (const auto* m : {&K, &M}) {
     const std::string& path = m == &K ? stiffness_path : mass_path;
     if (m->matrix.rows() != n || m->matrix.cols() != n) {

@@ -46,6 +46,19 @@ void write_ansys_mapping(std::ostream& out, const AnsysMapping& mapping);
 // `path` with its extension replaced by ".mapping" (ANSYS names the file Fname.mapping).
 std::string ansys_mapping_path(const std::string& matrix_path);
 
+// Largest reduced body stickslip reads or makes, in DOFs (rows of the mapping; boundary DOFs plus
+// modes of a Craig–Bampton body). A CMS superelement has a few thousand DOFs at most, and K_r and
+// M_r are held dense (n x n doubles): 20000 DOFs already take 3.2 GB per matrix, and the modes of
+// the assembled model cost O(n³). A larger count is a wrong file (or a mesh body with far too
+// many master nodes or modes) and is refused before anything of that size is allocated.
+inline constexpr int kMaxReducedBodyDofs = 20000;
+// "a reduced body of n DOFs needs dense K and M of <bytes> each (n² x 8 bytes): at most 20000
+// DOFs (3.2 GB each) are accepted", for the InvalidInput of a body above kMaxReducedBodyDofs.
+std::string reduced_body_size_message(long long n);
+// Throws InvalidInput at the row of equation kMaxReducedBodyDofs + 1 of `mapping` (read from
+// `mapping_path`) when it has more than kMaxReducedBodyDofs equations.
+void check_reduced_body_size(const AnsysMapping& mapping, const std::string& mapping_path);
+
 // A reduced body from K, M (n x n, any source; taken as given, not symmetrised) and a parsed
 // mapping with n entries: nodal translations become physical DOFs (node_id = node number,
 // direction), generalised coordinates modal DOFs numbered in order with frequency_hz =
@@ -60,6 +73,9 @@ ReducedBody reduced_body_from_mapping(Eigen::MatrixXd K, Eigen::MatrixXd M,
 // numbered in order, with frequency_hz = sqrt(K_jj / M_jj) / 2π — the fixed-interface natural
 // frequency when the modes are mass-normalised and K_r's modal block is diagonal, as in a
 // Craig–Bampton superelement. Nodal rotations are rejected (stickslip bodies are solids).
+// The mapping is read first: more than kMaxReducedBodyDofs equations are refused (at the first
+// row beyond the limit) before the matrices are read, and matrices whose NROW/NCOL (line 3) are
+// not the mapping's count are refused before the dense K_r, M_r are allocated.
 ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std::string& mass_path,
                                     const std::string& mapping_path = "");
 

@@ -17,6 +17,8 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "io/ansys_mapping.h"
+
 namespace stickslip {
 
 SourceLocation CaseDefinition::where(const std::string& path) const {
@@ -355,6 +357,13 @@ class MapView {
     p_.check(*dst >= min, full(key), line(key),
              "must be >= " + std::to_string(min) + ", got " + std::to_string(*dst));
   }
+  // The same with an upper bound; `why` says what the bound is for.
+  void integer(const std::string& key, int* dst, int min, int max, const std::string& why) const {
+    if (!has(key)) return;
+    integer(key, dst, min);
+    p_.check(*dst <= max, full(key), line(key),
+             "must be <= " + std::to_string(max) + " (" + why + "), got " + std::to_string(*dst));
+  }
   void text(const std::string& key, std::string* dst) const {
     if (has(key)) *dst = p_.text(value(key), full(key), line(key));
   }
@@ -542,6 +551,23 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
       p.check(dst[i] >= 1, m.full(key), m.line(key), "element counts must be >= 1");
     }
   }
+  if (m.has("box") || m.has("end_block")) {
+    // Elements of one beam, the product saturated at the limit (three counts below 2^31 each
+    // could overflow 64 bits).
+    const auto elements = [](const std::array<int, 3>& c) {
+      long long e = 1;
+      for (int n : c) e = std::min(e * n, kMaxGeneratedElements + 1);
+      return e;
+    };
+    const auto text = [](const std::array<int, 3>& c) {
+      return fmt::format("[{}, {}, {}]", c[0], c[1], c[2]);
+    };
+    const char* key = m.has("end_block") ? "end_block" : "box";
+    p.check(elements(d.box) + elements(d.end_block) <= kMaxGeneratedElements, m.full(key),
+            m.line(key),
+            "box " + text(d.box) + " and end_block " + text(d.end_block) + " make more than " +
+                std::to_string(kMaxGeneratedElements) + " elements per beam");
+  }
   for (const char* key : {"beam_length", "width", "thickness", "end_length"}) {
     if (!m.has(key)) continue;
     const double v = p.number(m.value(key), m.full(key), m.line(key));
@@ -670,7 +696,8 @@ void parse_bodies(Parser& p, const MapView& top) {
             d.clamp = node_selection(p, m.value("clamp"), m.full("clamp"), m.line("clamp"));
           if (m.has("masters"))
             d.masters = node_selection(p, m.value("masters"), m.full("masters"), m.line("masters"));
-          m.integer("modes", &d.modes, 0);
+          m.integer("modes", &d.modes, 0, kMaxReducedBodyDofs,
+                    "the largest reduced body, in DOFs: K_r and M_r are dense");
         }
         p.out().bodies[name] = d;
       });
@@ -1069,6 +1096,15 @@ void parse_analysis(Parser& p, const MapView& top) {
   p.check(a.time_samples >= needed, m.full("time_samples"), m.line("time_samples"),
           "must be >= 2(2H+1) = " + std::to_string(needed) + " for highest harmonic H = " +
               std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
+  // H <= kMaxHarmonic, so 64(2H+1) fits in an int.
+  const int most =
+      std::min(kMaxTimeSamples,
+               std::max(kTimeSamplesFloor, kTimeSamplesPerHarmonic * (2 * a.max_harmonic() + 1)));
+  p.check(a.time_samples <= most, m.full("time_samples"), m.line("time_samples"),
+          "must be <= min(" + std::to_string(kMaxTimeSamples) + ", max(" +
+              std::to_string(kTimeSamplesFloor) + ", " + std::to_string(kTimeSamplesPerHarmonic) +
+              "(2H+1))) = " + std::to_string(most) + " for highest harmonic H = " +
+              std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
   m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
@@ -1077,7 +1113,20 @@ void parse_analysis(Parser& p, const MapView& top) {
   }
   m.integer("max_iterations", &a.max_iterations, 1);
   if (a.method != "continuation") m.forbid("max_points", "with method stepped");
-  m.integer("max_points", &a.max_points, 2);
+  m.integer("max_points", &a.max_points, 2, kMaxFrequencyPoints,
+            "points of one continuation, each solved and written");
+  if (a.method != "continuation") {
+    // The points of the stepped sweep, window / step_hz + 1 (the window is known here for both
+    // kinds of frequency definition), bounded as max_points is.
+    const double window = fr.kind == FrequencyDefinition::Kind::kAroundMode
+                              ? 2.0 * fr.half_width_hz
+                              : fr.stop_hz - fr.start_hz;
+    const double points = std::floor(window / fr.step_hz) + 1.0;
+    p.check(points <= kMaxFrequencyPoints, f.full("step_hz"), f.line("step_hz"),
+            "the stepped sweep would have " + format_number(points) + " points (window " +
+                format_number(window) + " Hz / step_hz + 1): at most " +
+                std::to_string(kMaxFrequencyPoints) + " are accepted");
+  }
   m.choice("initial_guess", &a.initial_guess, {"stuck", "free"});
   if (a.method == "continuation") m.forbid("predictor", "with method continuation");
   m.choice("predictor", &a.predictor, {"secant", "previous"});
@@ -1105,7 +1154,7 @@ void parse_recovery(Parser& p, const MapView& top) {
   }
   m.choice("method", &r.method, {"direct", "modal", "expansion"});
   if (r.method != "modal") m.forbid("modes", "unless method is modal");
-  m.integer("modes", &r.modes, 1);
+  m.integer("modes", &r.modes, 1, kMaxRecoveryModes, "full-model modes of the modal recovery");
   if (m.has("fields")) {
     const YAML::Node& v = m.value("fields");
     p.sequence(v, m.full("fields"), m.line("fields"));

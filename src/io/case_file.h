@@ -41,6 +41,21 @@ inline constexpr int kCaseFormatVersion = 1;  // the value of the required key `
 // (the AFT then needs time_samples >= 2(2H+1) = 40002); it bounds what a typo or a corrupted
 // file can make the parser allocate and keeps 2(2H+1) far from int overflow.
 inline constexpr int kMaxHarmonic = 10000;
+// Upper bounds of the other integer keys that size an allocation or a loop (docs/case-file.md,
+// "Limits"); each is far beyond what an analysis needs and stops a typo (time_samples: 6400000,
+// max_points: 1e9) at its line instead of in the allocator or after hours.
+// analysis.time_samples <= min(kMaxTimeSamples, max(kTimeSamplesFloor, 64 (2 H_max + 1))).
+inline constexpr int kTimeSamplesPerHarmonic = 64;
+inline constexpr int kTimeSamplesFloor = 4096;
+inline constexpr int kMaxTimeSamples = 65536;
+// analysis.max_points, and the points of a stepped sweep (window / step_hz + 1).
+inline constexpr int kMaxFrequencyPoints = 1000000;
+// recovery.modes (full-model modes of the modal recovery).
+inline constexpr int kMaxRecoveryModes = 10000;
+// Elements of one generated beam (box plus end block).
+inline constexpr long long kMaxGeneratedElements = 1000000;
+// bodies.<name>.modes: at most kMaxReducedBodyDofs (io/ansys_mapping.h), the size of the largest
+// reduced body.
 
 struct MaterialDefinition {
   double youngs_modulus = 0.0;  // E, Pa (required, > 0)

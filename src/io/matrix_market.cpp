@@ -213,6 +213,7 @@ MatrixMarketMatrix read_matrix_market(std::istream& in, const std::string& name)
   }
   result.matrix.resize(static_cast<int>(h.rows), static_cast<int>(h.cols));
   result.matrix.setFromTriplets(triplets.begin(), triplets.end());  // sums repeated entries
+  result.size_line = h.size_line;
   return result;
 }
 

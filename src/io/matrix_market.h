@@ -31,6 +31,7 @@ enum class MatrixMarketSymmetry { kGeneral, kSymmetric };
 struct MatrixMarketMatrix {
   MatrixMarketSymmetry symmetry = MatrixMarketSymmetry::kGeneral;
   SparseMatrix matrix;  // full storage
+  int size_line = 0;    // line of the size line "rows columns entries" (for messages)
 };
 
 MatrixMarketMatrix read_matrix_market(const std::string& path);

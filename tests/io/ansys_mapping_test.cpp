@@ -170,6 +170,51 @@ TEST(AnsysMapping, MatrixSizeMustMatchMapping) {
   fs::remove_all(dir);
 }
 
+// A mapping of more than kMaxReducedBodyDofs rows (a 2 MB file can ask for a 160 GB dense
+// matrix) is refused before the matrices are read: the (missing) matrix files are never opened,
+// and the message gives the row, the count, the bytes and the limit. At the limit the mapping is
+// accepted and the matrices must have its size (line 3, NROW NCOL) before they are made dense.
+TEST(AnsysMapping, MappingAboveTheLargestReducedBodyIsRefusedBeforeTheMatrices) {
+  const fs::path dir = scratch_dir();
+  const auto write_mapping = [&](int rows) {
+    std::ofstream map(dir / "K.mapping");
+    map << "Matrix Eqn   Node   DOF\n";
+    for (int k = 1; k <= rows; ++k) {
+      map << k << " " << (k + 2) / 3 << " U"
+          << "XYZ"[(k - 1) % 3] << "\n";
+    }
+  };
+  write_mapping(kMaxReducedBodyDofs + 5000);
+  try {
+    read_ansys_reduced_body((dir / "missing_K.txt").string(), (dir / "missing_M.txt").string(),
+                            (dir / "K.mapping").string());
+    FAIL() << "accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, (dir / "K.mapping").string()) << e.what();
+    EXPECT_EQ(e.where().line, kMaxReducedBodyDofs + 2) << e.what();  // header + 20000 rows
+    EXPECT_NE(e.message().find("the mapping has 25000 equations: a reduced body of 25000 DOFs "
+                               "needs dense K and M of 5 GB each (n² x 8 bytes): at most 20000 "
+                               "DOFs (3.2 GB each) are accepted"),
+              std::string::npos)
+        << e.what();
+  }
+
+  write_mapping(kMaxReducedBodyDofs);
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(2, 2);
+  write_harwell_boeing((dir / "K.txt").string(), I.sparseView(), {});
+  try {
+    read_ansys_reduced_body((dir / "K.txt").string(), (dir / "K.txt").string(),
+                            (dir / "K.mapping").string());
+    FAIL() << "accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, (dir / "K.txt").string()) << e.what();
+    EXPECT_EQ(e.where().line, 3) << e.what();
+    EXPECT_NE(e.message().find("matrix is 2 x 2 but the mapping"), std::string::npos) << e.what();
+    EXPECT_NE(e.message().find("has 20000 equations"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 // The DOF map alone, from matrices of any source: physical DOFs, modal DOFs numbered in order
 // with f = sqrt(K_jj / M_jj) / 2π (closed form of the chosen diagonal), rotations and sizes
 // rejected naming the mapping.

@@ -518,6 +518,87 @@ TEST(CaseFileErrors, TooFewTimeSamples) {
                  19, "analysis.time_samples", "= 22");
 }
 
+// Upper bounds (docs/case-file.md, "Limits"): each key is refused just above its bound, at its
+// line with the rule, and accepted at the bound.
+TEST(CaseFileErrors, TimeSamplesAboveTheirUpperBound) {
+  const auto with = [](const std::string& lines) {
+    return edited("  frequency:", lines + "  frequency:");
+  };
+  // H = 1: 64(2H+1) = 192 < 4096, so 4096 is the bound.
+  expect_invalid(with("  time_samples: 6400000\n"), 18, "analysis.time_samples",
+                 "must be <= min(65536, max(4096, 64(2H+1))) = 4096 for highest harmonic H = 1, "
+                 "got 6400000");
+  EXPECT_EQ(parse(with("  time_samples: 4096\n")).analysis.time_samples, 4096);
+  expect_invalid(with("  time_samples: 4097\n"), 18, "analysis.time_samples", "= 4096");
+  // H = 100: 64 * 201 = 12864.
+  EXPECT_EQ(parse(with("  harmonics: 100\n  time_samples: 12864\n")).analysis.time_samples, 12864);
+  expect_invalid(with("  harmonics: [1, 100]\n  time_samples: 12865\n"), 19,
+                 "analysis.time_samples", "= 12864 for highest harmonic H = 100");
+  // H = 1000: 64 * 2001 > 65536, so 2^16 is the bound.
+  EXPECT_EQ(parse(with("  harmonics: 1000\n  time_samples: 65536\n")).analysis.time_samples, 65536);
+  expect_invalid(with("  harmonics: 1000\n  time_samples: 65537\n"), 19, "analysis.time_samples",
+                 "= 65536");
+}
+
+TEST(CaseFileErrors, MaxPointsAboveItsUpperBound) {
+  const auto with = [](const std::string& value) {
+    return edited("  frequency:",
+                  "  method: continuation\n  max_points: " + value + "\n  frequency:");
+  };
+  expect_invalid(with("1000000000"), 19, "analysis.max_points",
+                 "must be <= 1000000 (points of one continuation, each solved and written), got "
+                 "1000000000");
+  expect_invalid(with("1000001"), 19, "analysis.max_points", "must be <= 1000000");
+  EXPECT_EQ(parse(with("1000000")).analysis.max_points, 1000000);
+}
+
+TEST(CaseFileErrors, SteppedSweepOfMoreThanAMillionPoints) {
+  // 4 Hz window: step 1e-9 Hz would be 4e9 points.
+  expect_invalid(edited("step_hz: 0.01", "step_hz: 1e-9"), 18, "analysis.frequency.step_hz",
+                 "the stepped sweep would have 4000000000 points (window 4 Hz / step_hz + 1): at "
+                 "most 1000000 are accepted");
+  expect_invalid(edited("step_hz: 0.01", "step_hz: 3.9e-6"), 18, "analysis.frequency.step_hz",
+                 "1025642 points");
+  EXPECT_NO_THROW(parse(edited("step_hz: 0.01", "step_hz: 4.1e-6")));  // 975610 points
+  // The window around a mode: 2 x half_width_hz.
+  expect_invalid(edited("{start_hz: 1852, stop_hz: 1856, step_hz: 0.01}",
+                        "{around_mode: 4, half_width_hz: 1, step_hz: 1e-7}"),
+                 18, "analysis.frequency.step_hz", "(window 2 Hz / step_hz + 1)");
+  // Continuation: step_hz is the initial step only; max_points bounds the points.
+  EXPECT_NO_THROW(
+      parse(edited("  frequency: {start_hz: 1852, stop_hz: 1856, step_hz: 0.01}",
+                   "  method: continuation\n  frequency: {start_hz: 1852, stop_hz: 1856, "
+                   "step_hz: 1e-9}")));
+}
+
+TEST(CaseFileErrors, BodyModesAboveTheLargestReducedBody) {
+  expect_invalid(edited("clamp: CLAMP1}", "clamp: CLAMP1, modes: 20001}"), 7, "bodies.beam1.modes",
+                 "must be <= 20000 (the largest reduced body");
+  EXPECT_EQ(
+      parse(edited("clamp: CLAMP1}", "clamp: CLAMP1, modes: 20000}")).bodies.at("beam1").modes,
+      20000);
+}
+
+TEST(CaseFileErrors, RecoveryModesAboveTheirUpperBound) {
+  const std::string tail = "recovery: {method: modal, modes: ";
+  expect_invalid(kMinimal + tail + "10001}\n", 19, "recovery.modes",
+                 "must be <= 10000 (full-model modes of the modal recovery), got 10001");
+  EXPECT_EQ(parse(kMinimal + tail + "10000}\n").recovery.modes, 10000);
+}
+
+TEST(CaseFileErrors, GeneratedBeamOfMoreThanAMillionElements) {
+  const auto with = [](const std::string& keys) {
+    return edited("joint: {generate: two_beam}", "joint: {generate: two_beam, " + keys + "}");
+  };
+  expect_invalid(with("box: [100, 5, 2000]"), 5, "meshes.joint.box",
+                 "box [100, 5, 2000] and end_block [5, 5, 4] make more than 1000000 elements per "
+                 "beam");
+  // Counts whose product overflows 64 bits are refused the same way.
+  expect_invalid(with("box: [2147483647, 5, 2147483647], end_block: [2147483647, 5, 4]"), 5,
+                 "meshes.joint.end_block", "make more than 1000000 elements per beam");
+  EXPECT_NO_THROW(parse(with("box: [100, 5, 1990]")));  // 995000 + 100 elements
+}
+
 TEST(CaseFileErrors, HarmonicListNotIncreasing) {
   expect_invalid(edited("  frequency:", "  harmonics: [1, 3, 3]\n  frequency:"), 18,
                  "analysis.harmonics", "strictly increasing");
