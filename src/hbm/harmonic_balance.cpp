@@ -19,6 +19,10 @@
 extern "C" void dgeev_(const char* jobvl, const char* jobvr, const int* n, double* a, const int* lda,
                        double* wr, double* wi, double* vl, const int* ldvl, double* vr,
                        const int* ldvr, double* work, const int* lwork, int* info);
+extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
+                       const int* k, const double* alpha, const double* a, const int* lda,
+                       const double* b, const int* ldb, const double* beta, double* c,
+                       const int* ldc);
 extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k,
                        const double* alpha, const double* a, const int* lda, const double* beta,
                        double* c, const int* ldc);
@@ -1188,13 +1192,49 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
   const int nh = static_cast<int>(output_harmonics_.size());
   STICKSLIP_VERIFY(contact_force.rows() == rows_ && contact_force.cols() == nh,
                    "master_response: contact_force must be nu x output harmonics");
-  Eigen::MatrixXcd x(model_.Phi.rows(), nh);
+  const int ndof = static_cast<int>(model_.Phi.rows()), nm = static_cast<int>(model_.Phi.cols());
+  Eigen::MatrixXcd x(ndof, nh);
+  // Modal responses of the harmonics to compute, as real and imaginary columns, then one product
+  // with Φ through BLAS (twice as fast as column-by-column products at these sizes).
+  Eigen::MatrixXd modal(nm, 2 * nh);
+  std::vector<int> columns;
   for (int c = 0; c < nh; ++c) {
     const int k = output_harmonics_[c];
+    if (k == 0) {
+      const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
+      const StaticResponseCache& cache = *static_response_cache_;
+      if (cache.force.size() == rows_ && cache.force == contact_force.col(c)) {
+        x.col(c) = cache.response;
+        continue;
+      }
+    }
     Eigen::VectorXcd q = -real_times(Psi_.transpose(), contact_force.col(c));
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) q += load->second;
-    x.col(c) = real_times(model_.Phi, Eigen::VectorXcd(modal_flexibility_times(k, omega, q)));
+    const Eigen::VectorXcd y = modal_flexibility_times(k, omega, q);
+    const int slot = static_cast<int>(columns.size());
+    modal.col(2 * slot) = y.real();
+    modal.col(2 * slot + 1) = y.imag();
+    columns.push_back(c);
+  }
+  if (!columns.empty()) {
+    const int width = 2 * static_cast<int>(columns.size());
+    Eigen::MatrixXd product(ndof, width);
+    const double one = 1.0, zero = 0.0;
+    const char no = 'N';
+    const ScopedBlasThreads single_thread(1);
+    dgemm_(&no, &no, &ndof, &width, &nm, &one, model_.Phi.data(), &ndof, modal.data(), &nm, &zero,
+           product.data(), &ndof);
+    for (size_t slot = 0; slot < columns.size(); ++slot) {
+      const int c = columns[slot];
+      x.col(c).real() = product.col(2 * slot);
+      x.col(c).imag() = product.col(2 * slot + 1);
+      if (output_harmonics_[c] == 0) {
+        const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
+        static_response_cache_->force = contact_force.col(c);
+        static_response_cache_->response = x.col(c);
+      }
+    }
   }
   return x;
 }

@@ -290,6 +290,14 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::vector<CycleStatistics> stats;
   };
   std::shared_ptr<ForceCache> force_cache_ = std::make_shared<ForceCache>();
+  // master_response's harmonic-0 column for the last contact force it was asked with (the frozen
+  // static force of the uncoupled formulation: the same at every point of a sweep).
+  struct StaticResponseCache {
+    std::mutex mutex;
+    Eigen::VectorXcd force, response;
+  };
+  std::shared_ptr<StaticResponseCache> static_response_cache_ =
+      std::make_shared<StaticResponseCache>();
   std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
   std::shared_ptr<const DampedModalExpansion> damped_;  // state-space damping, else null
   std::string damping_matrix_note_;
