@@ -16,6 +16,19 @@ namespace {
 
 // Step factor after a corrector that needed more than the target iterations.
 constexpr double kStepShrink = 0.5;
+// A corner of a piecewise-smooth curve (see arclength.h). A step that crosses a corner turns the
+// tangent by the corner's angle and needs a correction proportional to the step, however small the
+// step: halving never satisfies the guards, and the continuation would creep up to the corner
+// until the step is below min_step. So when a step rejected by a guard is retried at half the
+// length from the same point and both land beyond the corner, the second is accepted as a corner
+// if its tangent agrees with the first's to within this fraction of its turn (on a smooth curve the
+// two differ by about half the turn) and its correction, relative to the step, did not grow (it
+// doubles when the corrector lands on another branch at a fixed distance).
+constexpr double kCornerTangentAgreement = 0.25;
+
+double angle_between(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {  // unit vectors
+  return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+}
 
 std::string str(double v) {
   std::ostringstream s;
@@ -220,6 +233,13 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
 
   double step = options.initial_step;
   std::string last_failure;
+  // The last attempt from y, if a guard (turn or correction) rejected it: its tangent and its
+  // correction relative to the step.
+  struct GuardRejection {
+    Eigen::VectorXd t;
+    double correction = 0;
+  };
+  std::optional<GuardRejection> rejected;
   while (static_cast<int>(result.points.size()) < options.max_points) {
     // 3. Predictor and corrector.
     const double dsigma = step / lambda_scale;
@@ -232,20 +252,28 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
 
     // 4. Accept or reject.
     std::optional<Eigen::VectorXd> t_new;
+    std::optional<GuardRejection> rejection;
     if (summary.converged()) {
-      if ((y_new - y_predicted).norm() > options.max_correction * dsigma) {
-        last_failure = "the corrector moved farther than the step";
-      } else if (t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond); !t_new) {
+      const double correction = (y_new - y_predicted).norm() / dsigma;
+      if (t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond); !t_new) {
         last_failure = "singular bordered Jacobian at the corrected point";
-      } else if (t_new->dot(t) < std::cos(options.max_turn_angle)) {
-        last_failure = "tangent turned by " + str(std::acos(std::clamp(t_new->dot(t), -1.0, 1.0))) +
-                       " rad > max_turn_angle";
-        t_new.reset();
+      } else if (const double turn = angle_between(*t_new, t);
+                 correction > options.max_correction || turn > options.max_turn_angle) {
+        const bool corner = rejected && correction <= rejected->correction &&
+                            angle_between(*t_new, rejected->t) <= kCornerTangentAgreement * turn;
+        if (!corner) {
+          last_failure = correction > options.max_correction
+                             ? "the corrector moved farther than the step"
+                             : "tangent turned by " + str(turn) + " rad > max_turn_angle";
+          rejection = GuardRejection{std::move(*t_new), correction};
+          t_new.reset();
+        }
       }
     } else {
       last_failure = summary.message;
     }
     if (!t_new) {
+      rejected = std::move(rejection);
       step *= 0.5;
       if (step < options.min_step) {
         return stop(false, "step below min_step = " + str(options.min_step) + " after lambda = " +
@@ -281,6 +309,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     push(std::move(p));
     y = y_new;
     t = *t_new;
+    rejected.reset();
     if (iterations < options.target_newton_iterations) {
       step = std::min(step * options.step_growth, options.max_step);
     } else if (iterations > options.target_newton_iterations) {

@@ -20,13 +20,20 @@
 //  3. Predictor y_p = y_k + Δσ t_k with Δσ = Δs / lambda_scale. Corrector: solve_newton (options
 //     .newton) on the n+1 equations [R(x, λ); residual_scale · (t_kᵀ (y − y_k) − Δσ)] = 0.
 //  4. A corrector that fails, a corrected point farther than max_correction · Δσ from the predicted
-//  one, a singular
-//     bordered matrix, or a tangent turning by more than max_turn_angle (radians, between t_k and
-//     t_{k+1}) rejects the step (the distance and angle tests guard against jumping to another
-//     branch): Δs is halved and the step retried. Below min_step the continuation stops with
-//     completed = false. An accepted step multiplies Δs by step_growth if the corrector needed
-//     fewer than target_newton_iterations iterations and by 1/2 if more, within
-//     [min_step, max_step].
+//     one, a singular bordered matrix, or a tangent turning by more than max_turn_angle (radians,
+//     between t_k and t_{k+1}) rejects the step (the distance and angle tests guard against
+//     jumping to another branch): Δs is halved and the step retried. Below min_step the
+//     continuation stops with completed = false. An accepted step multiplies Δs by step_growth if
+//     the corrector needed fewer than target_newton_iterations iterations and by 1/2 if more,
+//     within [min_step, max_step].
+//     Corners. A piecewise-smooth R (friction contact sampled in time: a sample that switches
+//     between stick, slip and separation is a kink) has a curve with corners, where the tangent
+//     turns by a finite angle and the correction is proportional to the step however small the
+//     step is. A step rejected by the distance or angle test is therefore accepted as crossing a
+//     corner when the retry at half the step (from the same point) fails the tests too, but its
+//     new tangent agrees with the first attempt's to within a quarter of its turn (on a smooth
+//     curve they differ by about half the turn) and its correction relative to the step has not
+//     grown (it doubles when the corrector lands on another branch).
 //  Cost per accepted step: one LU of size n+1 per corrector iteration plus one for the tangent.
 //  5. Stop when a point lands beyond lambda_end (that point is replaced by the solution at exactly
 //     lambda_end, from an interpolated guess; completed = true), when λ falls back behind

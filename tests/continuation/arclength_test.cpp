@@ -302,5 +302,53 @@ TEST(ArcLength, InvalidOptionsThrowNamingTheField) {
                InvalidInput);
 }
 
+// ---------- Corners of piecewise-smooth curves (friction contact sampled in time). ----------
+
+TEST(ArcLength, FollowsACornerOfAPiecewiseLinearCurve) {
+  // x = g(λ), g = 0 for λ < 0.3 and 3 (λ − 0.3) beyond: the tangent turns by atan 3 = 1.25 rad >
+  // max_turn_angle at the corner however small the step, and must be accepted as a corner there.
+  const FunctionSystem kinked(
+      1, [](const VectorXd& x, double l, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
+        const bool beyond = l >= 0.3;
+        R(0) = x(0) - (beyond ? 3 * (l - 0.3) : 0.0);
+        if (J) (*J)(0, 0) = 1;
+        if (Rl) (*Rl)(0) = beyond ? -3 : 0;
+      });
+  const ContinuationResult r =
+      arclength_continuation(kinked, VectorXd{{0.0}}, s_curve_options(0, 1));
+  ASSERT_TRUE(r.completed) << r.message;
+  std::vector<double> lambda;
+  for (const ContinuationPoint& p : r.points) {
+    lambda.push_back(p.lambda);
+    EXPECT_NEAR(p.x(0), p.lambda >= 0.3 ? 3 * (p.lambda - 0.3) : 0.0, kRootTolerance);
+  }
+  EXPECT_EQ(count_reversals(lambda), 0);
+  EXPECT_EQ(r.points.back().lambda, 1.0);
+}
+
+TEST(ArcLength, FollowsACornerFold) {
+  // λ = (1 − |x|)/2: a fold at a corner (x = 0, λ = 1/2; turn 2 atan(1/2) = 0.93 rad). From x = −1
+  // (λ = 0) towards λ = 1 the path must go over the corner and back down to λ = 0 at x = +1.
+  const FunctionSystem vee(1,
+                           [](const VectorXd& x, double l, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
+                             R(0) = l - 0.5 * (1 - std::abs(x(0)));
+                             if (J) (*J)(0, 0) = x(0) >= 0 ? 0.5 : -0.5;
+                             if (Rl) (*Rl)(0) = 1;
+                           });
+  const ContinuationResult r = arclength_continuation(vee, VectorXd{{-1.0}}, s_curve_options(0, 1));
+  EXPECT_FALSE(r.completed);
+  EXPECT_NE(r.message.find("turned back past lambda_start"), std::string::npos) << r.message;
+  std::vector<double> lambda;
+  double lambda_max = -1;
+  for (const ContinuationPoint& p : r.points) {
+    lambda.push_back(p.lambda);
+    lambda_max = std::max(lambda_max, p.lambda);
+    EXPECT_NEAR(p.lambda, 0.5 * (1 - std::abs(p.x(0))), kRootTolerance);
+  }
+  EXPECT_EQ(count_reversals(lambda), 1);
+  EXPECT_NEAR(lambda_max, 0.5, 0.05);  // within a step (max_step 0.05) of the corner
+  EXPECT_NEAR(r.points.back().x(0), 1.0, kRootTolerance);
+}
+
 }  // namespace
 }  // namespace stickslip
