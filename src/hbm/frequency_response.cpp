@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <span>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -49,13 +50,16 @@ class ExcitationRamp final : public ParametrizedSystem {
 // among the stick/slip pieces of R), the harmonic excitation is ramped up at that frequency: from
 // the largest fraction λ0 = 2^-j of it at which the scaled stuck guess is still stuck in every
 // pair (there it is the exact solution), by factors of kRampFactor up to λ = 1 (stepped sweep in
-// λ with its step halving). On failure the plain guess is returned (the sweep then reports the
-// point as not converged).
-Eigen::VectorXd first_solution(const HarmonicBalanceSystem& system, double omega, bool stuck,
-                               const NewtonOptions& newton) {
+// λ with its step halving). Returns the point at Ω = omega with the Newton solve that gave it (the
+// ramp's last); on failure x is the plain guess and newton the failed solve from it.
+ContinuationPoint first_solution(const HarmonicBalanceSystem& system, double omega, bool stuck,
+                                 const NewtonOptions& newton) {
   const Eigen::VectorXd guess = system.linear_guess(omega, stuck);
-  Eigen::VectorXd x = guess;
-  if (solve_newton(system, omega, x, newton).converged()) return x;
+  ContinuationPoint point;
+  point.lambda = omega;
+  point.x = guess;
+  point.newton = solve_newton(system, omega, point.x, newton);
+  if (point.newton.converged()) return point;
   constexpr double kRampFactor = 1.1;  // load increment per ramp step: 10 %
   constexpr int kMaxHalvings = 30;     // λ0 >= 2^-30
   const HarmonicSet& set = system.unknown_harmonics();
@@ -86,9 +90,87 @@ Eigen::VectorXd first_solution(const HarmonicBalanceSystem& system, double omega
   SteppedSweepOptions options;  // default step halving and arc-length fallback, in λ
   options.newton = newton;
   const ExcitationRamp ramp(system, omega);
-  const ContinuationResult r = stepped_sweep(ramp, scaled(lambda0), lambdas, options);
-  if (r.points.back().newton.converged()) return r.points.back().x;
-  return guess;
+  ContinuationResult r = stepped_sweep(ramp, scaled(lambda0), lambdas, options);
+  if (r.points.back().newton.converged()) {
+    point.x = std::move(r.points.back().x);
+    point.newton = std::move(r.points.back().newton);
+  } else {
+    point.x = guess;
+  }
+  return point;
+}
+
+// Second chance for the points a stepped sweep could not solve (frequency_response.h). Near a fold
+// of a strongly non-smooth response (heavy lift-off: every sample that switches between contact
+// and separation puts a kink into R, and the solution curve has corners there) the sweep's branch
+// ends, Newton stalls at a local minimum of ||R||, and neither step halving nor the arc-length
+// fallback reaches the other branch. Each run of failed points is swept again backwards from the
+// converged point after it (the branch a downward sweep follows), then, in a second pass,
+// backwards again and forwards from the converged point before it (a point recovered by the first
+// pass can start its neighbour); points still failing are solved from scratch like the first
+// point. Points keep their order. Returns how many were recovered. Without any converged point
+// there is nothing to start from (and the first point's ramp has failed): nothing is tried.
+int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const double> omegas,
+                        SteppedSweepOptions options, bool stuck, ContinuationResult& result) {
+  std::vector<ContinuationPoint>& points = result.points;
+  const int n = static_cast<int>(points.size());
+  auto ok = [&](int i) { return points[i].newton.converged(); };
+  if (std::none_of(points.begin(), points.end(),
+                   [](const ContinuationPoint& p) { return p.newton.converged(); })) {
+    return 0;
+  }
+  options.on_point = nullptr;  // the progress of the sweep has been reported already
+  int recovered = 0;
+  auto take = [&](int k, ContinuationPoint&& p) {
+    if (ok(k) || !p.newton.converged()) return;
+    points[k] = std::move(p);
+    ++recovered;
+  };
+  // Stepped sweep from the converged point `from` to `to` (inclusive).
+  auto sweep_from = [&](int from, int to) {
+    const int dir = to > from ? 1 : -1;
+    std::vector<double> lambdas;
+    for (int k = from; k != to + dir; k += dir) lambdas.push_back(omegas[k]);
+    ContinuationResult r =
+        stepped_sweep(system, points[from].x, std::span<const double>(lambdas), options);
+    for (size_t q = 1; q < r.points.size(); ++q) {
+      take(from + dir * static_cast<int>(q), std::move(r.points[q]));
+    }
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int i = 0; i < n; ++i) {
+      if (ok(i)) continue;
+      int j = i;  // [i, j]: a run of failed points
+      while (j + 1 < n && !ok(j + 1)) ++j;
+      if (j + 1 < n) sweep_from(j + 1, i);
+      if (pass > 0 && i > 0) {  // forwards from the point before what is left of the run
+        int k = i;
+        while (k <= j && ok(k)) ++k;
+        if (k <= j) sweep_from(k - 1, j);
+      }
+      i = j;
+    }
+  }
+  for (int k = 1; k < n; ++k) {  // (the first point's ramp has been tried)
+    if (!ok(k)) take(k, first_solution(system, omegas[k], stuck, options.newton));
+  }
+
+  constexpr int kListed = 10;  // keep the message one readable line
+  int failed = 0;
+  std::ostringstream list;
+  for (int i = 0; i < n; ++i) {
+    if (ok(i)) continue;
+    if (failed < kListed) list << " " << points[i].lambda;
+    ++failed;
+  }
+  std::ostringstream m;
+  m << (n - failed) << " of " << n << " points converged";
+  if (failed > 0) m << "; not converged at lambda =" << list.str();
+  if (failed > kListed) m << " ... (" << failed - kListed << " more)";
+  m << "; " << recovered << " of them recovered by sweeping again from a converged neighbour";
+  result.completed = failed == 0;
+  result.message = m.str();
+  return recovered;
 }
 
 }  // namespace
@@ -143,14 +225,17 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   if (options.method == ContinuationMethod::kSteppedSweep) {
     require(!options.omegas.empty(), "FrequencyResponseOptions.omegas", "[]", "not empty");
     const Eigen::VectorXd x0 =
-        first_solution(system, options.omegas.front(), stuck, options.sweep.newton);
+        first_solution(system, options.omegas.front(), stuck, options.sweep.newton).x;
     SteppedSweepOptions sweep = options.sweep;
     sweep.on_point = evaluate_outputs(options.sweep.on_point);
     result = stepped_sweep(system, x0, std::span<const double>(options.omegas), sweep);
+    if (!result.completed) {
+      retry_failed_points(system, options.omegas, options.sweep, stuck, result);
+    }
   } else {
     validate(options.arclength);
     const Eigen::VectorXd x0 =
-        first_solution(system, options.arclength.lambda_start, stuck, options.arclength.newton);
+        first_solution(system, options.arclength.lambda_start, stuck, options.arclength.newton).x;
     ArcLengthOptions arclength = options.arclength;
     arclength.on_point = evaluate_outputs(options.arclength.on_point);
     result = arclength_continuation(system, x0, arclength);

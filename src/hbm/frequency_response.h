@@ -9,7 +9,13 @@
 // separation fractions, dissipated energy per cycle), Newton iterations, residual, convergence;
 // on request the sampled cycle (time history, hysteresis loop) of chosen pairs. Complex harmonics
 // follow X_k = a_k − i b_k; columns are output_harmonics() (0 first). Ω in rad/s.
-// Points that failed are kept, with converged = false.
+// Stepped sweep: the points the sweep could not solve (typically just past a fold of a response
+// with heavy lift-off, where the sweep's branch ends and Newton stalls at a local minimum of ||R||)
+// get a second chance: each run of them is swept again backwards from the converged point after
+// it (the branch a sweep in the other direction follows), then both ways once more from its
+// converged neighbours, and the rest are solved from scratch like the first point (linear guess,
+// excitation ramp). FrequencyResponse.message says how many were recovered so.
+// Points that still failed are kept, with converged = false.
 #pragma once
 
 #include <string>
