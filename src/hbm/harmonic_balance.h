@@ -73,6 +73,7 @@
 #include "continuation/newton.h"
 #include "continuation/parametrized_system.h"
 #include "hbm/aft.h"
+#include "hbm/damped_modes.h"
 #include "hbm/fourier.h"
 
 namespace stickslip {
@@ -134,33 +135,6 @@ struct HarmonicBalanceOptions {
   DampingMatrixMethod damping_matrix_method = DampingMatrixMethod::kStateSpace;
 };
 void validate(const HarmonicBalanceOptions& options);
-
-// State-space expansion of the damped modal flexibility (see the header comment), k ≥ 1:
-//   H(iκ) = (diag(ω²) − κ² I + iκ C_m)⁻¹ = X diag(w(κ)) Xᵀ
-// over its entries e (the rigid modes plus 2 per elastic mode): first `rigid` rigid-body entries,
-// w_e = 1/(−κ² + iκ c_e); then `real` real poles, then conjugate pairs (e, e + 1) with
-// X.col(e + 1) = conj(X.col(e)), pole(e + 1) = conj(pole(e)); for poles
-// w_e = f_e (−s_e) / (iκ − s_e) (f_e = 1 for the pairs, whose columns are normalised).
-struct DampedModalExpansion {
-  int rigid = 0, real = 0;
-  Eigen::MatrixXcd X;             // nm x entries
-  Eigen::VectorXcd pole, factor;  // s_e (1/s), f_e (rigid entries: unused)
-  Eigen::VectorXd rigid_damping;  // c_e (1/s) of the rigid entries
-  Eigen::VectorXcd weights(double kappa) const;                    // w_e(κ), κ = kΩ
-  Eigen::VectorXcd weight_derivatives(int k, double omega) const;  // dw_e/dΩ at κ = kΩ
-  // Filled by HarmonicBalanceSystem: P = Ψ X (nu x entries) and its real columns (entries of the
-  // rigid and real blocks: Preal; pairs: U + iV), load k -> Xᵀ Φᵀ F_k.
-  Eigen::MatrixXcd P;
-  Eigen::MatrixXd Preal, U, V;
-  std::map<int, Eigen::VectorXcd> load;
-};
-// The expansion of ω² (nm), C_m (nm x nm, symmetric PSD) with the elastic modes flagged (1) in
-// `elastic`, or null with `failure` set (why it is not usable: then use the impedance LU).
-// Cost: one real eigen-decomposition of order 2·ne, O(ne³).
-std::shared_ptr<DampedModalExpansion> damped_modal_expansion(const Eigen::VectorXd& omega2,
-                                                             const Eigen::MatrixXd& C_m,
-                                                             const Eigen::VectorXd& elastic,
-                                                             std::string& failure);
 
 class HarmonicBalanceSystem final : public ParametrizedSystem {
  public:
