@@ -67,7 +67,7 @@ int run_case_modes(const ModesCommand& command) {
     fs::create_directories(dir);
     write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
       out << "mode,frequency_hz\n";
-      for (int j = 0; j < n; ++j) fmt::print(out, "{},{:.17g}\n", j + 1, f(j));
+      for (int j = 0; j < n; ++j) fmt::print(out, "{},{}\n", j + 1, f(j));
     });
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;

@@ -879,6 +879,10 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
         def.where("analysis.static"),
         "the static contact problem did not converge: " + solved.system->static_summary().message);
   }
+  if (progress && !solved.system->damping_matrix_note().empty()) {
+    progress("modal damping matrix: one complex LU per frequency and harmonic (slower) because " +
+             solved.system->damping_matrix_note());
+  }
   solved.frequencies_hz = analysis_frequencies_hz(model, def);
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;

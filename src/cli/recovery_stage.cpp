@@ -273,7 +273,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int d = 0; d < 3; ++d) {
           for (int h = 0; h < nh; ++h) {
             const std::complex<double> v = x(dof_of(node, d), h);
-            nodes_csv += fmt::format("{},{},{},{},{},{:.17g},{:.17g}\n", pi, body.name, id,
+            nodes_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, id,
                                      kAxes[d], harmonics[h], v.real(), v.imag());
           }
         }

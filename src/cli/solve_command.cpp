@@ -75,7 +75,7 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
     out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
-      fmt::print(out, "{},{:.17g},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
+      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
                  p.residual_norm / solved.system->residual_scale());
     }
@@ -89,7 +89,7 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
         for (const auto& [key, g] : body.master_dof) {
           for (size_t h = 0; h < harmonics.size(); ++h) {
             const std::complex<double> x = p.master(g, static_cast<int>(h));
-            fmt::print(out, "{},{},{},{},{},{:.17g},{:.17g}\n", i, body.name, key.first,
+            fmt::print(out, "{},{},{},{},{},{},{}\n", i, body.name, key.first,
                        kGlobalAxes[key.second], harmonics[h], x.real(), x.imag());
           }
         }
@@ -117,7 +117,7 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
           for (int row = 0; row < force.rows(); ++row) {
             for (size_t h = 0; h < harmonics.size(); ++h) {
               const std::complex<double> f = force(row, static_cast<int>(h));
-              fmt::print(out, "{},{},{},{},{},{},{},{},{:.17g},{:.17g}\n", i, contact,
+              fmt::print(out, "{},{},{},{},{},{},{},{},{},{}\n", i, contact,
                          pair_in_contact[q], info.node_a_id, info.node_b_id, frame, axis_name(row),
                          harmonics[h], f.real(), f.imag());
             }
