@@ -4,13 +4,8 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "linalg/blas.h"
 #include "linalg/blas_threads.h"
-
-extern "C" {
-void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
-void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
-             const int* ipiv, double* b, const int* ldb, int* info);
-}
 
 namespace stickslip {
 

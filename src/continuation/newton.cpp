@@ -119,9 +119,12 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
   // One BLAS thread for the whole solve (the LUs and whatever BLAS the system's evaluate uses):
   // at Newton's sizes threads only spin on a busy machine.
   const ScopedBlasThreads single_thread(1);
-  x_watch = x;
-  R_watch = R;
-  r_watch = r;
+  auto watch_here = [&] {  // the current iterate becomes the watch point
+    x_watch = x;
+    R_watch = R;
+    r_watch = r;
+  };
+  watch_here();
   int relaxed_steps = 0;  // relaxed steps taken since the watch point
   bool chord_ready = false;  // the next step may reuse the factored dR/dx
   while (true) {
@@ -143,9 +146,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
           x.swap(x_trial);
           R.swap(R_trial);
           r = r_trial;
-          x_watch = x;
-          R_watch = R;
-          r_watch = r;
+          watch_here();
           relaxed_steps = 0;
           chord_ready = true;
           ++summary.iterations;
@@ -203,9 +204,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
         r = r_trial;
         accepted = true;
         if (r <= (1 - kSufficientDecrease) * r_watch) {
-          x_watch = x;
-          R_watch = R;
-          r_watch = r;
+          watch_here();
           relaxed_steps = 0;
         } else {
           ++relaxed_steps;
@@ -232,8 +231,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
       }
       for (double s = 0.5; s >= options.min_step_fraction * (1 - 1e-12); s *= 0.5) {
         x_trial = x + s * dx;
-        const bool trial_jacobian = options.trial_jacobian && !structured;
-    sys.evaluate(x_trial, lambda, R_trial, trial_jacobian ? &J_trial : nullptr, nullptr);
+        sys.evaluate(x_trial, lambda, R_trial, nullptr, nullptr);
         if (!all_finite(R_trial)) continue;
         any_finite = true;
         const double r_trial = R_trial.norm();
@@ -243,9 +241,7 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
           have_jacobian = false;
           r = r_trial;
           accepted = true;
-          x_watch = x;
-          R_watch = R;
-          r_watch = r;
+          watch_here();
           break;
         }
       }

@@ -11,13 +11,7 @@
 #include <Eigen/Dense>
 
 #include "core/errors.h"
-
-extern "C" void dgeev_(const char* jobvl, const char* jobvr, const int* n, double* a, const int* lda,
-                       double* wr, double* wi, double* vl, const int* ldvl, double* vr,
-                       const int* ldvr, double* work, const int* lwork, int* info);
-extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k,
-                       const double* alpha, const double* a, const int* lda, const double* beta,
-                       double* c, const int* ldc);
+#include "linalg/blas.h"
 
 namespace stickslip {
 

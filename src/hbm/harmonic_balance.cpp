@@ -13,15 +13,8 @@
 
 #include "continuation/gmres.h"
 #include "core/errors.h"
+#include "linalg/blas.h"
 #include "linalg/blas_threads.h"
-
-extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
-                       const int* k, const double* alpha, const double* a, const int* lda,
-                       const double* b, const int* ldb, const double* beta, double* c,
-                       const int* ldc);
-extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k,
-                       const double* alpha, const double* a, const int* lda, const double* beta,
-                       double* c, const int* ldc);
 
 namespace stickslip {
 

@@ -18,15 +18,9 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "linalg/blas.h"
 #include "linalg/blas_threads.h"
 #include "linalg/sparse_cholesky.h"
-
-// The system BLAS (OpenBLAS on Debian): the block Gram–Schmidt products are large and
-// Eigen's portable kernels are several times slower than OpenBLAS's for them.
-extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
-                       const int* k, const double* alpha, const double* a, const int* lda,
-                       const double* b, const int* ldb, const double* beta, double* c,
-                       const int* ldc);
 
 namespace stickslip {
 

@@ -10,11 +10,7 @@
 #include <vector>
 
 #include "core/errors.h"
-
-// The system BLAS (OpenBLAS on Debian): triangular solve with the trailing block of L.
-extern "C" void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag,
-                       const int* m, const int* n, const double* alpha, const double* a,
-                       const int* lda, double* b, const int* ldb);
+#include "linalg/blas.h"
 
 namespace stickslip {
 

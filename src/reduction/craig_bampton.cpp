@@ -10,14 +10,9 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "linalg/blas.h"
 #include "linalg/sparse_cholesky.h"
 #include "linalg/sparse_ops.h"
-
-// Reference BLAS (the system's libblas.so.3: OpenBLAS on Debian with libopenblas0-pthread).
-extern "C" void dgemm_(const char* transa, const char* transb, const int* m, const int* n,
-                       const int* k, const double* alpha, const double* a, const int* lda,
-                       const double* b, const int* ldb, const double* beta, double* c,
-                       const int* ldc);
 
 namespace stickslip {
 namespace {

@@ -26,6 +26,16 @@ FunctionSystem circle_hyperbola() {
   });
 }
 
+// circle_hyperbola() counting its evaluations: with dR/dx (jacobians) and of R alone (residuals).
+FunctionSystem counted_circle_hyperbola(int& residuals, int& jacobians) {
+  const FunctionSystem plain = circle_hyperbola();
+  return FunctionSystem(2, [&, plain](const VectorXd& x, double l, VectorXd& R, MatrixXd* J,
+                                      VectorXd* Rl) {
+    ++(J ? jacobians : residuals);
+    plain.evaluate(x, l, R, J, Rl);
+  });
+}
+
 // atan(x − λ): the full Newton step overshoots (and diverges) when |x − λ| > 1.3917.
 FunctionSystem shifted_atan() {
   return FunctionSystem(1, [](const VectorXd& x, double l, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
@@ -111,13 +121,7 @@ TEST(Newton, TrialJacobianOptionChangesOnlyWhereTheJacobiansAreEvaluated) {
   // iterates); without trial Jacobians dR/dx is evaluated once per step taken (at the guess and at
   // every accepted iterate that is not yet converged) and never at the solution.
   int residuals = 0, jacobians = 0;
-  const FunctionSystem counted(
-      2, [&](const VectorXd& x, double, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
-        ++(J ? jacobians : residuals);
-        R << x(0) * x(0) + x(1) * x(1) - 4, x(0) * x(1) - 1;
-        if (J) *J << 2 * x(0), 2 * x(1), x(1), x(0);
-        if (Rl) Rl->setZero();
-      });
+  const FunctionSystem counted = counted_circle_hyperbola(residuals, jacobians);
   NewtonOptions eager, lazy;
   eager.trial_jacobian = true;
   lazy.reuse_jacobian = false;
@@ -141,13 +145,7 @@ TEST(Newton, ChordStepsReachTheSameRootWithFewerJacobians) {
   // every chord step (an accepted step without a new dR/dx) contracts ||R|| at least tenfold, and
   // fewer Jacobians are evaluated than steps are taken.
   int residuals = 0, jacobians = 0;
-  const FunctionSystem counted(
-      2, [&](const VectorXd& x, double, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
-        ++(J ? jacobians : residuals);
-        R << x(0) * x(0) + x(1) * x(1) - 4, x(0) * x(1) - 1;
-        if (J) *J << 2 * x(0), 2 * x(1), x(1), x(0);
-        if (Rl) Rl->setZero();
-      });
+  const FunctionSystem counted = counted_circle_hyperbola(residuals, jacobians);
   NewtonOptions textbook, chord;
   textbook.tolerance = chord.tolerance = 1e-12;
   textbook.reuse_jacobian = false;
