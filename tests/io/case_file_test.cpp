@@ -812,6 +812,20 @@ TEST(CaseFileErrors, KeysThatDoNotApply) {
                  "not allowed unless method is modal");
 }
 
+TEST(CaseFile, SweepBenchmarkCaseIsTheReferenceCaseWithoutItsOtherOutputs) {
+  // bench/cases/reference_sweep.yaml times issue 4's reference sweep (docs/performance.md): it must
+  // stay the reference case, with only recovery, VTU, plots and the FRF node changed.
+  CaseDefinition reference = read_case_file(kDir + "/reference.yaml");
+  const CaseDefinition bench = read_case_file(std::string(STICKSLIP_TEST_DATA_DIR) +
+                                              "/../../bench/cases/reference_sweep.yaml");
+  reference.recovery.points = "none";
+  reference.output.vtu = false;
+  reference.output.plots = false;
+  for (ResponseDofDefinition& dof : reference.output.frf) dof.node = 11;
+  reference.output.directory = bench.output.directory;
+  EXPECT_EQ(describe_case(bench), describe_case(reference));
+}
+
 TEST(CaseFile, PredictorIsAStepSweepChoice) {
   EXPECT_EQ(parse(kMinimal + "  predictor: previous\n").analysis.predictor, "previous");
   expect_invalid(kMinimal + "  predictor: tangent\n", 19, "analysis.predictor",
