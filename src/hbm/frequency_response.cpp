@@ -45,6 +45,14 @@ class ExcitationRamp final : public ParametrizedSystem {
   Eigen::VectorXd ulin_dyn_;
 };
 
+// The arc-length fallback of a stepped sweep (and of the first point's ramp) works on the dense
+// dR/dx: for a system that solves its Newton steps structurally (a large one) it is off, so that a
+// point that fails costs a few structured Newton solves, not dense Jacobians of its full size.
+SteppedSweepOptions with_fallback_for(const HarmonicBalanceSystem& system, SteppedSweepOptions o) {
+  if (system.has_structured_jacobian()) o.jump_max_points = 0;
+  return o;
+}
+
 // Solution at the first frequency. The linear guess is tried first; if Newton fails from it (the
 // stuck linear response can be far from a slipping solution near resonance: Newton then wanders
 // among the stick/slip pieces of R), the harmonic excitation is ramped up at that frequency: from
@@ -89,6 +97,7 @@ ContinuationPoint first_solution(const HarmonicBalanceSystem& system, double ome
   while (lambdas.back() < 1.0) lambdas.push_back(std::min(1.0, lambdas.back() * kRampFactor));
   SteppedSweepOptions options;  // default step halving and arc-length fallback, in λ
   options.newton = newton;
+  options = with_fallback_for(system, options);
   const ExcitationRamp ramp(system, omega);
   ContinuationResult r = stepped_sweep(ramp, scaled(lambda0), lambdas, options);
   if (r.points.back().newton.converged()) {
@@ -226,11 +235,16 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     require(!options.omegas.empty(), "FrequencyResponseOptions.omegas", "[]", "not empty");
     const Eigen::VectorXd x0 =
         first_solution(system, options.omegas.front(), stuck, options.sweep.newton).x;
-    SteppedSweepOptions sweep = options.sweep;
+    SteppedSweepOptions sweep = with_fallback_for(system, options.sweep);
     sweep.on_point = evaluate_outputs(options.sweep.on_point);
     result = stepped_sweep(system, x0, std::span<const double>(options.omegas), sweep);
     if (!result.completed) {
-      retry_failed_points(system, options.omegas, options.sweep, stuck, result);
+      retry_failed_points(system, options.omegas, with_fallback_for(system, options.sweep), stuck,
+                          result);
+    }
+    if (!result.completed && sweep.jump_max_points != options.sweep.jump_max_points) {
+      result.message +=
+          "; no arc-length fallback for a system this large (it needs the dense dR/dx)";
     }
   } else {
     validate(options.arclength);

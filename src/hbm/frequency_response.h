@@ -16,6 +16,9 @@
 // converged neighbours, and the rest are solved from scratch like the first point (linear guess,
 // excitation ramp). FrequencyResponse.message says how many were recovered so.
 // Points that still failed are kept, with converged = false.
+// For a system with a structured Newton solve (HarmonicBalanceSystem::has_structured_jacobian,
+// large systems) the stepped sweep's arc-length fallback (SteppedSweepOptions.jump_max_points) is
+// off, in the sweep, its retries and the first point's ramp: it would need the dense dR/dx.
 #pragma once
 
 #include <string>

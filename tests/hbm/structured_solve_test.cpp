@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "contact/friction_contact.h"
+#include "hbm/frequency_response.h"
 #include "hbm/harmonic_balance.h"
 
 namespace stickslip {
@@ -125,6 +126,24 @@ TEST(StructuredSolve, MatchesDenseLuAndDenseNewton) {
     }
     EXPECT_TRUE(any_slip);
   }
+}
+
+TEST(StructuredSolve, SteppedSweepHasNoDenseArcLengthFallback) {
+  // Newton allowed one step per point: points fail. The dense system may follow the curve by
+  // arc-length (dense dR/dx); the structured one must not, and its message says so.
+  const HarmonicBalanceSystem dense =
+      make_chains(StaticCoupling::kUncoupled, HbmLinearSolver::kDense);
+  const HarmonicBalanceSystem structured =
+      make_chains(StaticCoupling::kUncoupled, HbmLinearSolver::kStructured);
+  FrequencyResponseOptions o;
+  for (int i = 0; i <= 5; ++i) o.omegas.push_back(60.0 + 14.0 * i);
+  o.sweep.newton.max_iterations = 1;
+  o.sweep.max_step_halvings = 0;
+  const FrequencyResponse s = frequency_response(structured, o);
+  ASSERT_FALSE(s.completed) << s.message;
+  EXPECT_NE(s.message.find("no arc-length fallback"), std::string::npos) << s.message;
+  const FrequencyResponse d = frequency_response(dense, o);
+  EXPECT_EQ(d.message.find("no arc-length fallback"), std::string::npos) << d.message;
 }
 
 }  // namespace
