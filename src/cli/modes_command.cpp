@@ -51,11 +51,12 @@ int run_case_modes(const ModesCommand& command) {
   const bool quiet = command.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
+  ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
-                            /*load_basis_if_present=*/true);
+                            /*load_basis_if_present=*/true, &cache);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(stuck_stiffness_matrix(model),
                                                                   model.M);
     if (eig.info() != Eigen::Success) {

@@ -69,6 +69,23 @@ TEST(StageStudyCache, SolveAndRecoverWithoutReducedFilesMeshAndReduceOnceAndEqua
   expect_study_equals_single_values(dir, "study", {"solve", "recover"});
 }
 
+TEST(StageStudyCache, ModesMeshAndReduceOnceAndEqualSingleValues) {
+  // The stuck modes do not depend on the preload: one mesh load and one reduction per beam for
+  // the study, and each folder's frequencies equal those of the single-value case.
+  const fs::path dir = fresh_dir("stage_study_modes");
+  const fs::path file = write_case(dir, "study", preload_case(50) + kPreloadStudy);
+  const std::string log = run_stage("modes", file, dir / "study");
+  EXPECT_EQ(count(log, "stickslip: mesh joint\n"), 1) << log;
+  EXPECT_EQ(count(log, "reduce beam1 ("), 1) << log;
+  EXPECT_EQ(count(log, "reduce beam2 ("), 1) << log;
+  const fs::path reference = dir / "alone";
+  run_stage("modes", write_case(dir, "alone", preload_case(5)), reference);
+  for (const char* folder : {"preload_50", "preload_5"}) {
+    expect_same_csv(reference / "modes" / "frequencies.csv",
+                    dir / "study" / folder / "modes" / "frequencies.csv");
+  }
+}
+
 TEST(StageStudyCache, SolveRecoverAndExportFromReducedFilesLoadTheMeshOnceAndEqualSingleValues) {
   const fs::path dir = fresh_dir("stage_study_reduced");
   const fs::path file = write_case(dir, "study", preload_case(50) + kPreloadStudy);
