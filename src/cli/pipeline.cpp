@@ -1,5 +1,7 @@
 #include "cli/pipeline.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -867,10 +869,34 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
   return grid;
 }
 
+namespace {
+
+// Refuses an analysis whose harmonic balance cannot fit in this machine's memory (an absurd
+// `harmonics` or `time_samples`), at the key, before anything is allocated.
+void check_memory(const PreparedModel& model, const CaseDefinition& def) {
+  int rows = 0;
+  for (const ContactPair& pair : model.pairs) rows += pair.element->dimension();
+  const double needed = estimated_memory_bytes(rows, model.hbm);
+  const double available =
+      static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  if (available > 0 && needed > available) {
+    throw InvalidInput(
+        def.where("analysis.harmonics"),
+        fmt::format("the harmonic balance would need about {:.1f} GB (contact rows {}, highest "
+                    "harmonic {}, time samples {}) but this machine has {:.1f} GB: use fewer "
+                    "harmonics or time_samples",
+                    needed / 1e9, rows, def.analysis.max_harmonic(), def.analysis.time_samples,
+                    available / 1e9));
+  }
+}
+
+}  // namespace
+
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, ProgressReporter* reporter) {
   const auto t0 = Clock::now();
   SolvedCase solved;
+  check_memory(model, def);
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
                                                           model.excitation, model.hbm);
   if (!solved.system->static_summary().converged() &&

@@ -29,8 +29,9 @@ HarmonicSet HarmonicSet::up_to(int max_harmonic, bool include_static) {
 HarmonicSet::HarmonicSet(std::vector<int> harmonics) : harmonics_(std::move(harmonics)) {
   require(!harmonics_.empty(), "HarmonicSet.harmonics", "[]", "not empty");
   for (size_t i = 0; i < harmonics_.size(); ++i) {
-    require(harmonics_[i] >= 0 && (i == 0 || harmonics_[i] > harmonics_[i - 1]),
-            "HarmonicSet.harmonics", list_to_string(harmonics_),
+    if (harmonics_[i] >= 0 && (i == 0 || harmonics_[i] > harmonics_[i - 1])) continue;
+    // (the list is formatted only here: formatting it for every entry is quadratic in its size)
+    require(false, "HarmonicSet.harmonics", list_to_string(harmonics_),
             "strictly increasing non-negative integers");
   }
   for (int k : harmonics_) {

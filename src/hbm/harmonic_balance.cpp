@@ -222,6 +222,20 @@ void validate(const HarmonicBalanceOptions& o) {
   validate(o.static_newton, "HarmonicBalanceOptions.static_newton.");
 }
 
+double estimated_memory_bytes(int contact_rows, const HarmonicBalanceOptions& options) {
+  const HarmonicSet set = unknown_set(options);
+  const double nc = set.coefficient_count(), samples = options.time_samples;
+  const double nu = contact_rows, n = nu * nc;
+  const double aft = 8.0 * (1 + 4 + 9) * samples * nc    // ∂u/∂c for m = 1, 2, 3
+                     + 8.0 * 9 * samples * nc;           // a thread's ∂f/∂c (m = 3)
+  const bool structured = options.linear_solver == HbmLinearSolver::kStructured ||
+                          (options.linear_solver == HbmLinearSolver::kAuto &&
+                           n >= kStructuredSolverThreshold);
+  const double receptance = 16.0 * nu * nu * set.size() * (structured ? 2 : 1);
+  const double newton = structured ? 8.0 * 200 * n : 3 * 8.0 * n * n;
+  return aft + receptance + newton;
+}
+
 HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs,
                                              Excitation excitation, HarmonicBalanceOptions options)
     : model_(std::move(model)),

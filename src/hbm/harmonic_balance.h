@@ -136,6 +136,14 @@ struct HarmonicBalanceOptions {
 };
 void validate(const HarmonicBalanceOptions& options);
 
+// Memory a HarmonicBalanceSystem and its Newton solves take, in bytes, for contact_rows (nu) rows
+// and the options' harmonics and samples (N): the AFT's sample derivatives ∂u/∂c for element
+// dimensions 1..3 and a thread's workspace (≈ 184 N nc), the receptances G_k and, for the
+// structured solve, their preconditioner LUs (2 · 16 nu² per harmonic), the dense path's 𝔾, dR/dx
+// and its LU (3 · 8 n², n = nu nc), GMRES's Krylov basis. An estimate within a factor of about 2,
+// to refuse an analysis that cannot fit before it starts.
+double estimated_memory_bytes(int contact_rows, const HarmonicBalanceOptions& options);
+
 class HarmonicBalanceSystem final : public ParametrizedSystem {
  public:
   // Validates everything (InvalidInput). Uncoupled: solves the static problem here
