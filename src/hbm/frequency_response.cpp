@@ -117,8 +117,13 @@ ContinuationPoint first_solution(const HarmonicBalanceSystem& system, double ome
 // converged point after it (the branch a downward sweep follows), then, in a second pass,
 // backwards again and forwards from the converged point before it (a point recovered by the first
 // pass can start its neighbour); points still failing are solved from scratch like the first
-// point. Points keep their order. Returns how many were recovered. Without any converged point
-// there is nothing to start from (and the first point's ramp has failed): nothing is tried.
+// point. Points keep their order. The arc-length fallback (options.jump_max_points) is used in
+// the first pass only: at a point that nothing solves it is expensive (arclength_continuation
+// crosses corners instead of stopping at the first), and in the second pass it changed no result
+// (docs/performance.md, "Heavy lift-off": without it the same 10 of 52 488 points fail, and the
+// retries cost 120 instead of 175 G instructions). Returns how many were recovered. Without any
+// converged point there is nothing to start from (and the first point's ramp has failed):
+// nothing is tried.
 int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const double> omegas,
                         SteppedSweepOptions options, bool stuck, ContinuationResult& result) {
   std::vector<ContinuationPoint>& points = result.points;
@@ -147,6 +152,7 @@ int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const dou
     }
   };
   for (int pass = 0; pass < 2; ++pass) {
+    if (pass > 0) options.jump_max_points = 0;  // fallback in the first pass only
     for (int i = 0; i < n; ++i) {
       if (ok(i)) continue;
       int j = i;  // [i, j]: a run of failed points
