@@ -1247,6 +1247,7 @@ void parse_output(Parser& p, const MapView& top) {
     for (size_t i = 0; i < v.size(); ++i) {
       MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]",
                 line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), {"body", "node", "direction"});
+      p.record(d.path(), d.line());
       ResponseDofDefinition r;
       for (const char* key : {"body", "node", "direction"}) d.require(key);
       d.text("body", &r.body);

@@ -195,4 +195,55 @@ TEST(NonsenseInput, RecoverRefusesContactForcesThatAreNotFinite) {
                   ":8: the force of converged point " + cells[0] + " is not a finite number"});
 }
 
+// Example 01 (a 1-DOF oscillator given by Harwell-Boeing matrices and an ANSYS mapping) copied to
+// `dir`, with a coarse sweep; returns the case file.
+fs::path oscillator_case(const fs::path& dir) {
+  const fs::path example =
+      fs::path(STICKSLIP_TEST_DATA_DIR) / ".." / ".." / "examples" / "01_jenkins_oscillator";
+  for (const char* f : {"K.hb", "M.hb", "K.mapping", "case.yaml"}) {
+    fs::copy_file(example / f, dir / f, fs::copy_options::overwrite_existing);
+  }
+  std::string text = slurp(dir / "case.yaml");
+  text.replace(text.find("step_hz: 0.5"), 12, "step_hz: 20");
+  text.replace(text.find("plots: true"), 11, "plots: false");
+  return write_case(dir, "case", text);
+}
+
+TEST(NonsenseInput, MappingFileRowsThatAreDuplicatedOrMislabelled) {
+  const fs::path dir = fresh_dir("nonsense_mapping");
+  const fs::path file = oscillator_case(dir);
+  const std::string args = "run " + file.string() + " -q -o " + (dir / "out").string();
+  ASSERT_EQ(run_in(dir, args).code, 0);
+  const std::string mapping = (dir / "K.mapping").string();
+  // Node 1 UX twice (the UY row mislabelled).
+  std::ofstream(dir / "K.mapping") << "Matrix Eqn   Node   DOF\n1 1 UX\n2 1 UX\n3 1 UZ\n";
+  expect_refused(run_in(dir, args),
+                 {mapping + ":3: DOF: node 1 UX is mapped twice (also on line 2)"});
+  // A label that is no DOF label (it was read as a generalised coordinate: "node 1 direction y is
+  // not a DOF" later, at the body).
+  std::ofstream(dir / "K.mapping") << "Matrix Eqn   Node   DOF\n1 1 UX\n2 1 UQ\n3 1 UZ\n";
+  expect_refused(run_in(dir, args), {mapping + ":3: DOF: 'UQ' is not a DOF label"});
+}
+
+TEST(NonsenseInput, NodeThatIsNotADofOfAReducedBodyNamesTheEntryThatAskedForIt) {
+  const fs::path dir = fresh_dir("nonsense_not_a_dof");
+  const fs::path file = oscillator_case(dir);
+  std::string text = slurp(file);
+  // The excitation, the FRF and the contact pair in turn ask for node 2, which the mapping lacks.
+  for (const auto& [from, to, key] : std::vector<std::array<std::string, 3>>{
+           {"{body: oscillator, node: 1, direction: x, amplitude: 5}",
+            "{body: oscillator, node: 2, direction: x, amplitude: 5}", "excitation[0]"},
+           {"{body: oscillator, node: 1, direction: x}",
+            "{body: oscillator, node: 2, direction: x}", "output.frf[0]"},
+           {"pairs: [1]", "pairs: [2]", "contacts.jenkins.pairs[0]"}}) {
+    std::string changed = text;
+    changed.replace(changed.find(from), from.size(), to);
+    write_case(dir, "case", changed);
+    expect_refused(run_in(dir, "run " + file.string() + " -o " + (dir / "out").string()),
+                   {file.string() + ":" + std::to_string(line_of(changed, to)) + ": " + key +
+                    ": node 2 direction x is not a DOF of the reduced matrices of body "
+                    "oscillator"});
+  }
+}
+
 }  // namespace
