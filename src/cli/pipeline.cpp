@@ -394,7 +394,12 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   const auto t0 = Clock::now();
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
-  body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), clamp);
+  try {
+    body.constraints =
+        DofMap::from_nodes(body.mesh.num_nodes(), clamp, {true, true, true}, body.mesh.equations);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(def.where(key + ".clamp"), "body " + name + ": " + e.message());
+  }
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
     if (body.constraints.is_constrained(d)) constrained.push_back(d);
@@ -402,6 +407,15 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   std::vector<int> boundary;
   for (int n : masters) {
     for (int dir = 0; dir < 3; ++dir) {
+      if (body.constraints.is_dependent(dof_of(n, dir))) {
+        throw InvalidInput(
+            def.where(key),
+            fmt::format("node {} of body {} is a master (contact, forced or listed) node, but its "
+                        "direction {} is the dependent (first) DOF of the equation at {}: write "
+                        "that equation with another DOF first",
+                        body.mesh.node_ids[n], name, "xyz"[dir],
+                        body.constraints.dependent_origin(dof_of(n, dir))));
+      }
       if (body.constraints.is_constrained(dof_of(n, dir))) {
         throw InvalidInput(def.where(key + ".clamp"),
                            "node " + std::to_string(body.mesh.node_ids[n]) + " of body " + name +
@@ -421,7 +435,14 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
         fmt::format("body {}: {} master nodes x 3 + {} modes = {}: {}", name, masters.size(),
                     options.num_modes, reduced_dofs, reduced_body_size_message(reduced_dofs)));
   }
-  CraigBamptonResult cb = craig_bampton(K, M, constrained, boundary, options);
+  // Equations (*EQUATION): reduce TᵀKT, TᵀMT with the dependent DOFs among the constrained ones,
+  // then give the basis its dependent rows (x = T x_f).
+  const bool dependents = body.constraints.has_dependents();
+  CraigBamptonResult cb =
+      dependents ? craig_bampton(body.constraints.condense(K), body.constraints.condense(M),
+                                 constrained, boundary, options)
+                 : craig_bampton(K, M, constrained, boundary, options);
+  if (dependents && cb.summary.ok()) body.constraints.fill_dependent_rows(cb.T);
   if (!cb.summary.ok()) {
     throw InvalidInput(def.where(key), "Craig–Bampton reduction of body " + name +
                                            " failed: " + cb.summary.message);

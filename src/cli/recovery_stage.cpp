@@ -156,7 +156,7 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.poisson_ratio = body.material.poisson_ratio;
   o.density = body.material.density;
   for (int node = 0; node < body.mesh.num_nodes(); ++node) {
-    if (body.constraints.is_constrained(dof_of(node, 0))) o.clamped_nodes.push_back(node);
+    if (body.constraints.is_clamped(dof_of(node, 0))) o.clamped_nodes.push_back(node);
   }
   o.alpha = def.damping.alpha;
   o.beta = def.damping.beta;

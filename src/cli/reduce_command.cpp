@@ -191,7 +191,8 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
     body.from_mesh = true;
     body.mesh = std::move(resolved.mesh);  // `geometry` is not used any more
     body.material = resolved.material;
-    body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), resolved.clamp);
+    body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), resolved.clamp, {true, true, true},
+                                          body.mesh.equations);
     const auto by_id = node_index_by_id(body.mesh);
     for (ReducedDof& d : body.reduced.dofs) {
       if (d.kind != ReducedDof::Kind::kPhysical) continue;

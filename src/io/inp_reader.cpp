@@ -78,6 +78,15 @@ struct SetItem {
   int line = 0;
 };
 
+// One *EQUATION: the number of terms announced, then (node id, direction 1-3, coefficient) terms.
+struct RawEquation {
+  int num_terms = 0;
+  std::vector<int> node_ids;
+  std::vector<int> directions;  // 0-2
+  std::vector<double> coefficients;
+  int line = 0;  // its first data line
+};
+
 struct SetDefinition {
   bool is_node_set;
   std::string name;
@@ -91,7 +100,6 @@ struct Refusal {
   const char* reason;
 };
 constexpr Refusal kRefused[] = {
-    {"*EQUATION", "linear constraint equations between DOFs are not supported yet"},
     {"*MPC", "multi-point constraints tie DOFs together"},
     {"*TIE", "tied surfaces tie DOFs together"},
     {"*COUPLING", "a coupling ties DOFs to a reference node"},
@@ -270,6 +278,9 @@ class InpParser {
       current_set_ = new_set(node, *n, k.line);
       generate_ = param(k, "GENERATE").has_value();
       mode_ = Mode::kSet;
+    } else if (k.name == "*EQUATION") {
+      check_params(k, {});
+      mode_ = Mode::kEquation;
     } else if (k.name == "*INCLUDE") {
       fail(k.line, "*INCLUDE is not supported: merge the included file into this one");
     } else {
@@ -370,6 +381,46 @@ class InpParser {
         }
         return;
       }
+      case Mode::kEquation: {
+        const auto tokens = data_tokens(t, line);
+        if (equation_terms_left_ == 0) {
+          if (tokens.size() != 1) {
+            fail(line, "*EQUATION: expected the number of terms alone on the line, got " +
+                           std::to_string(tokens.size()) + " values");
+          }
+          equations_.push_back({parse_id(tokens[0], line, "number of terms"), {}, {}, {}, line});
+          equation_terms_left_ = equations_.back().num_terms;
+          return;
+        }
+        if (tokens.size() % 3 != 0) {
+          fail(line, "*EQUATION: expected terms 'node, direction, coefficient', got " +
+                         std::to_string(tokens.size()) + " values");
+        }
+        RawEquation& eq = equations_.back();
+        for (size_t i = 0; i < tokens.size(); i += 3) {
+          if (equation_terms_left_ == 0) {
+            fail(line, "*EQUATION: more terms than the " + std::to_string(eq.num_terms) +
+                           " announced on line " + std::to_string(eq.line));
+          }
+          if (!std::isdigit(static_cast<unsigned char>(tokens[i][0]))) {
+            fail(line, "*EQUATION: node set " + tokens[i] +
+                           " in an equation is not supported (write node numbers)");
+          }
+          eq.node_ids.push_back(parse_id(tokens[i], line, "node id"));
+          const int direction = parse_id(tokens[i + 1], line, "degree of freedom");
+          if (direction > 3) {
+            fail(line, "*EQUATION: degree of freedom " + tokens[i + 1] +
+                           " is not supported (solid nodes have translations 1, 2, 3 only)");
+          }
+          eq.directions.push_back(direction - 1);
+          eq.coefficients.push_back(parse_double(tokens[i + 2], line));
+          if (eq.node_ids.size() == 1 && eq.coefficients[0] == 0.0) {
+            fail(line, "*EQUATION: the coefficient of the first (dependent) term must not be 0");
+          }
+          --equation_terms_left_;
+        }
+        return;
+      }
       case Mode::kSet: {
         const auto tokens = data_tokens(t, line);
         SetDefinition& set = sets_[current_set_];
@@ -408,6 +459,11 @@ class InpParser {
   }
 
   void finish_element_block() {
+    if (equation_terms_left_ > 0) {
+      const RawEquation& eq = equations_.back();
+      fail(eq.line, "*EQUATION: " + std::to_string(eq.num_terms) + " terms announced, " +
+                        std::to_string(eq.node_ids.size()) + " given");
+    }
     if (pending_) {
       fail(pending_->line, "element " + std::to_string(pending_->id) + " of type " +
                                element_type_name(pending_->type) + " has " +
@@ -493,11 +549,27 @@ class InpParser {
       members.erase(std::unique(members.begin(), members.end()), members.end());
       sets[def.name] = std::move(members);
     }
+    for (const RawEquation& eq : equations_) {
+      LinearConstraint c{{}, eq.coefficients, file_ + ":" + std::to_string(eq.line)};
+      for (size_t k = 0; k < eq.node_ids.size(); ++k) {
+        const auto it = node_index.find(eq.node_ids[k]);
+        if (it == node_index.end()) {
+          fail(eq.line, "*EQUATION: unknown node " + std::to_string(eq.node_ids[k]));
+        }
+        const int dof = 3 * it->second + eq.directions[k];
+        if (std::find(c.dofs.begin(), c.dofs.end(), dof) != c.dofs.end()) {
+          fail(eq.line, "*EQUATION: node " + std::to_string(eq.node_ids[k]) + " direction " +
+                            std::to_string(eq.directions[k] + 1) + " appears twice");
+        }
+        c.dofs.push_back(dof);
+      }
+      mesh.equations.push_back(std::move(c));
+    }
     check_mesh(mesh);
     return mesh;
   }
 
-  enum class Mode { kNone, kSkip, kNode, kElement, kSet };
+  enum class Mode { kNone, kSkip, kNode, kElement, kSet, kEquation };
 
   std::string file_;
   std::vector<std::string>* warnings_;
@@ -511,6 +583,8 @@ class InpParser {
   std::vector<RawNode> nodes_;
   std::vector<RawElement> elements_;
   std::vector<SetDefinition> sets_;
+  std::vector<RawEquation> equations_;
+  int equation_terms_left_ = 0;
 };
 
 }  // namespace

@@ -8,6 +8,10 @@
 //                                        (20-node elements take two lines)
 //   *NSET, NSET=name [, GENERATE]        node ids and/or names of node sets defined earlier;
 //   *ELSET, ELSET=name [, GENERATE]      with GENERATE, lines "first, last[, increment]"
+//   *EQUATION                            per equation: a line with the number of terms n, then
+//                                        n terms "node id, direction (1-3), coefficient", any
+//                                        number per line: Σ c_k u_k = 0, the first term's DOF
+//                                        dependent (Mesh::equations, origin "file:line")
 // Supported TYPE: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10 (node order as in the .inp, which is
 // Mesh's). Any other element type is rejected.
 // Nothing vanishes silently: a keyword that would change the stiffness or mass and is not

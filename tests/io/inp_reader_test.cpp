@@ -194,7 +194,7 @@ TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
 
 TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
   for (const char* keyword :
-       {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC", "*EQUATION",
+       {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
         "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E", "*BEAM SECTION",
         "*SPRING, ELSET=E", "*MASS, ELSET=E", "*DISTRIBUTING COUPLING", "*Part, name=P",
         "*NGEN", "*PRE-TENSION SECTION"}) {
@@ -218,6 +218,48 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
     } catch (const InvalidInput& e) {
       EXPECT_EQ(e.where().line, 8) << type;
       EXPECT_NE(e.message().find("unsupported element type"), std::string::npos) << e.message();
+    }
+  }
+}
+
+TEST(InpReader, EquationsBecomeLinearConstraintsOnDofs) {
+  // Terms split over lines and several per line; "2" announces the second equation.
+  std::istringstream in(tet_deck(
+      "*EQUATION\n3\n4, 2, 1.0, 1, 2, -0.5,\n2, 2, -5D-1\n*Equation\n2\n3,3,2.,2,1,-2.\n"));
+  const Mesh m = read_inp(in, "deck");
+  ASSERT_EQ(m.equations.size(), 2u);
+  EXPECT_EQ(m.equations[0].dofs, (std::vector<int>{3 * 3 + 1, 0 * 3 + 1, 1 * 3 + 1}));
+  EXPECT_EQ(m.equations[0].coefficients, (std::vector<double>{1.0, -0.5, -0.5}));
+  EXPECT_EQ(m.equations[0].origin, "deck:9");
+  EXPECT_EQ(m.equations[1].dofs, (std::vector<int>{2 * 3 + 2, 1 * 3 + 0}));
+  EXPECT_EQ(m.equations[1].coefficients, (std::vector<double>{2.0, -2.0}));
+  EXPECT_EQ(m.equations[1].origin, "deck:13");
+}
+
+TEST(InpReader, MalformedEquationsAreErrorsAtTheirLine) {
+  struct Bad {
+    const char* tail;
+    int line;
+    const char* message;
+  };
+  for (const Bad& bad : {
+           Bad{"*EQUATION\n2\n4, 2, 1.0\n*STEP\n", 9, "2 terms announced, 1 given"},
+           Bad{"*EQUATION\n1\n4, 2, 1.0, 1, 2, 1.0\n", 10, "more terms than the 1 announced"},
+           Bad{"*EQUATION\n2\n4, 5, 1.0, 1, 2, 1.0\n", 10, "degree of freedom 5"},
+           Bad{"*EQUATION\n2\n4, 1, 0.0, 1, 2, 1.0\n", 10, "must not be 0"},
+           Bad{"*EQUATION\n2\nTIP, 1, 1.0, 1, 2, 1.0\n", 10, "node set TIP"},
+           Bad{"*EQUATION\n2\n9, 1, 1.0, 1, 2, 1.0\n", 9, "unknown node 9"},
+           Bad{"*EQUATION\n2\n4, 1, 1.0, 4, 1, 1.0\n", 9, "appears twice"},
+           Bad{"*EQUATION\n2\n4, 1, 1.0, 1, 2\n", 10, "expected terms"},
+           Bad{"*EQUATION, INPUT=eq.txt\n2\n", 8, "unsupported parameter INPUT"},
+       }) {
+    std::istringstream in(tet_deck(bad.tail));
+    try {
+      read_inp(in, "deck");
+      ADD_FAILURE() << bad.tail << " was accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().line, bad.line) << bad.tail << ": " << e.message();
+      EXPECT_NE(e.message().find(bad.message), std::string::npos) << e.message();
     }
   }
 }
