@@ -79,6 +79,7 @@ int run_recover(const RecoverCommand& command) {
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
   const std::string hint = stage_hint("solve", base, out_dir);
   ModelCache cache;  // meshes, reductions and full matrices shared by the study's analyses
+  PlotLog plots;
   for (const StageRun& stage_run : stage_runs(base, out_dir)) {
     StageRun run = stage_run;
     if (command.point == "peak" || command.point == "all") {
@@ -157,11 +158,11 @@ int run_recover(const RecoverCommand& command) {
     run_recovery(run.dir, def, model, response, points, progress, &full_frf);
     if (def.output.plots) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, stderr_warning);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
     }
     progress(fmt::format("recovered {} point(s); results in {}", points.size(), run.dir.string()));
   }
-  return 0;
+  return plots_exit_code(plots, out_dir);
 }
 
 }  // namespace stickslip

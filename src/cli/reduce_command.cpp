@@ -13,6 +13,7 @@
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
+#include "io/atomic_file.h"
 #include "io/ansys_mapping.h"
 #include "io/case_file.h"
 #include "mesh/mesh_tools.h"
@@ -270,7 +271,7 @@ int run_reduce(const ReduceCommand& reduce) {
   for (size_t r = 0; r < runs.size(); ++r) {
     if (shared && r > 0) break;
     const fs::path dir = (shared ? out_dir : runs[r].dir) / "reduced";
-    fs::create_directories(dir);
+    create_output_folder(dir);
     fs::remove(dir / "manifest.txt");  // files being replaced belong to no case until it is back
     const PreparedModel model =
         prepare_model(runs[r].definition, std::move(resolved[r]), progress, {}, &cache);

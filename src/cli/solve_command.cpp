@@ -67,7 +67,7 @@ std::string local_axis(const PreparedModel& model, int pair, int row) {
 
 void write_solve_results(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
                          const SolvedCase& solved, double seconds_total) {
-  fs::create_directories(dir);
+  create_output_folder(dir);
   const FrequencyResponse& fr = solved.response;
   const std::vector<int>& harmonics = fr.harmonics;
 
