@@ -85,7 +85,8 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  return fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format, m.hexahedron8,
+  // The file by its contents, not its path (a moved project keeps its reductions).
+  return fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format, m.hexahedron8,
                      m.hexahedron20, file_fingerprint_hex(m.file));
 }
 
