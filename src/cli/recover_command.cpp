@@ -2,6 +2,7 @@
 // recovery_stage.h) of points of a solve whose files are in DIR. The master-DOF harmonics of the
 // reduced model are rebuilt from the contact forces in contact_forces.csv exactly as the solve
 // made them (HarmonicBalanceSystem::master_response), so the recovery equals run's to round-off.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -74,6 +75,17 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
 
 int run_recover(const RecoverCommand& command) {
   const CaseDefinition base = read_case_file(command.stage.case_file);
+  // Only bodies given by a mesh have a full model to recover; a case of matrix bodies alone would
+  // otherwise "recover" its points into empty files.
+  if (std::none_of(base.bodies.begin(), base.bodies.end(), [](const auto& named) {
+        return named.second.source == BodyDefinition::Source::kMesh;
+      })) {
+    throw InvalidInput(base.where("bodies"),
+                       "recover needs a body given by a mesh: every body of this case is given by "
+                       "reduced matrices, which have no full model (the contact forces of "
+                       "contact_forces.csv are the loads to apply in the program the matrices "
+                       "came from)");
+  }
   const bool quiet = command.stage.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);

@@ -99,6 +99,14 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
   EXPECT_GT(compared, 1000);
   // The matrices went through text with 16 significant digits: agreement to well below 1e-6.
   EXPECT_LT(diff, 1e-6 * scale);
+  // Bodies given by matrices have no full model: `recover` says so at the case's `bodies` line
+  // (it used to report "recovered 1 point(s)" and write an empty file).
+  const fs::path ex03_case = ex03 / "03_imported_hbmat" / "case.yaml";
+  EXPECT_EQ(run("recover -q " + ex03_case.string() + " --point 0", ex03 / "recover.log"), 2);
+  const std::string recover_log = slurp(ex03 / "recover.log");
+  EXPECT_NE(recover_log.find(ex03_case.string() + ":10: bodies"), std::string::npos) << recover_log;
+  EXPECT_NE(recover_log.find("recover needs a body given by a mesh"), std::string::npos)
+      << recover_log;
 }
 
 }  // namespace
