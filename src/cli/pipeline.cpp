@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "cli/progress.h"
 #include "cli/results_files.h"
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
@@ -64,9 +65,15 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
           !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
         throw InvalidInput(where, "unknown hexahedron element type");
       }
-      return read_gmsh(m.file, o);
+      std::vector<std::string> warnings;
+      Mesh mesh = read_gmsh(m.file, o, &warnings);
+      for (const std::string& w : warnings) stderr_warning(w);
+      return mesh;
     }
-    return read_inp(m.file);
+    std::vector<std::string> warnings;
+    Mesh mesh = read_inp(m.file, &warnings);
+    for (const std::string& w : warnings) stderr_warning(w);
+    return mesh;
   } catch (const InvalidInput& e) {
     if (!e.where().file.empty()) throw;  // a mesh file's own error names its file and line
     throw InvalidInput(where, e.message());
