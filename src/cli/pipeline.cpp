@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "cli/progress.h"
 #include "cli/results_files.h"
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
@@ -64,9 +65,15 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
           !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
         throw InvalidInput(where, "unknown hexahedron element type");
       }
-      return read_gmsh(m.file, o);
+      std::vector<std::string> warnings;
+      Mesh mesh = read_gmsh(m.file, o, &warnings);
+      for (const std::string& w : warnings) stderr_warning(w);
+      return mesh;
     }
-    return read_inp(m.file);
+    std::vector<std::string> warnings;
+    Mesh mesh = read_inp(m.file, &warnings);
+    for (const std::string& w : warnings) stderr_warning(w);
+    return mesh;
   } catch (const InvalidInput& e) {
     if (!e.where().file.empty()) throw;  // a mesh file's own error names its file and line
     throw InvalidInput(where, e.message());
@@ -85,7 +92,8 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  return fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format, m.hexahedron8,
+  // The file by its contents, not its path (a moved project keeps its reductions).
+  return fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format, m.hexahedron8,
                      m.hexahedron20, file_fingerprint_hex(m.file));
 }
 

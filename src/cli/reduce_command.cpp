@@ -67,6 +67,20 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
   d.output.calculix_deck = defaults.calculix_deck;
   d.output.quiet = defaults.quiet;
   d.title.clear();
+  // Input files count by their contents, never by their paths: the same case read as
+  // `case.yaml`, as `$PWD/case.yaml`, from another working directory or after the project folder
+  // was moved has the same fingerprint (the paths are blanked here and the contents hashed below;
+  // pairs and preloads are listed by value).
+  for (auto& [name, m] : d.meshes) m.file.clear();
+  for (auto& [name, b] : d.bodies) {
+    b.reduced.stiffness.clear();
+    b.reduced.mass.clear();
+    b.reduced.mapping.clear();
+  }
+  for (ContactDefinition& cd : d.contacts) {
+    cd.pairs_file.clear();
+    cd.preload_file.clear();
+  }
   std::string text = describe_case(d);
   for (const ContactDefinition& cd : d.contacts) {
     text += "\npairs " + cd.name;
@@ -74,10 +88,10 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
     text += "\npreloads";
     for (const auto& [node, value] : cd.preloads) text += fmt::format(" {}:{:.17g}", node, value);
   }
-  for (const auto& [name, m] : d.meshes) {
+  for (const auto& [name, m] : definition.meshes) {
     if (m.source == MeshDefinition::Source::kFile) text += "\nmesh " + file_fingerprint_hex(m.file);
   }
-  for (const auto& [name, b] : d.bodies) {
+  for (const auto& [name, b] : definition.bodies) {
     if (b.source != BodyDefinition::Source::kReduced) continue;
     text += "\nmatrices " + file_fingerprint_hex(b.reduced.stiffness) + " " +
             file_fingerprint_hex(b.reduced.mass);

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "core/printable.h"
 #include "io/ansys_mapping.h"
 
 namespace stickslip {
@@ -1269,12 +1270,44 @@ void parse_study(Parser& p, const MapView& top) {
     with_parameter(p.out(), s.parameter, x, {p.file(), m.line("values"), "study.values"});
 }
 
+std::string case_file_size_message(std::uintmax_t bytes) {
+  return fmt::format("the case file has {} bytes; a case file may have at most {} bytes ({} MiB): "
+                     "long lists of pairs or preloads belong in pairs_file and preload_file",
+                     bytes, kMaxCaseFileBytes, kMaxCaseFileBytes >> 20);
+}
+
+// A case file is UTF-8 text (an optional UTF-8 byte-order mark is allowed). yaml-cpp would take
+// other bytes into names and titles unchecked, and they would reach file names, plots and logs.
+void check_encoding(const std::string& text, const std::string& file) {
+  const auto starts = [&](std::string_view bom) {
+    return std::string_view(text).substr(0, bom.size()) == bom;
+  };
+  if (starts(std::string_view("\0\0\xFE\xFF", 4)) || starts(std::string_view("\xFF\xFE", 2)) ||
+      starts(std::string_view("\xFE\xFF", 2))) {
+    throw InvalidInput(SourceLocation{file, 1, ""},
+                       "the case file is UTF-16 or UTF-32 (it starts with that byte-order mark): "
+                       "save it as UTF-8");
+  }
+  const size_t bad = first_invalid_utf8(text);
+  if (bad == std::string::npos) return;
+  const size_t newline = bad == 0 ? std::string::npos : text.rfind('\n', bad - 1);
+  const size_t line_start = newline == std::string::npos ? 0 : newline + 1;
+  const int line = 1 + static_cast<int>(std::count(
+                           text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n'));
+  const size_t column = bad - line_start + 1;
+  throw InvalidInput(SourceLocation{file, line, ""},
+                     fmt::format("byte {} (column {}) is not UTF-8 text: a case file must be "
+                                 "UTF-8 (save it as UTF-8 in the editor)",
+                                 printable(std::string_view(text).substr(bad, 1)), column));
+}
+
 CaseDefinition parse_case_unguarded(const std::string& yaml_text,
                                     const std::string& name_for_messages,
                                     const std::string& base_dir) {
   CaseDefinition out;
   out.file = name_for_messages;
   out.base_dir = base_dir;
+  check_encoding(yaml_text, name_for_messages);
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -1318,6 +1351,10 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
 
 CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
                           const std::string& base_dir) {
+  if (yaml_text.size() > kMaxCaseFileBytes) {
+    throw InvalidInput(SourceLocation{name_for_messages, 0, ""},
+                       case_file_size_message(yaml_text.size()));
+  }
   try {
     return parse_case_unguarded(yaml_text, name_for_messages, base_dir);
   } catch (const YAML::Exception& e) {
@@ -1331,6 +1368,12 @@ CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_
 CaseDefinition read_case_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput(SourceLocation{path, 0, ""}, "cannot open the case file");
+  // The size first: the YAML tree takes several times the file's bytes (a 1 GB list took 5.8 GB).
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (!ec && bytes > kMaxCaseFileBytes) {
+    throw InvalidInput(SourceLocation{path, 0, ""}, case_file_size_message(bytes));
+  }
   std::stringstream text;
   text << in.rdbuf();
   std::string base = fs::path(path).parent_path().string();

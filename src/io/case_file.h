@@ -27,6 +27,7 @@
 
 #include <array>
 #include <complex>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -54,6 +55,10 @@ inline constexpr int kMaxFrequencyPoints = 1000000;
 inline constexpr int kMaxRecoveryModes = 10000;
 // Elements of one generated beam (box plus end block).
 inline constexpr long long kMaxGeneratedElements = 1000000;
+// Size of a case file, bytes. yaml-cpp builds the whole tree in memory, several times the size of
+// the text (a 1 GB list took 5.8 GB); a large case (10⁴ listed pairs) is well under 1 MB, and long
+// lists belong in pairs_file / preload_file (read line by line).
+inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 // bodies.<name>.modes: at most kMaxReducedBodyDofs (io/ansys_mapping.h), the size of the largest
 // reduced body.
 

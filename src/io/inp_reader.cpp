@@ -84,9 +84,65 @@ struct SetDefinition {
   std::vector<SetItem> items;
 };
 
+// Keywords that would change the stiffness or mass of the model and that the reader does not
+// support: refused at their line, with the reason.
+struct Refusal {
+  const char* name;
+  const char* reason;
+};
+constexpr Refusal kRefused[] = {
+    {"*EQUATION", "linear constraint equations between DOFs are not supported yet"},
+    {"*MPC", "multi-point constraints tie DOFs together"},
+    {"*TIE", "tied surfaces tie DOFs together"},
+    {"*COUPLING", "a coupling ties DOFs to a reference node"},
+    {"*KINEMATIC", "a kinematic coupling ties DOFs to a reference node"},
+    {"*KINEMATIC COUPLING", "a kinematic coupling ties DOFs to a reference node"},
+    {"*DISTRIBUTING", "a distributing coupling ties DOFs to a reference node"},
+    {"*DISTRIBUTING COUPLING", "a distributing coupling ties DOFs to a reference node"},
+    {"*RIGID BODY", "a rigid body ties DOFs to a reference node"},
+    {"*PRE-TENSION SECTION", "a pre-tension section adds constraints"},
+    {"*CYCLIC SYMMETRY MODEL", "cyclic symmetry constraints are not read from decks"},
+    {"*SHELL SECTION", "shell elements are not supported (solids only)"},
+    {"*MEMBRANE SECTION", "membrane elements are not supported (solids only)"},
+    {"*BEAM SECTION", "beam elements are not supported (solids only)"},
+    {"*BEAM GENERAL SECTION", "beam elements are not supported (solids only)"},
+    {"*SPRING", "spring elements are not supported yet"},
+    {"*DASHPOT", "dashpot elements are not supported"},
+    {"*MASS", "point masses are not supported yet"},
+    {"*ROTARY INERTIA", "rotary inertia is not supported"},
+    {"*GAP", "gap elements are not supported"},
+    {"*USER ELEMENT", "user elements are not supported"},
+    {"*MATRIX", "matrix input is not supported"},
+    {"*MATRIX INPUT", "matrix input is not supported"},
+    {"*SUBSTRUCTURE PROPERTY", "substructures are not supported"},
+    {"*PART", "parts and instances are not supported (write the input without parts)"},
+    {"*INSTANCE", "parts and instances are not supported (write the input without parts)"},
+    {"*ASSEMBLY", "parts and instances are not supported (write the input without parts)"},
+    {"*NGEN", "node generation is not supported (write the nodes out)"},
+    {"*NFILL", "node generation is not supported (write the nodes out)"},
+    {"*NCOPY", "node generation is not supported (write the nodes out)"},
+    {"*NMAP", "node mapping is not supported (write the nodes out)"},
+    {"*ELGEN", "element generation is not supported (write the elements out)"},
+    {"*ELCOPY", "element generation is not supported (write the elements out)"},
+};
+
+// Why a keyword the reader skips does not matter to stickslip (the warning's hint).
+const char* skip_hint(const std::string& name) {
+  if (name == "*MATERIAL" || name == "*ELASTIC" || name == "*DENSITY" || name == "*SOLID SECTION")
+    return "the material comes from the case file";
+  if (name == "*BOUNDARY") return "clamps come from the case file";
+  if (name == "*STEP" || name == "*END STEP" || name == "*STATIC" || name == "*FREQUENCY" ||
+      name == "*CLOAD" || name == "*DLOAD" || name == "*STEADY STATE DYNAMICS")
+    return "analyses and loads come from the case file";
+  if (name == "*CONTACT PAIR" || name == "*SURFACE INTERACTION" || name == "*FRICTION")
+    return "contacts come from the case file";
+  return "not used by stickslip";
+}
+
 class InpParser {
  public:
-  explicit InpParser(std::string file) : file_(std::move(file)) {}
+  InpParser(std::string file, std::vector<std::string>* warnings)
+      : file_(std::move(file)), warnings_(warnings) {}
 
   Mesh parse(std::istream& in) {
     std::string text;
@@ -105,7 +161,9 @@ class InpParser {
     }
     if (in.bad()) throw InvalidInput({file_, 0, ""}, "read error");
     finish_element_block();
-    return resolve();
+    Mesh mesh = resolve();
+    report_skipped();
+    return mesh;
   }
 
  private:
@@ -152,10 +210,43 @@ class InpParser {
     return std::nullopt;
   }
 
+  // One warning per skipped keyword name, in order of first appearance, with its lines.
+  void report_skipped() const {
+    if (warnings_ == nullptr) return;
+    constexpr size_t kMaxLinesListed = 10;
+    for (const auto& [name, lines] : skipped_) {
+      std::string where;
+      for (size_t i = 0; i < lines.size() && i < kMaxLinesListed; ++i) {
+        where += (i ? ", " : "") + std::to_string(lines[i]);
+      }
+      if (lines.size() > kMaxLinesListed) {
+        where += " and " + std::to_string(lines.size() - kMaxLinesListed) + " more";
+      }
+      warnings_->push_back(file_ + ": " + name + " ignored (" + skip_hint(name) + "), line" +
+                           (lines.size() > 1 ? "s " : " ") + where);
+    }
+  }
+
+  void skip(const Keyword& k) {
+    for (auto& [name, lines] : skipped_) {
+      if (name == k.name) {
+        lines.push_back(k.line);
+        return;
+      }
+    }
+    skipped_.push_back({k.name, {k.line}});
+  }
+
   void start_keyword(const Keyword& k) {
     keyword_ = k;
     mode_ = Mode::kSkip;
     current_set_ = -1;
+    for (const Refusal& r : kRefused) {
+      if (k.name == r.name) {
+        fail(k.line, k.name + " is not supported: " + r.reason +
+                         "; it would change the stiffness or mass, so the deck is refused");
+      }
+    }
     if (k.name == "*NODE") {
       check_params(k, {"NSET"});
       mode_ = Mode::kNode;
@@ -181,6 +272,8 @@ class InpParser {
       mode_ = Mode::kSet;
     } else if (k.name == "*INCLUDE") {
       fail(k.line, "*INCLUDE is not supported: merge the included file into this one");
+    } else {
+      skip(k);
     }
   }
 
@@ -407,6 +500,8 @@ class InpParser {
   enum class Mode { kNone, kSkip, kNode, kElement, kSet };
 
   std::string file_;
+  std::vector<std::string>* warnings_;
+  std::vector<std::pair<std::string, std::vector<int>>> skipped_;  // keyword name, its lines
   Keyword keyword_;
   Mode mode_ = Mode::kNone;
   ElementType element_type_ = ElementType::kC3D8;
@@ -420,14 +515,15 @@ class InpParser {
 
 }  // namespace
 
-Mesh read_inp(std::istream& in, const std::string& source_name) {
-  return InpParser(source_name).parse(in);
+Mesh read_inp(std::istream& in, const std::string& source_name,
+              std::vector<std::string>* warnings) {
+  return InpParser(source_name, warnings).parse(in);
 }
 
-Mesh read_inp(const std::string& path) {
+Mesh read_inp(const std::string& path, std::vector<std::string>* warnings) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
-  return read_inp(in, path);
+  return read_inp(in, path, warnings);
 }
 
 }  // namespace stickslip
