@@ -23,18 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string study_folder(const std::string& parameter, double value) {
-  std::string name = parameter.substr(parameter.rfind('.') + 1);
-  return fmt::format("{}_{:g}", name, value);
-}
-
 }  // namespace
 
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const fs::path& out_dir) {
   std::vector<StageRun> runs;
   if (base.study.active()) {
     for (double v : base.study.values) {
-      const std::string folder = study_folder(base.study.parameter, v);
+      const std::string folder = study_folder_name(base.study.parameter, v);
       runs.push_back({folder,
                       with_parameter(base, base.study.parameter, v, base.where("study.parameter")),
                       out_dir / folder});
