@@ -66,6 +66,48 @@ MasterDofs master_dofs(const PreparedBody& body) {
   return out;
 }
 
+struct RecoveredVtu {
+  int point;
+  std::string body, file;  // file relative to the output folder
+};
+
+// The ParaView entry points of the recovered fields (docs/output-files.md): per point a .vtm of
+// its bodies, one .pvd of the sweep (time = frequency in Hz when the recovered points' frequencies
+// are distinct, as on a stepped sweep; the point number otherwise, e.g. two points of a fold at
+// one frequency), and a .vtm of the bodies' envelopes. The per-body files live in
+// recovery/<body>/ so that ParaView's grouping of numbered names makes series over points only.
+void write_vtk_collections(const std::filesystem::path& dir, const FrequencyResponse& response,
+                           const std::vector<int>& points, const std::vector<RecoveredVtu>& files,
+                           const std::vector<VtmBlock>& envelope_blocks) {
+  if (files.empty()) return;
+  std::vector<std::string> bodies;  // in order of first appearance: the part numbers
+  for (const RecoveredVtu& f : files) {
+    if (std::find(bodies.begin(), bodies.end(), f.body) == bodies.end()) bodies.push_back(f.body);
+  }
+  std::vector<double> frequencies;
+  for (int p : points) frequencies.push_back(rad_s_to_hz(response.points[p].omega));
+  std::sort(frequencies.begin(), frequencies.end());
+  const bool by_frequency =
+      std::adjacent_find(frequencies.begin(), frequencies.end()) == frequencies.end();
+  std::vector<PvdEntry> entries;
+  for (int p : points) {
+    std::vector<VtmBlock> blocks;
+    for (const RecoveredVtu& f : files) {
+      if (f.point != p) continue;
+      blocks.push_back({f.body, f.file});
+      const int part = static_cast<int>(std::find(bodies.begin(), bodies.end(), f.body) -
+                                        bodies.begin());
+      entries.push_back({by_frequency ? rad_s_to_hz(response.points[p].omega) : p, part, f.body,
+                         f.file});
+    }
+    if (!blocks.empty()) write_vtm((dir / fmt::format("recovery_p{}.vtm", p)).string(), blocks);
+  }
+  write_pvd((dir / "recovery.pvd").string(), entries);
+  if (!envelope_blocks.empty()) {
+    write_vtm((dir / "recovery_envelope.vtm").string(), envelope_blocks);
+  }
+}
+
 }  // namespace
 
 std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
@@ -260,6 +302,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
 
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
+  std::vector<RecoveredVtu> vtu_files;
+  std::vector<VtmBlock> envelope_blocks;
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const PreparedBody& body = model.bodies[b];
     if (!body.from_mesh) {
@@ -398,8 +442,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         }
       }
       data.field_data.emplace_back("frequency_hz", rad_s_to_hz(p.omega));
-      write_vtu((dir / fmt::format("recovery_p{}_{}.vtu", pi, body.name)).string(), body.mesh,
-                data);
+      const std::string file = fmt::format("recovery/{}/p{}.vtu", body.name, pi);
+      create_output_folder(dir / "recovery" / body.name);
+      write_vtu((dir / file).string(), body.mesh, data);
+      vtu_files.push_back({pi, body.name, file});
     }
     if (points.size() > 1 && sweep_vm_max.size() > 0) {
       VtuData data;
@@ -407,10 +453,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       data.point_data.push_back({"von_mises_alternating", sweep_vm_alt.transpose()});
       data.point_data.push_back({"max_principal_max", sweep_p_max.transpose()});
       data.field_data.emplace_back("recovered_points", static_cast<double>(points.size()));
-      write_vtu((dir / fmt::format("recovery_envelope_{}.vtu", body.name)).string(), body.mesh,
-                data);
+      const std::string file = fmt::format("recovery/{}/envelope.vtu", body.name);
+      write_vtu((dir / file).string(), body.mesh, data);
+      envelope_blocks.push_back({body.name, file});
     }
   }
+  write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);
   write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
     out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative\n";
     for (const Row& r : check) {

@@ -157,13 +157,14 @@ TEST_F(StagesCli, SolveWritesRunsFilesAndRecoverFromThemEqualsRunsRecovery) {
       EXPECT_LT(v, 1e-2) << k;
     }
   }
-  for (const char* f : {"recovery_p", "recovery_envelope"}) {
+  for (const char* f : {"p", "envelope"}) {
     bool found = false;
-    for (const auto& e : fs::directory_iterator(b)) {
+    for (const auto& e : fs::directory_iterator(b / "recovery" / "beam1")) {
       found |= e.path().filename().string().rfind(f, 0) == 0;
     }
-    EXPECT_EQ(found, std::string(f) == "recovery_p") << f;  // one point: no envelope
+    EXPECT_EQ(found, std::string(f) == "p") << f;  // one point: no envelope
   }
+  EXPECT_FALSE(fs::exists(b / "recovery_envelope.vtm"));
 }
 
 TEST_F(StagesCli, SolveReusesFreshReducedMatricesAndMatchesRun) {
@@ -288,7 +289,8 @@ TEST_F(StagesCli, RecoverOnePointAndExportItsDecksAsRunWritesThem) {
       run("recover -q " + case_.string() + " -o " + dir.string() + " --point 2", dir / "log.txt"),
       0)
       << slurp(dir / "log.txt");
-  EXPECT_TRUE(fs::exists(dir / "recovery_p2_beam1.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "recovery" / "beam1" / "p2.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "recovery_p2.vtm"));
   for (const auto& r : read_csv(dir / "recovery_check.csv")) EXPECT_EQ(r.at("point"), "2");
   for (const char* format : {"apdl", "calculix"}) {
     ASSERT_EQ(
