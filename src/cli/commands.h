@@ -5,7 +5,7 @@
 // Stages and the files they share, in an output folder DIR (docs/output-files.md):
 //   mesh     DIR/mesh/<body>.inp, .vtu          the bodies' meshes as the case builds them
 //   reduce   DIR/reduced/<body>_K.hb, _M.hb, .mapping, [<body>_T.bin], manifest.txt
-//   modes    DIR/modes/frequencies.csv, modes_<body>.vtu (stuck assembly)
+//   modes    DIR/modes/frequencies.csv, modes.vtm + <body>/shapes.vtu (stuck assembly)
 //   solve    DIR/points.csv, master_response.csv, contact_forces.csv, contact_state.csv,
 //            histories.csv, summary.json
 //   recover  the recovery files of run (reads the solve files)

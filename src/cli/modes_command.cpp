@@ -70,6 +70,7 @@ int run_case_modes(const ModesCommand& command) {
       out << "mode,frequency_hz\n";
       for (int j = 0; j < n; ++j) fmt::print(out, "{},{}\n", j + 1, f(j));
     });
+    std::vector<VtmBlock> shapes;  // modes.vtm: the bodies' mode shapes as one multiblock
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;
       if (body.T.size() == 0) {
@@ -84,8 +85,13 @@ int run_case_modes(const ModesCommand& command) {
                        body.T * eig.eigenvectors().col(j).segment(body.offset, body.reduced.size()),
                        f(j));
       }
-      write_vtu((dir / ("modes_" + body.name + ".vtu")).string(), body.mesh, data);
+      // One folder per body: ParaView would group modes_beam1.vtu and modes_beam2.vtu into one
+      // false series (docs/output-files.md, ParaView).
+      create_output_folder(dir / body.name);
+      write_vtu((dir / body.name / "shapes.vtu").string(), body.mesh, data);
+      shapes.push_back({body.name, body.name + "/shapes.vtu"});
     }
+    if (!shapes.empty()) write_vtm((dir / "modes.vtm").string(), shapes);
     if (!quiet) {
       fmt::print("{}stuck assembly, {} reduced DOFs, {} contact pairs\n",
                  run.folder.empty() ? "" : run.folder + ": ", model.num_dofs, model.pairs.size());

@@ -1,6 +1,6 @@
-// End-to-end: the ParaView files of a recovery, read back by VTK itself (Debian python3-vtk9,
+// End-to-end: the ParaView files of a recovery and of the stuck modes, read back by VTK itself (Debian python3-vtk9,
 // an implementation we did not write) — the sweep's .pvd, each point's .vtm of the bodies, the
-// envelope's .vtm and the zlib-compressed per-body .vtu files. References, independent of the
+// envelope's .vtm, the modes' .vtm and the zlib-compressed per-body .vtu files. References, independent of the
 // VTU writer: points.csv (the frequencies, the pvd's time values) and recovered_nodes.csv (the
 // full-model displacement of two listed nodes, written as text by another path).
 #include <gtest/gtest.h>
@@ -77,6 +77,20 @@ assert env.GetNumberOfBlocks() == 2
 for b in range(2):
     vm = vtk_to_numpy(env.GetBlock(b).GetPointData().GetArray('von_mises_max'))
     assert vm.max() > 0
+# The stuck modes (stickslip modes CASE): the bodies' shapes as one multiblock, with the
+# frequencies of frequencies.csv.
+modes = {int(r['mode']): float(r['frequency_hz']) for r in csv.DictReader(open(os.path.join(out, 'modes', 'frequencies.csv')))}
+reader = vtk.vtkXMLMultiBlockDataReader()
+reader.SetFileName(os.path.join(out, 'modes', 'modes.vtm'))
+reader.Update()
+mb = reader.GetOutput()
+assert mb.GetNumberOfBlocks() == 2
+for b, name in enumerate(['beam1', 'beam2']):
+    assert mb.GetMetaData(b).Get(vtk.vtkCompositeDataSet.NAME()) == name
+    grid = mb.GetBlock(b)
+    for j, f in modes.items():
+        assert grid.GetPointData().GetArray('mode_%d' % j) is not None, j
+        assert grid.GetFieldData().GetArray('mode_%d_frequency_hz' % j).GetValue(0) == f, j
 print('OK', checked)
 )PY";
 
@@ -88,6 +102,8 @@ TEST(ParaviewFiles, VtkReadsTheSweepPointAndEnvelopeCollectionsWithTheRecoveredV
 output: {vtu: true, plots: false}
 )"));
   ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(run("modes -q " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 0)
       << slurp(dir / "log.txt");
   std::ofstream(dir / "check.py") << kVtkCheck;
   EXPECT_EQ(shell("/usr/bin/python3 " + (dir / "check.py").string() + " " + (dir / "out").string(),

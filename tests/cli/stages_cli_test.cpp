@@ -489,7 +489,8 @@ TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
     // 80 fixed-interface modes of a 240-node beam: within 1 %.
     EXPECT_LT(fr, ff * 1.01) << "mode " << j + 1;
   }
-  EXPECT_TRUE(fs::exists(dir / "case" / "modes" / "modes_beam1.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "case" / "modes" / "beam1" / "shapes.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "case" / "modes" / "modes.vtm"));
   // From reduce's files (with the basis, for the shapes): the same frequencies.
   ASSERT_EQ(
       run("reduce -q --basis " + c.string() + " -o " + (dir / "st").string(), dir / "log.txt"), 0)
@@ -504,7 +505,7 @@ TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
     EXPECT_NEAR(std::stod(again[j].at("frequency_hz")), std::stod(reduced[j].at("frequency_hz")),
                 kThroughHb * std::stod(reduced[j].at("frequency_hz")));
   }
-  EXPECT_TRUE(fs::exists(dir / "st" / "modes" / "modes_beam1.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "st" / "modes" / "beam1" / "shapes.vtu"));
   // Reference-joint options make no sense with a case.
   EXPECT_EQ(run("modes " + c.string() + " --coarse", dir / "log3.txt"), 2);
 }
