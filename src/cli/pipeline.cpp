@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "cli/progress.h"
 #include "cli/results_files.h"
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
@@ -64,9 +65,15 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
           !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
         throw InvalidInput(where, "unknown hexahedron element type");
       }
-      return read_gmsh(m.file, o);
+      std::vector<std::string> warnings;
+      Mesh mesh = read_gmsh(m.file, o, &warnings);
+      for (const std::string& w : warnings) stderr_warning(w);
+      return mesh;
     }
-    return read_inp(m.file);
+    std::vector<std::string> warnings;
+    Mesh mesh = read_inp(m.file, &warnings);
+    for (const std::string& w : warnings) stderr_warning(w);
+    return mesh;
   } catch (const InvalidInput& e) {
     if (!e.where().file.empty()) throw;  // a mesh file's own error names its file and line
     throw InvalidInput(where, e.message());
@@ -85,7 +92,8 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  return fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format, m.hexahedron8,
+  // The file by its contents, not its path (a moved project keeps its reductions).
+  return fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format, m.hexahedron8,
                      m.hexahedron20, file_fingerprint_hex(m.file));
 }
 
@@ -409,7 +417,12 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   const auto t0 = Clock::now();
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
-  body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), clamp);
+  try {
+    body.constraints =
+        DofMap::from_nodes(body.mesh.num_nodes(), clamp, {true, true, true}, body.mesh.equations);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(def.where(key + ".clamp"), "body " + name + ": " + e.message());
+  }
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
     if (body.constraints.is_constrained(d)) constrained.push_back(d);
@@ -417,6 +430,15 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   std::vector<int> boundary;
   for (int n : masters) {
     for (int dir = 0; dir < 3; ++dir) {
+      if (body.constraints.is_dependent(dof_of(n, dir))) {
+        throw InvalidInput(
+            def.where(key),
+            fmt::format("node {} of body {} is a master (contact, forced or listed) node, but its "
+                        "direction {} is the dependent (first) DOF of the equation at {}: write "
+                        "that equation with another DOF first",
+                        body.mesh.node_ids[n], name, "xyz"[dir],
+                        body.constraints.dependent_origin(dof_of(n, dir))));
+      }
       if (body.constraints.is_constrained(dof_of(n, dir))) {
         throw InvalidInput(def.where(key + ".clamp"),
                            "node " + std::to_string(body.mesh.node_ids[n]) + " of body " + name +
@@ -436,7 +458,14 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
         fmt::format("body {}: {} master nodes x 3 + {} modes = {}: {}", name, masters.size(),
                     options.num_modes, reduced_dofs, reduced_body_size_message(reduced_dofs)));
   }
-  CraigBamptonResult cb = craig_bampton(K, M, constrained, boundary, options);
+  // Equations (*EQUATION): reduce TᵀKT, TᵀMT with the dependent DOFs among the constrained ones,
+  // then give the basis its dependent rows (x = T x_f).
+  const bool dependents = body.constraints.has_dependents();
+  CraigBamptonResult cb =
+      dependents ? craig_bampton(body.constraints.condense(K), body.constraints.condense(M),
+                                 constrained, boundary, options)
+                 : craig_bampton(K, M, constrained, boundary, options);
+  if (dependents && cb.summary.ok()) body.constraints.fill_dependent_rows(cb.T);
   if (!cb.summary.ok()) {
     throw InvalidInput(def.where(key), "Craig–Bampton reduction of body " + name +
                                            " failed: " + cb.summary.message);

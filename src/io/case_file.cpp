@@ -502,11 +502,12 @@ auto with_key(const std::string& key, F&& f) {
   }
 }
 
-// Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'.
+// Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'; and in file and
+// folder names of the results (recovery/<body>/, loads_p<N>_<body>.mac): no '/'.
 void check_name(const Parser& p, const std::string& name, const std::string& path, int line) {
   p.check(!name.empty(), path, line, "empty name");
-  p.check(name.find_first_of(".[]") == std::string::npos, path, line,
-          "names may not contain '.', '[' or ']', got '" + name + "'");
+  p.check(name.find_first_of(".[]/") == std::string::npos, path, line,
+          "names may not contain '.', '[', ']' or '/', got '" + name + "'");
 }
 
 // Iterates the entries of a map whose keys are user-chosen names.
