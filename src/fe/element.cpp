@@ -1,6 +1,9 @@
 #include "fe/element.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
@@ -502,6 +505,86 @@ double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
       return volume_standard<10>(fixed_coordinates<10>(type, X), tet10_64());
   }
   return 0.0;
+}
+
+namespace {
+
+// Over the points of `ref`: the smallest and largest det J, and the largest |det J| relative to
+// the product of the lengths of J's rows (Hadamard: at most 1; 0 for a flat element at any scale
+// and aspect ratio).
+struct DetRange {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  double max_relative = 0.0;
+};
+
+template <int NEN>
+void det_range(const Matrix<double, 3, NEN>& X, const RefData<NEN>& ref, DetRange* r) {
+  for (const auto& dN : ref.dN) {
+    const Matrix3d J = dN * X.transpose();
+    const double det = J.determinant();
+    const double hadamard = J.row(0).norm() * J.row(1).norm() * J.row(2).norm();
+    r->lo = std::min(r->lo, det);
+    r->hi = std::max(r->hi, det);
+    if (hadamard > 0.0) r->max_relative = std::max(r->max_relative, std::abs(det) / hadamard);
+  }
+}
+
+}  // namespace
+
+std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
+  if (X.cols() != nodes_per_element(type)) {
+    return "has " + std::to_string(X.cols()) + " nodes, a " + element_type_name(type) +
+           " needs " + std::to_string(nodes_per_element(type));
+  }
+  if (!X.allFinite()) return "a node coordinate is not a finite number";
+  // Every point where a kernel evaluates det J: the stiffness rule, the exact and CalculiX mass
+  // rules and, for C3D8I, the centre (hex8_centre).
+  DetRange r;
+  switch (type) {
+    case ElementType::kC3D8:
+    case ElementType::kC3D8I: {
+      const Matrix<double, 3, 8> x = X;
+      det_range<8>(x, hex8_2(), &r);
+      static const RefData<8> centre = make_ref<8>(Rule{{Vector3d::Zero()}, {8.0}}, shape_hex8);
+      det_range<8>(x, centre, &r);
+      break;
+    }
+    case ElementType::kC3D20:
+    case ElementType::kC3D20R: {
+      const Matrix<double, 3, 20> x = X;
+      det_range<20>(x, hex20_2(), &r);
+      det_range<20>(x, hex20_3(), &r);
+      break;
+    }
+    case ElementType::kC3D4: {
+      const Matrix<double, 3, 4> x = X;
+      det_range<4>(x, tet4_1(), &r);
+      det_range<4>(x, tet4_4(), &r);
+      break;
+    }
+    case ElementType::kC3D10: {
+      const Matrix<double, 3, 10> x = X;
+      det_range<10>(x, tet10_4(), &r);
+      det_range<10>(x, tet10_64(), &r);
+      break;
+    }
+  }
+  const double lo = r.lo;
+  if (lo > 0.0) return {};
+  std::string what;
+  if (!(r.max_relative > kFlatElementTolerance)) {
+    what = "the element is flat (no volume: its nodes lie on a plane, a line or a point)";
+  } else if (r.hi < 0.0) {
+    what = "the element is inverted (its nodes are in the wrong order: mirrored)";
+  } else {
+    what = "the element is distorted (det J changes sign inside it: a misplaced mid-side node "
+           "or a corner out of place)";
+  }
+  char det[32];
+  std::snprintf(det, sizeof det, "%.6g", lo);
+  return std::string("Jacobian determinant ") + det +
+         " at an integration point (det J > 0 needed): " + what;
 }
 
 Eigen::Matrix3Xd natural_node_coordinates(ElementType type) {

@@ -32,6 +32,7 @@
 // A non-positive Jacobian determinant at an integration point throws InvalidInput.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -56,6 +57,16 @@ void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, E
 
 // Volume (m^3) integrated with the exact mass rule of the table above.
 double element_volume(ElementType type, const Eigen::Matrix3Xd& X);
+
+// Why the element's geometry cannot be integrated, or "" when it can: a coordinate that is not
+// finite, or det J <= 0 at a point of its stiffness or mass rules (the kernels above would throw
+// there), described as flat (|det J| <= kFlatElementTolerance |J_1| |J_2| |J_3| everywhere, J_i
+// the rows of J: independent of size and aspect ratio), inverted
+// (det J < 0 everywhere: nodes in mirrored order) or distorted (det J changes sign: a misplaced
+// mid-side node or corner). For the mesh readers, which add the file and the element's line.
+std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X);
+// Relative |det J| below which an element counts as flat rather than inverted or distorted.
+inline constexpr double kFlatElementTolerance = 1e-12;
 
 // --- Reference element ---
 

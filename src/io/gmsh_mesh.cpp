@@ -9,6 +9,8 @@
 #include <unordered_map>
 
 #include "core/errors.h"
+#include "fe/element.h"
+#include "io/msh_lines.h"
 
 namespace stickslip {
 namespace {
@@ -150,9 +152,33 @@ const int* gmsh_to_calculix_order(int gmsh_type) {
   }
 }
 
+namespace {
+
+// The line of `tag` in `lines` (0 when unknown).
+int line_of(const std::unordered_map<std::size_t, int>* lines, std::size_t tag) {
+  if (lines == nullptr) return 0;
+  const auto it = lines->find(tag);
+  return it == lines->end() ? 0 : it->second;
+}
+
+// mesh_from_gmsh_model; `lines` (may be null) gives the file lines of node and element tags.
+Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& options,
+                        std::vector<std::string>* warnings, const MshLines* lines);
+
+}  // namespace
+
 Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& options,
                           std::vector<std::string>* warnings) {
+  return convert_gmsh_model(source, options, warnings, nullptr);
+}
+
+namespace {
+
+Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& options,
+                        std::vector<std::string>* warnings, const MshLines* lines) {
   validate(options);
+  const auto* node_lines = lines != nullptr && lines->scanned ? &lines->node : nullptr;
+  const auto* element_lines = lines != nullptr && lines->scanned ? &lines->element : nullptr;
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> element_tags;
   std::vector<std::vector<std::size_t>> element_nodes;
@@ -229,6 +255,10 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
     const int index = mesh.num_nodes();
     mesh.coordinates.col(index) = Eigen::Vector3d(
         coords[3 * it->second], coords[3 * it->second + 1], coords[3 * it->second + 2]);
+    if (!mesh.coordinates.col(index).allFinite()) {
+      throw InvalidInput({source, line_of(node_lines, tag), ""},
+                         "node " + std::to_string(tag) + ": a coordinate is not a finite number");
+    }
     mesh.node_ids.push_back(checked_id(tag, source, "node"));
     node_index.emplace(tag, index);
   }
@@ -240,8 +270,18 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
     for (int i = 0; i < nodes_per_element(e.type); ++i) {
       local.push_back(node_index.at(e.gmsh_nodes[e.order[i]]));
     }
-    element_index.emplace(e.tag,
-                          mesh.add_element(checked_id(e.tag, source, "element"), e.type, local));
+    const int index = mesh.add_element(checked_id(e.tag, source, "element"), e.type, local);
+    element_index.emplace(e.tag, index);
+    Eigen::Matrix3Xd X(3, static_cast<Eigen::Index>(local.size()));
+    for (size_t i = 0; i < local.size(); ++i) {
+      X.col(static_cast<Eigen::Index>(i)) = mesh.coordinates.col(local[i]);
+    }
+    const std::string problem = element_shape_problem(e.type, X);
+    if (!problem.empty()) {
+      throw InvalidInput({source, line_of(element_lines, e.tag), ""},
+                         "element " + std::to_string(e.tag) + " (" + element_type_name(e.type) +
+                             "): " + problem);
+    }
   }
 
   // Physical groups -> sets.
@@ -300,18 +340,23 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
   return mesh;
 }
 
+}  // namespace
+
 Mesh read_gmsh(const std::string& path, const GmshReadOptions& options,
                std::vector<std::string>* warnings) {
   validate(options);
   if (!std::ifstream(path).good()) {
     throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
   }
+  // Our own pass over an ASCII file first: Gmsh keeps one of two nodes with the same tag without
+  // a word, and keeps no line numbers for the messages below.
+  const MshLines lines = scan_msh_lines(path);
   GmshSession session;
   gmsh_call(path, "read the file", [&] {
     gmsh::clear();
     gmsh::open(path);
   });
-  Mesh mesh = mesh_from_gmsh_model(path, options, warnings);
+  Mesh mesh = convert_gmsh_model(path, options, warnings, &lines);
   gmsh::clear();
   return mesh;
 }

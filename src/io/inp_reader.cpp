@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "fe/element.h"
 #include "io/text.h"
 
 namespace stickslip {
@@ -510,6 +511,7 @@ class InpParser {
       }
       element_line[e.id] = e.line;
       element_index[e.id] = mesh.add_element(e.id, e.type, local);
+      check_shape(mesh, e);
     }
     for (const SetDefinition& def : sets_) {
       auto& sets = def.is_node_set ? mesh.node_sets : mesh.element_sets;
@@ -567,6 +569,20 @@ class InpParser {
     }
     check_mesh(mesh);
     return mesh;
+  }
+
+  // An element whose geometry cannot be integrated (inverted, flat, distorted) stops at its line.
+  void check_shape(const Mesh& mesh, const RawElement& e) const {
+    const auto nodes = mesh.element_nodes(mesh.num_elements() - 1);
+    Eigen::Matrix3Xd X(3, static_cast<Eigen::Index>(nodes.size()));
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      X.col(static_cast<Eigen::Index>(i)) = mesh.coordinates.col(nodes[i]);
+    }
+    const std::string problem = element_shape_problem(e.type, X);
+    if (!problem.empty()) {
+      fail(e.line, "element " + std::to_string(e.id) + " (" + element_type_name(e.type) +
+                       "): " + problem);
+    }
   }
 
   enum class Mode { kNone, kSkip, kNode, kElement, kSet, kEquation };

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/errors.h"
+#include "fe/element.h"
 #include "io/inp_reader.h"
 
 namespace stickslip {
@@ -23,21 +24,29 @@ std::string temp_path(const std::string& name) {
 }
 
 // A mesh with every element type, non-contiguous ids and coordinates that need all 17 digits.
+// Each element is its reference element scaled by (1, 1e-3, 1e5), shifted and perturbed by 1 % of
+// that scale: valid geometry (the reader refuses elements that cannot be integrated).
 Mesh mixed_mesh() {
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d scale(1.0, 1e-3, 1e5);
   Mesh m;
-  for (int i = 0; i < 45; ++i) m.add_node(1000 - 7 * i, {u(rng), u(rng) * 1e-3, u(rng) * 1e5});
-  std::vector<int> nodes(20);
-  int id = 5;
-  int first = 0;
+  int node_id = 1000, id = 5;
+  double shift = 0.0;
   for (ElementType t : {ElementType::kC3D20R, ElementType::kC3D8, ElementType::kC3D4,
                         ElementType::kC3D10, ElementType::kC3D8I, ElementType::kC3D20}) {
-    const int n = nodes_per_element(t);
-    for (int k = 0; k < n; ++k) nodes[k] = (first + k) % 45;
-    m.add_element(id, t, std::span<const int>(nodes.data(), n));
+    const Eigen::Matrix3Xd P = natural_node_coordinates(t);
+    std::vector<int> nodes;
+    for (Eigen::Index a = 0; a < P.cols(); ++a) {
+      const Eigen::Vector3d jitter(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d x = (P.col(a) + 0.01 * jitter).cwiseProduct(scale) +
+                                Eigen::Vector3d(shift, 0.0, 0.0);
+      nodes.push_back(m.add_node(node_id, x));
+      node_id -= 7;
+    }
+    m.add_element(id, t, nodes);
     id += 3;
-    first += 4;
+    shift += 3.0;
   }
   m.node_sets["FIRST"] = {0, 1, 2};
   for (int i = 0; i < 40; i += 2) m.node_sets["MANY"].push_back(i);  // > 16: several lines
