@@ -57,13 +57,12 @@ int run_case_modes(const ModesCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true, &cache);
-    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(stuck_stiffness_matrix(model),
-                                                                  model.M);
-    if (eig.info() != Eigen::Success) {
+    const ModalResult eig = dense_modes(stuck_stiffness_matrix(model), model.M);
+    if (!eig.summary.ok()) {
       throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
     }
-    const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues().size()));
-    const Eigen::VectorXd f = eig.eigenvalues().head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
+    const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues.size()));
+    const Eigen::VectorXd f = eig.eigenvalues.head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
     const fs::path dir = run.dir / "modes";
     create_output_folder(dir);
     write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
@@ -82,7 +81,7 @@ int run_case_modes(const ModesCommand& command) {
       VtuData data;
       for (int j = 0; j < n; ++j) {
         add_mode_shape(data, j,
-                       body.T * eig.eigenvectors().col(j).segment(body.offset, body.reduced.size()),
+                       body.T * eig.modes.col(j).segment(body.offset, body.reduced.size()),
                        f(j));
       }
       // One folder per body: ParaView would group modes_beam1.vtu and modes_beam2.vtu into one

@@ -27,6 +27,7 @@
 #include "io/two_beam_model.h"
 #include "mesh/mesh_tools.h"
 #include "mesh/surface_area.h"
+#include "linalg/modal.h"
 #include "reduction/craig_bampton.h"
 
 namespace stickslip {
@@ -450,7 +451,7 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   std::sort(boundary.begin(), boundary.end());
   const int interior = body.constraints.num_free() - static_cast<int>(boundary.size());
   CraigBamptonOptions options;
-  options.num_modes = std::min(bd.modes, std::max(0, interior - 1));
+  options.num_modes = std::min(bd.modes, std::max(0, interior));  // every interior mode at most
   const long long reduced_dofs = static_cast<long long>(boundary.size()) + options.num_modes;
   if (reduced_dofs > kMaxReducedBodyDofs) {  // the limit of imported bodies (io/ansys_mapping.h)
     throw InvalidInput(
@@ -921,12 +922,11 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
 }
 
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(stuck_stiffness_matrix(model),
-                                                                model.M, Eigen::EigenvaluesOnly);
-  if (eig.info() != Eigen::Success) {
+  const ModalResult eig = dense_modes(stuck_stiffness_matrix(model), model.M);  // Jacobi-scaled
+  if (!eig.summary.ok()) {
     throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
   }
-  return eig.eigenvalues().cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
+  return eig.eigenvalues.cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
 }
 
 std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {

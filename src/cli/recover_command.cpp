@@ -80,13 +80,39 @@ void rebuild_master_response(SolveResults& results, const PreparedModel& model,
   // Its harmonics are 0 + analysis.harmonics, those of the files (check_solve_matches_model).
   FrequencyResponse& response = results.response;
   const int nh = static_cast<int>(response.harmonics.size());
-  for (FrequencyPoint& p : response.points) {
-    Eigen::MatrixXcd f(system.contact_rows(), nh);
+  for (size_t i = 0; i < response.points.size(); ++i) {
+    FrequencyPoint& p = response.points[i];
+    Eigen::MatrixXcd f(system.contact_rows(), nh),
+        u = Eigen::MatrixXcd::Zero(system.contact_rows(), nh);
     for (size_t q = 0; q < p.pairs.size(); ++q) {
       f.middleRows(system.pair_row(static_cast<int>(q)), p.pairs[q].force_local.rows()) =
           p.pairs[q].force_local;
     }
-    p.master = system.master_response(f, p.omega);
+    if (system.holds_rigid_modes()) {
+      // A body held by its contacts: the static response needs the contact displacements,
+      // u = R (x_A − x_B) from master_response.csv (missing rows are refused below).
+      Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(model.num_dofs, nh);
+      for (const PreparedBody& body : model.bodies) {
+        for (const auto& [key, g] : body.master_dof) {
+          const auto it = results.master.find(MasterDofKey{body.name, key.first, key.second});
+          if (it != results.master.end()) x.row(g) = it->second.row(static_cast<Eigen::Index>(i));
+        }
+      }
+      for (size_t q = 0; q < model.pairs.size(); ++q) {
+        const ContactPair& pair = model.pairs[q];
+        const int row = system.pair_row(static_cast<int>(q));
+        for (int d = 0; d < static_cast<int>(pair.frame.cols()); ++d) {
+          for (int c = 0; c < nh; ++c) {
+            std::complex<double> rel = 0.0;
+            if (!pair.dofs_a.empty()) rel += x(pair.dofs_a[d], c);
+            if (!pair.dofs_b.empty()) rel -= x(pair.dofs_b[d], c);
+            u.block(row, c, pair.frame.rows(), 1) +=
+                pair.frame.col(d).cast<std::complex<double>>() * rel;
+          }
+        }
+      }
+    }
+    p.master = system.master_response(f, p.omega, system.holds_rigid_modes() ? &u : nullptr);
   }
   // The rebuilt response must be the one the solve wrote (master_response.csv): a file edited
   // or mixed from another solve would otherwise be recovered silently.

@@ -231,7 +231,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
       system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd());
   const Eigen::MatrixXcd f =
       system.to_complex(forces, frozen ? system.static_force() : Eigen::VectorXd());
-  point.master = system.master_response(f, omega);
+  point.master = system.master_response(f, omega, &u);
   point.pairs.resize(system.pairs().size());
   for (size_t p = 0; p < system.pairs().size(); ++p) {
     const ContactPair& pair = system.pairs()[p];

@@ -1,5 +1,7 @@
 #include "hbm/harmonic_balance.h"
 
+#include "linalg/modal.h"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -68,16 +70,28 @@ Eigen::VectorXcd real_times(const Matrix& A, const Eigen::VectorXcd& v) {
   return out;
 }
 
+// A X for real A and complex X, as two real products.
+Eigen::MatrixXcd real_times_matrix(const Eigen::MatrixXd& A, const Eigen::MatrixXcd& X) {
+  Eigen::MatrixXcd out(A.rows(), X.cols());
+  out.real() = A * X.real();
+  out.imag() = A * X.imag();
+  return out;
+}
+
 // The static problem u = u_lin,0 − G_0 f(u) on the contact rows (harmonic 0 only, AFT with a
 // constant two-sample signal: the static element law from the virgin state).
 class StaticContactSystem final : public ParametrizedSystem {
  public:
+  // shift: K_s per row (empty = none): R = u − u_lin,0 + G_0 (f(u) − K_s u), the shifted form of
+  // a structure with rigid-body modes held by the elements (build_static_flexibility).
   StaticContactSystem(const std::vector<ContactPair>& pairs, const std::vector<int>& pair_rows,
-                      Eigen::MatrixXd G0, Eigen::VectorXd ulin0, double scale)
+                      Eigen::MatrixXd G0, Eigen::VectorXd ulin0, double scale,
+                      Eigen::VectorXd shift = Eigen::VectorXd())
       : pairs_(pairs),
         pair_rows_(pair_rows),
         G0_(std::move(G0)),
         ulin0_(std::move(ulin0)),
+        shift_(std::move(shift)),
         scale_(scale),
         aft_(FourierBasis(HarmonicSet({0}), 2)) {}
   int size() const override { return static_cast<int>(ulin0_.size()); }
@@ -99,6 +113,10 @@ class StaticContactSystem final : public ParametrizedSystem {
     Eigen::VectorXd f;
     Eigen::MatrixXd J;
     forces(u, f, dR_dx ? &J : nullptr);
+    if (shift_.size() > 0) {
+      f -= shift_.cwiseProduct(u);
+      if (dR_dx) J.diagonal() -= shift_;
+    }
     R = u - ulin0_ + G0_ * f;
     if (dR_dx) *dR_dx = Eigen::MatrixXd::Identity(size(), size()) + G0_ * J;
     if (dR_dlambda) dR_dlambda->setZero(size());
@@ -109,6 +127,7 @@ class StaticContactSystem final : public ParametrizedSystem {
   const std::vector<int>& pair_rows_;
   Eigen::MatrixXd G0_;
   Eigen::VectorXd ulin0_;
+  Eigen::VectorXd shift_;
   double scale_;
   Aft aft_;
 };
@@ -184,11 +203,11 @@ LinearModel linear_model_from_matrices(const Eigen::MatrixXd& K, const Eigen::Ma
                                        double alpha, double beta) {
   require(K.rows() == K.cols() && M.rows() == M.cols() && K.rows() == M.rows() && K.rows() > 0,
           "K, M", std::to_string(K.rows()) + " x " + std::to_string(K.cols()), "square, same size");
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);
-  require(eig.info() == Eigen::Success, "M", "not positive definite", "M SPD");
+  ModalResult eig = dense_modes(K, M);  // Jacobi-scaled (linalg/modal.h)
+  require(eig.summary.ok(), "M", "not positive definite", "M SPD");
   LinearModel model;
-  model.omega2 = eig.eigenvalues().cwiseMax(0.0);
-  model.Phi = eig.eigenvectors();  // Φᵀ M Φ = I
+  model.omega2 = eig.eigenvalues.cwiseMax(0.0);
+  model.Phi = std::move(eig.modes);  // Φᵀ M Φ = I
   model.modal_damping = rayleigh_modal_damping(model.omega2, alpha, beta);
   return model;
 }
@@ -302,6 +321,7 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
   const double max_w2 = model_.omega2.maxCoeff();
   static_modes_ = (model_.omega2.array() > 1e-12 * max_w2).cast<double>().matrix();
   require(static_modes_.sum() > 0, "LinearModel.omega2", "all zero", "at least one elastic mode");
+  build_static_flexibility();
 
   if (dense_damping() && options_.damping_matrix_method == DampingMatrixMethod::kStateSpace) {
     std::shared_ptr<DampedModalExpansion> d = damped_modal_expansion(
@@ -398,6 +418,118 @@ Eigen::VectorXcd HarmonicBalanceSystem::modal_receptance(int k, double omega) co
   return h;
 }
 
+void HarmonicBalanceSystem::build_static_flexibility() {
+  // Rigid-body modes (ω_r² ≤ 1e-12 max ω²) have no static flexibility: K q = F has no solution
+  // unless the elements hold them. Leaving them out of G_0 (as harmonics ≥ 1 never need to)
+  // solves a different problem: the free body's deformation under a load balanced by its own
+  // inertia, whatever the springs and contacts that hold it (issue 22: a spring-held cantilever
+  // 660 times too stiff, independent of the spring stiffness). Instead, with K_s > 0 a diagonal
+  // stiffness on the contact rows, K q = F − Bᵀ f(u) is written
+  //   (Ω² + Ψᵀ K_s Ψ) q = Φᵀ F − Ψᵀ (f(u) − K_s u),
+  // exact for any K_s, and Ω² + ΨᵀK_sΨ is positive definite on every mode the rows see. Rigid
+  // motions that move no contact row (Ψ z = 0: held by nothing) stay out, and a static load on
+  // them is refused (the static problem has no solution).
+  const Eigen::Index nm = model_.omega2.size();
+  std::vector<int> rigid, elastic;
+  for (Eigen::Index r = 0; r < nm; ++r) {
+    (static_modes_[r] > 0 ? elastic : rigid).push_back(static_cast<int>(r));
+  }
+  if (rigid.empty()) return;
+  const int nr = static_cast<int>(rigid.size());
+
+  // K_s: each row's tangent at rest where positive (linear springs then make the static Newton
+  // a single step), else the largest such tangent, else the stiffness of the stiffest row of the
+  // elastic structure (1 / its largest static flexibility).
+  Eigen::VectorXd ks = Eigen::VectorXd::Zero(rows_);
+  {
+    const Aft rest(FourierBasis(HarmonicSet({0}), 2));
+    Eigen::VectorXd fp;
+    Eigen::MatrixXd jp;
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      rest.evaluate(*pairs_[p].element, Eigen::VectorXd::Zero(m), Eigen::VectorXd(), fp, &jp);
+      for (int i = 0; i < m; ++i) ks[r + i] = std::isfinite(jp(i, i)) ? std::max(jp(i, i), 0.0) : 0.0;
+    }
+  }
+  double fill = ks.maxCoeff();
+  if (!(fill > 0.0)) {
+    Eigen::VectorXd flexibility = Eigen::VectorXd::Zero(rows_);
+    for (int r : elastic) flexibility += Psi_.col(r).cwiseAbs2() / model_.omega2[r];
+    const double largest = flexibility.maxCoeff();
+    fill = largest > 0.0 ? 1.0 / largest : 1.0;
+  }
+  for (int i = 0; i < rows_; ++i) {
+    if (!(ks[i] > 0.0)) ks[i] = fill;
+  }
+
+  // Rigid directions the contact rows see: eigenvectors of Ψ_Rᵀ Ψ_R above a round-off floor
+  // relative to the largest squared column of Ψ (mass-normalised modes: all of one scale).
+  Eigen::MatrixXd PsiR(rows_, nr);
+  for (int j = 0; j < nr; ++j) PsiR.col(j) = Psi_.col(rigid[j]);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> seen(PsiR.transpose() * PsiR);
+  constexpr double kUnheldTolerance = 1e-10;
+  const double floor = kUnheldTolerance * Psi_.colwise().squaredNorm().maxCoeff();
+  std::vector<int> held_cols, free_cols;
+  for (int j = 0; j < nr; ++j) (seen.eigenvalues()[j] > floor ? held_cols : free_cols).push_back(j);
+
+  // W: orthonormal basis of the modal coordinates harmonic 0 acts on (elastic modes, held rigid
+  // directions); H_0 = W (Wᵀ (Ω² + ΨᵀK_sΨ) W)⁻¹ Wᵀ.
+  const int nw = static_cast<int>(elastic.size() + held_cols.size());
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(nm, nw);
+  int c = 0;
+  for (int r : elastic) W(r, c++) = 1.0;
+  for (int j : held_cols) {
+    for (int i = 0; i < nr; ++i) W(rigid[i], c) = seen.eigenvectors()(i, j);
+    ++c;
+  }
+  const Eigen::MatrixXd PsiW = Psi_ * W;
+  Eigen::MatrixXd A = PsiW.transpose() * ks.asDiagonal() * PsiW;
+  A += W.transpose() * model_.omega2.cwiseMax(0.0).asDiagonal() * W;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(0.5 * (A + A.transpose()));
+  STICKSLIP_VERIFY(ldlt.info() == Eigen::Success,
+                   "HarmonicBalanceSystem: the shifted static stiffness could not be factorised");
+  static_flexibility_ = W * ldlt.solve(W.transpose());
+  static_flexibility_ = (0.5 * (static_flexibility_ + static_flexibility_.transpose())).eval();
+  static_shift_ = ks;
+  static_G_ = Psi_ * static_flexibility_ * Psi_.transpose();
+  static_G_ = (0.5 * (static_G_ + static_G_.transpose())).eval();
+  static_shift_G_ = static_G_ * ks.asDiagonal();
+
+  // A static load on a rigid motion that nothing holds has no equilibrium.
+  const auto load = modal_load_.find(0);
+  if (load != modal_load_.end() && !free_cols.empty()) {
+    constexpr double kEquilibriumTolerance = 1e-8;
+    Eigen::VectorXd qR(nr);
+    for (int i = 0; i < nr; ++i) qR[i] = load->second[rigid[i]].real();
+    double worst = 0.0;
+    for (int j : free_cols) worst = std::max(worst, std::abs(seen.eigenvectors().col(j).dot(qR)));
+    require(worst <= kEquilibriumTolerance * load->second.real().norm(), "excitation.harmonics[0]",
+            "a resultant on a rigid-body motion",
+            "the static load must be in equilibrium on every rigid-body motion of a body that no "
+            "support, spring or contact holds (" + std::to_string(free_cols.size()) +
+                " such motion(s); nothing would keep the body in place)");
+  }
+}
+
+void HarmonicBalanceSystem::subtract_static_shift(const Eigen::VectorXd& v,
+                                                  Eigen::VectorXd& out) const {
+  const int pos = unknown_harmonics().position_of(0);
+  if (static_shift_.size() == 0 || pos < 0) return;
+  const int o = unknown_harmonics().offset(pos);
+  Eigen::VectorXd v0(rows_);
+  for (int r = 0; r < rows_; ++r) v0[r] = v[r * nc_ + o];
+  const Eigen::VectorXd w = static_shift_G_ * v0;
+  for (int r = 0; r < rows_; ++r) out[r * nc_ + o] -= w[r];
+}
+
+void HarmonicBalanceSystem::subtract_static_shift(Eigen::MatrixXd& J) const {
+  const int pos = unknown_harmonics().position_of(0);
+  if (static_shift_.size() == 0 || pos < 0) return;
+  const int o = unknown_harmonics().offset(pos);
+  for (int r = 0; r < rows_; ++r)
+    for (int s = 0; s < rows_; ++s) J(s * nc_ + o, r * nc_ + o) -= static_shift_G_(s, r);
+}
+
 Eigen::PartialPivLU<Eigen::MatrixXcd> HarmonicBalanceSystem::modal_impedance_lu(
     int k, double omega) const {
   STICKSLIP_VERIFY(k >= 1 && dense_damping(), "modal_impedance_lu: k >= 1 with a damping matrix");
@@ -410,6 +542,7 @@ Eigen::PartialPivLU<Eigen::MatrixXcd> HarmonicBalanceSystem::modal_impedance_lu(
 
 Eigen::MatrixXcd HarmonicBalanceSystem::modal_flexibility_times(int k, double omega,
                                                                 const Eigen::MatrixXcd& rhs) const {
+  if (k == 0 && static_flexibility_.size() > 0) return real_times_matrix(static_flexibility_, rhs);
   if (k == 0 || !dense_damping()) return modal_receptance(k, omega).asDiagonal() * rhs;
   if (damped_) {
     return damped_->X *
@@ -436,7 +569,7 @@ void HarmonicBalanceSystem::solve_static() {
   // Scale for the static Newton: the linear static response, else the stiffest element's
   // scale is unknown here: use ||G0||·1 N as a displacement per newton of contact force.
   const double scale = ulin0.norm() > 0 ? ulin0.norm() : G0.norm();
-  StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0);
+  StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0, static_shift_);
   u0_ = Eigen::VectorXd::Zero(rows_);
   static_summary_ = solve_newton(sys, 0.0, u0_, options_.static_newton);
   sys.forces(u0_, f0_, nullptr);
@@ -503,6 +636,7 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
   const std::shared_ptr<const CondensedOperator> op =
       condensed_operator(omega, dR_domega != nullptr);
   R = x - op->ulin + apply_G(*op, F);
+  subtract_static_shift(x, R);
   if (dR_dx) {
     // dR/dx = I + 𝔾 J_f with J_f block-diagonal: per pair, its columns of 𝔾 times its block,
     // column by column as sums of the pair's columns of 𝔾 (the blocks are only m·nc wide).
@@ -519,6 +653,7 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
         column[c + j] += 1.0;
       }
     }
+    subtract_static_shift(*dR_dx);
   }
   if (dR_domega) *dR_domega = apply_dG(*op, F) - op->dulin;
 }
@@ -659,7 +794,9 @@ bool HarmonicBalanceSystem::solve_jacobian(const Eigen::VectorXd& x, double omeg
       const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
       jv.segment(c, w).noalias() = blocks[p] * v.segment(c, w);
     }
-    return v + apply_G(*op, jv);
+    Eigen::VectorXd out = v + apply_G(*op, jv);
+    subtract_static_shift(v, out);
+    return out;
   };
   auto precondition = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
     return apply_preconditioner(*op, v);
@@ -709,6 +846,15 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       dense_damping_terms(*op, pos, k, o, derivative);
       continue;
     }
+    if (k == 0 && static_flexibility_.size() > 0) {  // held rigid-body modes: the shifted G̃_0
+      op->G.emplace_back(static_G_.cast<Complex>());
+      const auto load = modal_load_.find(0);
+      if (load != modal_load_.end()) {
+        scatter_vector(op->ulin, linear_contact_response(0, omega), 0, o);
+      }
+      op->dh.push_back(Eigen::VectorXcd::Zero(model_.omega2.size()));
+      continue;
+    }
     const Eigen::VectorXcd h = modal_receptance(k, omega);
     // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ.
     weighted_gram(Psi_, h.real(), gr);
@@ -738,6 +884,7 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   if (structured_) {
     for (int pos = 0; pos < set.size(); ++pos) {  // I + G_k K_0, K_0 block-diagonal per pair
       Eigen::MatrixXcd P = Eigen::MatrixXcd::Identity(rows_, rows_);
+      if (set.harmonics()[pos] == 0 && static_shift_.size() > 0) P.real() -= static_shift_G_;
       for (size_t p = 0; p < pairs_.size(); ++p) {
         const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
         P.middleCols(r, m).noalias() +=
@@ -853,8 +1000,9 @@ Eigen::MatrixXcd HarmonicBalanceSystem::to_complex(const Eigen::VectorXd& coeffi
   return out;
 }
 
-Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& contact_force,
-                                                        double omega) const {
+Eigen::MatrixXcd HarmonicBalanceSystem::master_response(
+    const Eigen::MatrixXcd& contact_force, double omega,
+    const Eigen::MatrixXcd* contact_displacement) const {
   const int nh = static_cast<int>(output_harmonics_.size());
   STICKSLIP_VERIFY(contact_force.rows() == rows_ && contact_force.cols() == nh,
                    "master_response: contact_force must be nu x output harmonics");
@@ -866,7 +1014,7 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
   std::vector<int> columns;
   for (int c = 0; c < nh; ++c) {
     const int k = output_harmonics_[c];
-    if (k == 0) {
+    if (k == 0 && static_shift_.size() == 0) {
       const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
       const StaticResponseCache& cache = *static_response_cache_;
       if (cache.force.size() == rows_ && cache.force == contact_force.col(c)) {
@@ -875,6 +1023,19 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
       }
     }
     Eigen::VectorXcd q = -real_times(Psi_.transpose(), contact_force.col(c));
+    if (k == 0 && static_shift_.size() > 0) {  // H̃_0 (Φᵀ F_0 − Ψᵀ (f_0 − K_s u_0))
+      Eigen::VectorXd u0 = u0_;
+      if (contact_displacement) {
+        STICKSLIP_VERIFY(contact_displacement->rows() == rows_ && contact_displacement->cols() == nh,
+                         "master_response: contact_displacement must be nu x output harmonics");
+        u0 = contact_displacement->col(c).real();
+      } else {
+        STICKSLIP_VERIFY(!unknown_harmonics().has_static(),
+                         "master_response: a structure with held rigid-body modes needs the "
+                         "static contact displacement (coupled statics)");
+      }
+      q += (Psi_.transpose() * static_shift_.cwiseProduct(u0)).cast<Complex>();
+    }
     const auto load = modal_load_.find(k);
     if (load != modal_load_.end()) q += load->second;
     const Eigen::VectorXcd y = modal_flexibility_times(k, omega, q);
@@ -895,7 +1056,7 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(const Eigen::MatrixXcd& 
       const int c = columns[slot];
       x.col(c).real() = product.col(2 * slot);
       x.col(c).imag() = product.col(2 * slot + 1);
-      if (output_harmonics_[c] == 0) {
+      if (output_harmonics_[c] == 0 && static_shift_.size() == 0) {
         const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
         static_response_cache_->force = contact_force.col(c);
         static_response_cache_->response = x.col(c);

@@ -53,8 +53,15 @@
 //   and for k = 0: R_0 = a_0 − u_lin,0 + G_0 f_0.
 // dR/dx = I + 𝔾 ∂F/∂x (∂F/∂x block-diagonal per pair, exact through the AFT) and
 // dR/dΩ = (∂𝔾/∂Ω) F − ∂u_lin/∂Ω, analytic (the element laws are rate-independent).
-// Harmonic 0 needs ω_r² > 0: rigid-body modes (ω_r² <= 1e-12 max ω²) are left out of G_0 and
-// u_lin,0 (the static load and contact preloads must then be self-equilibrated).
+// Harmonic 0 and rigid-body modes (ω_r² <= 1e-12 max ω²; bodies held by springs or contacts
+// only): G_0 does not exist. With a diagonal K_s > 0 on the contact rows (each row's element
+// tangent at rest, or a positive stand-in) the static balance is written in the shifted form
+//   R_0 = u_0 − ũ_lin,0 + G̃_0 (f_0 − K_s u_0),  G̃_0 = Ψ H̃_0 Ψᵀ,  ũ_lin,0 = Ψ H̃_0 Φᵀ F_0,
+//   H̃_0 = (Ω² + Ψᵀ K_s Ψ)⁻¹ on the modes the contact rows see,
+// exact for any K_s (K_s u added on both sides of K x = F − Bᵀ f). Rigid motions that move no
+// contact row are left out of H̃_0, and a static load with a resultant on them is refused
+// (InvalidInput: nothing holds the body). Without rigid-body modes harmonic 0 is G_0 = Ψ
+// diag(1/ω²) Ψᵀ as above.
 //
 // Recovery of every master DOF: x_k = Φ diag(h_k) (Φᵀ F_k − Ψᵀ F_k^c), Ψ = BΦ (H_k when the
 // modal damping matrix is given).
@@ -218,7 +225,13 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::MatrixXcd to_complex(const Eigen::VectorXd& coefficients,
                               const Eigen::VectorXd& static_part) const;
   // Master-DOF harmonics, ndof x output harmonics, from the complex contact forces (nu x nh).
-  Eigen::MatrixXcd master_response(const Eigen::MatrixXcd& contact_force, double omega) const;
+  // With held rigid-body modes (harmonic 0 shifted, see the header comment) the static column
+  // also needs the static contact displacement: contact_displacement (nu x nh, the contact
+  // displacements of the same point) or, when null, the uncoupled u0 (coupled statics: required).
+  Eigen::MatrixXcd master_response(const Eigen::MatrixXcd& contact_force, double omega,
+                                   const Eigen::MatrixXcd* contact_displacement = nullptr) const;
+  // Whether harmonic 0 has rigid-body modes held by the elements (the shifted static problem).
+  bool holds_rigid_modes() const { return static_shift_.size() > 0; }
 
  private:
   // G_k(Ω) per unknown harmonic (complex nu x nu; 𝔾 is their real split), u_lin(Ω) (n) and,
@@ -260,6 +273,11 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
 
   void solve_static();
   double displacement_floor() const;  // s_abs (see residual_scale_at)
+  void build_static_flexibility();
+  // out_0 −= G̃_0 K_s v_0 on the harmonic-0 coefficients (nothing without the shift), and the
+  // same on the harmonic-0 block of a dense Jacobian.
+  void subtract_static_shift(const Eigen::VectorXd& v, Eigen::VectorXd& out) const;
+  void subtract_static_shift(Eigen::MatrixXd& J) const;
 
   LinearModel model_;
   std::vector<ContactPair> pairs_;
@@ -272,7 +290,12 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   std::vector<int> output_harmonics_;
   Eigen::MatrixXd Psi_;                         // B Φ, nu x nm
   std::map<int, Eigen::VectorXcd> modal_load_;  // k -> Φᵀ F_k
-  Eigen::VectorXd static_modes_;                // 1 for modes kept in G_0, else 0
+  Eigen::VectorXd static_modes_;                // 1 for elastic modes (ω_r² > 1e-12 max ω²)
+  // Held rigid-body modes (build_static_flexibility), else all empty: H̃_0 (nm x nm), K_s per
+  // contact row (N/m), G̃_0 = Ψ H̃_0 Ψᵀ and G̃_0 K_s (nu x nu).
+  Eigen::MatrixXd static_flexibility_;
+  Eigen::VectorXd static_shift_;
+  Eigen::MatrixXd static_G_, static_shift_G_;
   Eigen::VectorXd u0_, f0_;
   NewtonSummary static_summary_;
   double residual_scale_ = 1.0;

@@ -41,24 +41,50 @@ void blas_gemm(char transa, char transb, Eigen::Index m, Eigen::Index n, Eigen::
 // whose largest ν are the λ closest to σ from above (all of them when σ is below the spectrum).
 // Unlike the M-inner-product Lanczos of Spectra's generalised solver, this needs one M product
 // per step instead of several, and the same two triangular solves.
+// The operator applied is `scale`·C: Spectra's convergence test, |residual| <= tol·max(|ν|,
+// eps^(2/3)), is absolute below ν = eps^(2/3) ≈ 3.7e-11, i.e. for every mode above 26 kHz when C
+// is not scaled (ν = 1/ω²): such modes were accepted with residuals of the order of ν itself, not
+// M-orthogonal (issue 22). Scaled so that the largest ν is about 1, the test is relative.
 class SymmetricShiftInvertOp {
  public:
   using Scalar = double;
-  SymmetricShiftInvertOp(const SparseCholesky& factor, const SparseMatrix& M)
-      : factor_(factor), M_(M), t_(M.rows()), u_(M.rows()) {}
+  SymmetricShiftInvertOp(const SparseCholesky& factor, const SparseMatrix& M, double scale = 1.0)
+      : factor_(factor), M_(M), scale_(scale), t_(M.rows()), u_(M.rows()) {}
   Eigen::Index rows() const { return M_.rows(); }
   Eigen::Index cols() const { return M_.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
     factor_.solve_upper(x_in, t_.data());
-    u_.noalias() = M_ * t_;
+    u_.noalias() = scale_ * (M_ * t_);
     factor_.solve_lower(u_.data(), y_out);
   }
 
  private:
   const SparseCholesky& factor_;
   const SparseMatrix& M_;
+  double scale_;
   mutable Eigen::VectorXd t_, u_;
 };
+
+// A lower estimate of the largest eigenvalue ν_max of C = G⁻¹ M G⁻ᵀ (within a small factor): a
+// few power iterations from a seeded random vector. Only its order of magnitude is used.
+double largest_nu_estimate(const SparseCholesky& factor, const SparseMatrix& M, int& operations) {
+  constexpr int kPowerIterations = 4;
+  const SymmetricShiftInvertOp op(factor, M);
+  std::mt19937 rng(20261125);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd x(M.rows()), y(M.rows());
+  for (Eigen::Index i = 0; i < x.size(); ++i) x(i) = normal(rng);
+  x.normalize();
+  double nu = 0.0;
+  for (int it = 0; it < kPowerIterations; ++it) {
+    op.perform_op(x.data(), y.data());
+    ++operations;
+    nu = y.norm();
+    if (!(nu > 0.0) || !std::isfinite(nu)) return 1.0;
+    x = y / nu;
+  }
+  return nu;
+}
 
 std::string to_text(double v) {
   char buffer[32];
@@ -136,6 +162,9 @@ bool block_lanczos(const SparseCholesky& factor, const SparseMatrix& M, int nev,
   };
   if (!orthonormalise(0, W.norm())) return false;
   Eigen::Index k = b;  // basis columns filled
+  // Spectra's criterion made scale-free: the eps^(2/3) floor relative to the largest Ritz value
+  // (an absolute floor accepts unconverged modes when ν = 1/(ω² − σ) is small, see
+  // SymmetricShiftInvertOp).
   const double eps23 = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
   operations = 0;
   steps = 0;
@@ -166,7 +195,8 @@ bool block_lanczos(const SparseCholesky& factor, const SparseMatrix& M, int nev,
       const Eigen::MatrixXd residual = W * S.bottomRows(b);
       bool converged = true;
       for (int j = 0; j < nev && converged; ++j)
-        converged = residual.col(j).norm() <= tol * std::max(std::abs(values(j)), eps23);
+        converged = residual.col(j).norm() <=
+                    tol * std::max(std::abs(values(j)), eps23 * std::abs(values(nev - 1)));
       if (converged) {
         nu = values.reverse();
         const Eigen::MatrixXd S_descending = S.rowwise().reverse();
@@ -283,7 +313,8 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
 
   auto start = std::chrono::steady_clock::now();
   Eigen::VectorXd values;
-  Eigen::MatrixXd vectors;
+  Eigen::MatrixXd vectors;      // φ = G⁻ᵀ y, any scale
+  Eigen::MatrixXd coordinates;  // the y of each φ
   bool converged = false;
   std::string method;
   if (block >= 2) {
@@ -302,6 +333,7 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
     if (done) {
       values = (1.0 / nu.array() + options.shift).matrix();
       vectors = factor.solve_upper(y);
+      coordinates = y;
       converged = true;
       summary.iterations = steps;
       summary.block_size = block;
@@ -310,16 +342,20 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
     }
   }
   if (!converged) {
-    SymmetricShiftInvertOp op(factor, M);
+    int power_operations = 0;
+    const double nu_scale = largest_nu_estimate(factor, M, power_operations);
+    summary.operations += power_operations;
+    SymmetricShiftInvertOp op(factor, M, 1.0 / nu_scale);
     Spectra::SymEigsSolver<SymmetricShiftInvertOp> solver(op, nev, ncv);
     try {
       const ScopedBlasThreads single_thread(1);  // BLAS-2 solves: threads only hurt
       solver.init();
       solver.compute(Spectra::SortRule::LargestAlge, options.max_iterations, options.tolerance,
                      Spectra::SortRule::LargestAlge);
-      const Eigen::VectorXd nu = solver.eigenvalues();
+      const Eigen::VectorXd nu = nu_scale * solver.eigenvalues();
       const Eigen::MatrixXd y = solver.eigenvectors();
       values = (1.0 / nu.array() + options.shift).matrix();
+      coordinates = y;
       vectors.resize(n, y.cols());
       for (Eigen::Index j = 0; j < y.cols(); ++j)
         factor.solve_upper(y.col(j).data(), vectors.col(j).data());
@@ -338,22 +374,39 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
   summary.iteration_seconds = seconds_since(start);
   summary.converged_modes = static_cast<int>(values.size());
 
-  // Ascending ω², mass normalisation, deterministic sign.
-  std::vector<int> order(static_cast<size_t>(values.size()));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return values(a) < values(b); });
-  result.eigenvalues.resize(values.size());
-  result.modes.resize(n, values.size());
-  // All M φ in one pass over M (rather than one per mode).
-  const Eigen::MatrixXd M_vectors = block_product(RowSparse(M), vectors);
-  for (Eigen::Index j = 0; j < values.size(); ++j) {
-    const int k = order[static_cast<size_t>(j)];
-    result.eigenvalues(j) = values(k);
-    auto phi = result.modes.col(j);
-    phi = vectors.col(k);
-    const double mass = phi.dot(M_vectors.col(k));
-    if (mass > 0.0) phi /= std::sqrt(mass);
-    if (phi(sign_component(phi)) < 0.0) phi = -phi;
+  // Rayleigh–Ritz in the span of the Ritz vectors: with A = Vᵀ M V and B = Vᵀ(K − σM)V = YᵀY
+  // (φ = G⁻ᵀ y), the small problem B s = μ A s (μ = ω² − σ) gives modes that are M-orthonormal
+  // and K-orthogonal to round-off whatever the Lanczos residuals were, so that callers that
+  // assume ΦᵀMΦ = I and ΦᵀKΦ = diag(ω²) (Craig–Bampton's reduced matrices) hold exactly. Cost:
+  // two products of n x m by m x m (BLAS), m = the modes returned.
+  const Eigen::Index m = values.size();
+  result.eigenvalues.resize(m);
+  result.modes.resize(n, m);
+  if (m > 0) {
+    const Eigen::MatrixXd M_vectors = block_product(RowSparse(M), vectors);
+    Eigen::MatrixXd A(m, m), B(m, m);
+    blas_gemm('T', 'N', m, m, n, 1.0, vectors.data(), n, M_vectors.data(), n, 0.0, A.data(), m);
+    blas_gemm('T', 'N', m, m, n, 1.0, coordinates.data(), n, coordinates.data(), n, 0.0, B.data(),
+              m);
+    A = (0.5 * (A + A.transpose())).eval();
+    B = (0.5 * (B + B.transpose())).eval();
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ritz(B, A);
+    if (ritz.info() != Eigen::Success) {
+      summary.termination = ModalTermination::kNotConverged;
+      summary.message = "the Lanczos vectors are linearly dependent in the M inner product (" +
+                        std::to_string(m) + " modes): no M-orthonormal basis";
+      summary.iteration_seconds = seconds_since(start);
+      result.eigenvalues.resize(0);
+      result.modes.resize(n, 0);
+      return result;
+    }
+    result.eigenvalues = (ritz.eigenvalues().array() + options.shift).matrix();
+    const Eigen::MatrixXd S = ritz.eigenvectors();  // Sᵀ A S = I, ascending μ
+    blas_gemm('N', 'N', n, m, m, 1.0, vectors.data(), n, S.data(), m, 0.0, result.modes.data(), n);
+    for (Eigen::Index j = 0; j < m; ++j) {  // deterministic sign
+      auto phi = result.modes.col(j);
+      if (phi(sign_component(phi)) < 0.0) phi = -phi;
+    }
   }
 
   if (converged) {
@@ -374,5 +427,46 @@ ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
+
+ModalResult dense_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M) {
+  const Eigen::Index n = K.rows();
+  require(K.cols() == n && M.rows() == n && M.cols() == n, "K, M",
+          std::to_string(K.rows()) + " x " + std::to_string(K.cols()) + ", " +
+              std::to_string(M.rows()) + " x " + std::to_string(M.cols()),
+          "square and of the same size");
+  ModalResult result;
+  ModalSummary& summary = result.summary;
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::VectorXd diagonal = M.diagonal();
+  if (n > 0 && !(diagonal.minCoeff() > 0.0)) {
+    summary.termination = ModalTermination::kFactorizationFailed;
+    summary.message = "the mass matrix has a diagonal entry <= 0: not positive definite";
+    return result;
+  }
+  const Eigen::VectorXd d = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd Ks = d.asDiagonal() * (0.5 * (K + K.transpose())) * d.asDiagonal();
+  const Eigen::MatrixXd Ms = d.asDiagonal() * (0.5 * (M + M.transpose())) * d.asDiagonal();
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ks, Ms);
+  summary.iteration_seconds = seconds_since(start);
+  if (eig.info() != Eigen::Success) {
+    summary.termination = ModalTermination::kFactorizationFailed;
+    summary.message = "the mass matrix is not positive definite";
+    return result;
+  }
+  result.eigenvalues = eig.eigenvalues();
+  result.modes = d.asDiagonal() * eig.eigenvectors();  // Φᵀ M Φ = I
+  for (Eigen::Index j = 0; j < n; ++j) {
+    auto phi = result.modes.col(j);
+    if (phi(sign_component(phi)) < 0.0) phi = -phi;
+  }
+  summary.termination = ModalTermination::kConverged;
+  summary.converged_modes = static_cast<int>(n);
+  summary.message = std::to_string(n) + " modes by a dense eigen-solve";
+  return result;
+}
+
+ModalResult dense_modes(const SparseMatrix& K, const SparseMatrix& M) {
+  return dense_modes(Eigen::MatrixXd(K), Eigen::MatrixXd(M));
+}
 
 }  // namespace stickslip

@@ -69,4 +69,14 @@ ModalResult solve_modes(const SparseMatrix& K, const SparseMatrix& M, const Moda
 ModalResult solve_modes(const SparseCholesky& factor, const SparseMatrix& M,
                         const ModalOptions& options);
 
+// Every eigenpair of K φ = ω² M φ for dense (or small sparse) symmetric K, M with M positive
+// definite (K may be singular: free bodies give ω² ≈ 0; negative round-off is kept, not clamped):
+// the same contract as solve_modes (ascending ω², ΦᵀMΦ = I, sign rule). Solved after a diagonal
+// (Jacobi) scaling D = diag(M)^(-1/2) of both matrices, which leaves the eigenvalues unchanged and
+// keeps the Cholesky of M accurate when DOFs of very different mass meet (a Craig–Bampton model:
+// nodal masses of 1e-9 t beside unit modal masses). O(n³); for a few thousand rows at most.
+// M not positive definite: kFactorizationFailed, no modes.
+ModalResult dense_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M);
+ModalResult dense_modes(const SparseMatrix& K, const SparseMatrix& M);
+
 }  // namespace stickslip

@@ -163,9 +163,9 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   summary.num_boundary = nb;
   summary.num_interior = ni;
   summary.num_modes = nm;
-  if (nm > 0 && nm >= ni) {
+  if (nm > ni) {
     throw InvalidInput("craig_bampton: CraigBamptonOptions::num_modes = " + std::to_string(nm) +
-                       ". Violated constraint: num_modes < number of interior DOFs (" +
+                       ". Violated constraint: num_modes <= number of interior DOFs (" +
                        std::to_string(ni) + ")");
   }
   const int nr = nb + nm;
@@ -251,8 +251,10 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
     ModalOptions modal = options.modal;
     modal.num_modes = nm;
     // Shift 0: the factor of K_ii is the factor of K_ii − σM_ii (no second factorisation).
-    ModalResult modes =
-        modal.shift == 0.0 ? solve_modes(cholesky, M_ii, modal) : solve_modes(K_ii, M_ii, modal);
+    // Every interior mode: a dense eigen-solve (Lanczos needs n_modes < n_i).
+    ModalResult modes = nm == ni              ? dense_modes(K_ii, M_ii)
+                        : modal.shift == 0.0 ? solve_modes(cholesky, M_ii, modal)
+                                             : solve_modes(K_ii, M_ii, modal);
     summary.modal = modes.summary;
     if (!modes.summary.ok()) {
       summary.termination = CraigBamptonTermination::kEigenSolveFailed;

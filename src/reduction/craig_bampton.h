@@ -41,7 +41,8 @@
 namespace stickslip {
 
 struct CraigBamptonOptions {
-  int num_modes = 60;      // fixed-interface modes kept; 0 = Guyan (static) reduction
+  int num_modes = 60;      // fixed-interface modes kept, <= interior DOFs (all of them: a dense
+                           // eigen-solve, the exact model); 0 = Guyan (static) reduction
   int block_size = 128;    // constraint modes solved per block (memory ~ 16 n_i block_size bytes)
   bool keep_basis = true;  // keep T in the result (n x (n_b + num_modes) doubles)
   // Order the interior DOFs coupled to the boundary (rows of K_ib with entries) last in the
