@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <unordered_map>
 
@@ -93,9 +94,18 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  // The file by its contents, not its path (a moved project keeps its reductions).
-  return fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format, m.hexahedron8,
-                     m.hexahedron20, file_fingerprint_hex(m.file));
+  // The files by their contents, not their paths (a moved project keeps its reductions).
+  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format,
+                                 m.hexahedron8, m.hexahedron20, file_fingerprint_hex(m.file));
+  if (m.format == "inp") {  // the bytes of the files it includes too
+    const std::vector<std::string> files = inp_files(m.file);
+    for (size_t i = 1; i < files.size(); ++i) {  // unreadable: read_inp names the line
+      const bool readable = std::ifstream(files[i]).good();
+      text += fmt::format(" include {} bytes {}", i,
+                          readable ? file_fingerprint_hex(files[i]) : "unreadable");
+    }
+  }
+  return text;
 }
 
 // Node indices of a selection in a body's mesh (sets first, then ids, duplicates removed while

@@ -296,7 +296,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
 
   struct Row {
     int point, body, harmonic;
-    double max_rel, rms_rel, reference_max;
+    double max_rel, rms_rel, reference_max, max_abs;
   };
   std::vector<Row> check;
   std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
@@ -390,7 +390,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         double ref = 0;
         for (int dof : full_dofs) ref = std::max(ref, std::abs(reduced(dof, h)));
         check.push_back({pi, static_cast<int>(b), harmonics[h], diff.max_relative[h],
-                         diff.rms_relative[h], ref});
+                         diff.rms_relative[h], ref, diff.max_absolute[h]});
       }
       // Listed nodes.
       for (int id : def.recovery.nodes) {
@@ -460,11 +460,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   }
   write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);
   write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative\n";
+    out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative,"
+           "max_absolute_m\n";
     for (const Row& r : check) {
-      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e}\n", r.point,
+      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e},{:.6e}\n", r.point,
                  rad_s_to_hz(response.points[r.point].omega), model.bodies[r.body].name, r.harmonic,
-                 r.reference_max, r.max_rel, r.rms_rel);
+                 r.reference_max, r.max_rel, r.rms_rel, r.max_abs);
     }
   });
   if (!def.recovery.nodes.empty()) {

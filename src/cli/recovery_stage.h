@@ -7,7 +7,9 @@
 //   recovery_check.csv   point, frequency_hz, body, harmonic, reduced_max_m (largest reduced
 //                        amplitude at the body's master DOFs, m), max_relative, rms_relative:
 //                        full-model response at the master DOFs against the reduced
-//                        nonlinear response (relative to the reduced one)
+//                        nonlinear response (relative to the reduced one), max_absolute_m
+//                        (largest |full − reduced|, m: the measure where the reduced response
+//                        of a harmonic is zero and the relative ones are 0 or inf)
 //   recovered_nodes.csv  point, body, node, dof, harmonic, real, imag (recovery.nodes)
 //   recovery_p<point>_<body>.vtu  displacement and stress amplitudes per harmonic and the
 //                        stress envelope over the period (von Mises max / alternating / mean,

@@ -84,7 +84,7 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
     for (const auto& [node, value] : cd.preloads) text += fmt::format(" {}:{:.17g}", node, value);
   }
   for (const auto& [name, m] : definition.meshes) {
-    if (m.source == MeshDefinition::Source::kFile) text += "\nmesh " + file_fingerprint_hex(m.file);
+    if (m.source == MeshDefinition::Source::kFile) text += "\nmesh " + mesh_fingerprint(definition, name);  // with its *INCLUDEs
   }
   for (const auto& [name, b] : definition.bodies) {
     if (b.source != BodyDefinition::Source::kReduced) continue;

@@ -4,7 +4,9 @@
 #include <cctype>
 #include <charconv>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <unordered_map>
@@ -154,21 +156,10 @@ class InpParser {
       : file_(std::move(file)), warnings_(warnings) {}
 
   Mesh parse(std::istream& in) {
-    std::string text;
-    int number = 0;
-    while (std::getline(in, text)) {
-      ++number;
-      if (!text.empty() && text.back() == '\r') text.pop_back();
-      const std::string t = trim(text);
-      if (t.empty() || t.rfind("**", 0) == 0) continue;
-      if (t[0] == '*') {
-        finish_element_block();
-        start_keyword(parse_keyword(t, number));
-      } else {
-        data_line(t, number);
-      }
-    }
-    if (in.bad()) throw InvalidInput({file_, 0, ""}, "read error");
+    files_.push_back(file_);
+    std::error_code ec;
+    include_stack_.push_back(std::filesystem::weakly_canonical(file_, ec));
+    read_stream(in, 0);
     finish_element_block();
     Mesh mesh = resolve();
     report_skipped();
@@ -176,8 +167,76 @@ class InpParser {
   }
 
  private:
+  // Reads the lines of one file (index into files_). Lines are numbered globally across the
+  // included files (loc_file_, loc_line_ map them back).
+  void read_stream(std::istream& in, int file_index) {
+    std::string text;
+    int number = 0;
+    while (std::getline(in, text)) {
+      ++number;
+      loc_file_.push_back(file_index);
+      loc_line_.push_back(number);
+      const int g = static_cast<int>(loc_line_.size()) - 1;
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      const std::string t = trim(text);
+      if (t.empty() || t.rfind("**", 0) == 0) continue;
+      if (t[0] == '*') {
+        const Keyword k = parse_keyword(t, g);
+        if (k.name == "*INCLUDE") {
+          include(k, file_index);  // textual: the mode of the keyword before it carries on
+          continue;
+        }
+        finish_element_block();
+        start_keyword(k);
+      } else {
+        data_line(t, g);
+      }
+    }
+    if (in.bad()) throw InvalidInput({files_[file_index], number, ""}, "read error");
+  }
+
+  // *INCLUDE, INPUT=path: path relative to the including file's folder; nested includes are
+  // read in place; a file that includes itself (directly or through others) is refused.
+  void include(const Keyword& k, int file_index) {
+    check_params(k, {"INPUT"});
+    const auto input = param(k, "INPUT");
+    if (!input) fail(k.line, "*INCLUDE without INPUT=");
+    namespace fs = std::filesystem;
+    fs::path path(*input);
+    if (path.is_relative()) path = fs::path(files_[file_index]).parent_path() / path;
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(path, ec);
+    for (const fs::path& open : include_stack_) {
+      if (!ec && open == canonical) {
+        fail(k.line, "*INCLUDE of " + path.string() +
+                         ", which is already being read: the includes form a cycle");
+      }
+    }
+    constexpr size_t kMaxIncludeDepth = 64;
+    if (include_stack_.size() >= kMaxIncludeDepth) {
+      fail(k.line, "*INCLUDE nested deeper than " + std::to_string(kMaxIncludeDepth) + " files");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(k.line, "*INCLUDE: cannot open " + path.string());
+    files_.push_back(path.string());
+    include_stack_.push_back(canonical);
+    read_stream(in, static_cast<int>(files_.size()) - 1);
+    include_stack_.pop_back();
+  }
+
+  // "line L" (of the top file) or "line L of FILE" (an included file), for messages.
+  std::string line_text(int g) const {
+    const int f = g > 0 ? loc_file_[g] : 0;
+    const std::string line = "line " + std::to_string(g > 0 ? loc_line_[g] : 0);
+    return f == 0 ? line : line + " of " + files_[f];
+  }
+  std::string origin(int g) const {
+    return files_[g > 0 ? loc_file_[g] : 0] + ":" + std::to_string(g > 0 ? loc_line_[g] : 0);
+  }
+
   [[noreturn]] void fail(int line, const std::string& what) const {
-    throw InvalidInput({file_, line, ""}, what);
+    if (line <= 0) throw InvalidInput({file_, 0, ""}, what);
+    throw InvalidInput({files_[loc_file_[line]], loc_line_[line], ""}, what);
   }
 
   Keyword parse_keyword(const std::string& t, int line) const {
@@ -223,27 +282,29 @@ class InpParser {
   void report_skipped() const {
     if (warnings_ == nullptr) return;
     constexpr size_t kMaxLinesListed = 10;
-    for (const auto& [name, lines] : skipped_) {
+    for (const auto& [key, lines] : skipped_) {
+      const auto& [file, name] = key;
       std::string where;
       for (size_t i = 0; i < lines.size() && i < kMaxLinesListed; ++i) {
-        where += (i ? ", " : "") + std::to_string(lines[i]);
+        where += (i ? ", " : "") + std::to_string(loc_line_[lines[i]]);
       }
       if (lines.size() > kMaxLinesListed) {
         where += " and " + std::to_string(lines.size() - kMaxLinesListed) + " more";
       }
-      warnings_->push_back(file_ + ": " + name + " ignored (" + skip_hint(name) + "), line" +
+      warnings_->push_back(files_[file] + ": " + name + " ignored (" + skip_hint(name) + "), line" +
                            (lines.size() > 1 ? "s " : " ") + where);
     }
   }
 
   void skip(const Keyword& k) {
-    for (auto& [name, lines] : skipped_) {
-      if (name == k.name) {
+    const std::pair<int, std::string> key{loc_file_[k.line], k.name};
+    for (auto& [kk, lines] : skipped_) {
+      if (kk == key) {
         lines.push_back(k.line);
         return;
       }
     }
-    skipped_.push_back({k.name, {k.line}});
+    skipped_.push_back({key, {k.line}});
   }
 
   void start_keyword(const Keyword& k) {
@@ -282,8 +343,6 @@ class InpParser {
     } else if (k.name == "*EQUATION") {
       check_params(k, {});
       mode_ = Mode::kEquation;
-    } else if (k.name == "*INCLUDE") {
-      fail(k.line, "*INCLUDE is not supported: merge the included file into this one");
     } else {
       skip(k);
     }
@@ -401,7 +460,7 @@ class InpParser {
         for (size_t i = 0; i < tokens.size(); i += 3) {
           if (equation_terms_left_ == 0) {
             fail(line, "*EQUATION: more terms than the " + std::to_string(eq.num_terms) +
-                           " announced on line " + std::to_string(eq.line));
+                           " announced on " + line_text(eq.line));
           }
           if (!std::isdigit(static_cast<unsigned char>(tokens[i][0]))) {
             fail(line, "*EQUATION: node set " + tokens[i] +
@@ -481,8 +540,8 @@ class InpParser {
     for (const RawNode& n : nodes_) {
       const auto [it, inserted] = node_index.emplace(n.id, mesh.num_nodes());
       if (!inserted) {
-        fail(n.line, "duplicate node id " + std::to_string(n.id) + " (first defined on line " +
-                         std::to_string(node_line[n.id]) + ")");
+        fail(n.line, "duplicate node id " + std::to_string(n.id) + " (first defined on " +
+                         line_text(node_line[n.id]) + ")");
       }
       node_line[n.id] = n.line;
       mesh.coordinates.col(mesh.num_nodes()) = n.x;
@@ -493,8 +552,8 @@ class InpParser {
     std::vector<int> local;
     for (const RawElement& e : elements_) {
       if (element_index.count(e.id)) {
-        fail(e.line, "duplicate element id " + std::to_string(e.id) + " (first defined on line " +
-                         std::to_string(element_line[e.id]) + ")");
+        fail(e.line, "duplicate element id " + std::to_string(e.id) + " (first defined on " +
+                         line_text(element_line[e.id]) + ")");
       }
       local.clear();
       for (int id : e.node_ids) {
@@ -552,7 +611,7 @@ class InpParser {
       sets[def.name] = std::move(members);
     }
     for (const RawEquation& eq : equations_) {
-      LinearConstraint c{{}, eq.coefficients, file_ + ":" + std::to_string(eq.line)};
+      LinearConstraint c{{}, eq.coefficients, origin(eq.line)};
       for (size_t k = 0; k < eq.node_ids.size(); ++k) {
         const auto it = node_index.find(eq.node_ids[k]);
         if (it == node_index.end()) {
@@ -589,7 +648,11 @@ class InpParser {
 
   std::string file_;
   std::vector<std::string>* warnings_;
-  std::vector<std::pair<std::string, std::vector<int>>> skipped_;  // keyword name, its lines
+  // (file index, keyword name) -> its (global) lines, in order of first appearance
+  std::vector<std::pair<std::pair<int, std::string>, std::vector<int>>> skipped_;
+  std::vector<std::string> files_;                       // [0] = the top file, then includes
+  std::vector<std::filesystem::path> include_stack_;     // files being read (cycle check)
+  std::vector<int> loc_file_{0}, loc_line_{0};           // global line -> (file, line)
   Keyword keyword_;
   Mode mode_ = Mode::kNone;
   ElementType element_type_ = ElementType::kC3D8;
@@ -604,6 +667,40 @@ class InpParser {
 };
 
 }  // namespace
+
+std::vector<std::string> inp_files(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  std::vector<fs::path> seen;
+  std::function<void(const fs::path&)> visit = [&](const fs::path& file) {
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(file, ec);
+    if (std::find(seen.begin(), seen.end(), canonical) != seen.end()) return;
+    seen.push_back(canonical);
+    out.push_back(file.string());
+    std::ifstream in(file, std::ios::binary);
+    std::string line;
+    while (std::getline(in, line)) {
+      const std::string t = trim(line);
+      if (t.empty() || t[0] != '*' || t.rfind("**", 0) == 0) continue;
+      const std::vector<std::string> parts = split_commas(t);
+      if (normalize_name(parts[0]) != "*INCLUDE") continue;
+      for (size_t i = 1; i < parts.size(); ++i) {
+        const size_t eq = parts[i].find('=');
+        if (eq == std::string::npos || normalize_name(parts[i].substr(0, eq)) != "INPUT") continue;
+        std::string value = trim(parts[i].substr(eq + 1));
+        if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
+          value = value.substr(1, value.size() - 2);
+        }
+        fs::path included(value);
+        if (included.is_relative()) included = file.parent_path() / included;
+        visit(included);
+      }
+    }
+  };
+  visit(path);
+  return out;
+}
 
 Mesh read_inp(std::istream& in, const std::string& source_name,
               std::vector<std::string>* warnings) {

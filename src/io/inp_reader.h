@@ -12,11 +12,14 @@
 //                                        n terms "node id, direction (1-3), coefficient", any
 //                                        number per line: Σ c_k u_k = 0, the first term's DOF
 //                                        dependent (Mesh::equations, origin "file:line")
+//   *INCLUDE, INPUT=path                 the file's lines in place (textually: data lines continue
+//                                        the keyword before the *INCLUDE); path relative to the
+//                                        including file's folder; nested; a cycle is an error
 // Supported TYPE: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10 (node order as in the .inp, which is
 // Mesh's). Any other element type is rejected.
 // Nothing vanishes silently: a keyword that would change the stiffness or mass and is not
 // supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *SPRING, *MASS,
-// parts and instances, node/element generation, *INCLUDE, ...; list in inp_reader.cpp) is an
+// parts and instances, node/element generation, ...; list in inp_reader.cpp) is an
 // error at its line. Every other keyword (*MATERIAL, *BOUNDARY, *STEP, ...) is skipped with its
 // data lines and gives one warning per keyword name, "<file>: *NAME ignored (<why>), lines a, b",
 // appended to `warnings` (when not null).
@@ -24,7 +27,8 @@
 // keyword with the same name adds to the set. Elements may refer to nodes defined later; a set
 // may refer only to sets defined above it.
 //
-// Errors: InvalidInput with SourceLocation{file, line} and what is wrong (bad number, unknown
+// Errors: InvalidInput with SourceLocation{file, line} (the included file's name and line when
+// it lies in one) and what is wrong (bad number, unknown
 // node in an element, duplicate id, missing set, wrong node count, unsupported type/parameter).
 #pragma once
 
@@ -40,5 +44,10 @@ Mesh read_inp(const std::string& path, std::vector<std::string>* warnings = null
 // Same, from a stream; `source_name` is used as the file name in error messages.
 Mesh read_inp(std::istream& in, const std::string& source_name,
               std::vector<std::string>* warnings = nullptr);
+
+// `path` and every file it includes, directly or not (each once), for fingerprints of what a
+// mesh depends on. A best-effort scan: files that cannot be read are listed and not followed
+// (read_inp reports them).
+std::vector<std::string> inp_files(const std::string& path);
 
 }  // namespace stickslip

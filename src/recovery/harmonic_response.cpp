@@ -574,6 +574,7 @@ ResponseDifference compare_responses(const Eigen::MatrixXcd& a, const Eigen::Mat
       sum_diff += diff * diff;
       sum_ref += ref * ref;
     }
+    out.max_absolute.push_back(max_diff);
     if (max_ref == 0.0) {
       out.max_relative.push_back(max_diff == 0.0 ? 0.0 : inf);
       out.rms_relative.push_back(max_diff == 0.0 ? 0.0 : inf);

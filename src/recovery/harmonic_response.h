@@ -194,6 +194,7 @@ Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T_free, const Do
 struct ResponseDifference {
   std::vector<double> max_relative;
   std::vector<double> rms_relative;
+  std::vector<double> max_absolute;  // max |a − b| over the DOFs (meaningful where b = 0)
 };
 ResponseDifference compare_responses(const Eigen::MatrixXcd& a, const Eigen::MatrixXcd& b,
                                      std::span<const int> dofs);

@@ -1,4 +1,5 @@
-// End-to-end: a CalculiX deck whose hanging nodes are tied by *EQUATION, read by `stickslip
+// End-to-end: a CalculiX deck whose hanging nodes are tied by *EQUATION (in a file it *INCLUDEs),
+// read by `stickslip
 // modes CASE` (Craig–Bampton with every fixed-interface mode but one, stuck assembly), against
 // ccx *FREQUENCY run by the test on the very same deck file.
 #include <gtest/gtest.h>
@@ -28,8 +29,10 @@ std::string scientific(double v) {
 // TIP (one node at x = 1.2). Material, *STEP and *FREQUENCY for ccx at the end (stickslip warns
 // that it skips them).
 // With corners_only, only the 4 fine nodes on coarse corners are tied (the other 5 hang loose).
-std::string hanging_node_deck(int num_modes, bool corners_only = false) {
-  std::ostringstream s;
+// The equations go to DIR/ties/equations.inp, which DIR/job.inp includes (*INCLUDE, relative to
+// the including file for stickslip, to the working folder DIR for ccx: the same file).
+void write_hanging_node_deck(const fs::path& dir, int num_modes, bool corners_only = false) {
+  std::ostringstream s, ties;
   s.precision(17);
   auto coarse = [](int i, int j, int k) { return 1 + i + 3 * (j + 2 * k); };
   auto fine = [](int i, int j, int k) { return 101 + i + 3 * (j + 3 * k); };
@@ -69,16 +72,19 @@ std::string hanging_node_deck(int num_modes, bool corners_only = false) {
       }
       if (corners_only && terms.size() > 1) continue;
       for (int d = 1; d <= 3; ++d) {
-        s << "*EQUATION\n" << terms.size() + 1 << "\n" << fine(0, j, k) << ", " << d << ", 1.0";
-        for (const auto& [node, w] : terms) s << ", " << node << ", " << d << ", " << -w;
-        s << "\n";
+        ties << "*EQUATION\n" << terms.size() + 1 << "\n" << fine(0, j, k) << ", " << d << ", 1.0";
+        for (const auto& [node, w] : terms) ties << ", " << node << ", " << d << ", " << -w;
+        ties << "\n";
       }
     }
   }
-  s << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.0e11, 0.3\n*DENSITY\n7800\n"
+  s << "*INCLUDE, INPUT=ties/equations.inp\n"
+       "*MATERIAL, NAME=STEEL\n*ELASTIC\n2.0e11, 0.3\n*DENSITY\n7800\n"
        "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*STEP\n*FREQUENCY\n"
     << num_modes << "\n*BOUNDARY\nFIX, 1, 3\n*END STEP\n";
-  return s.str();
+  fs::create_directories(dir / "ties");
+  std::ofstream(dir / "job.inp") << s.str();
+  std::ofstream(dir / "ties" / "equations.inp") << ties.str();
 }
 
 // ccx's eigenvalues (rad²/s²) from DIR/job.dat after running ccx on DIR/job.inp.
@@ -103,7 +109,7 @@ std::vector<double> ccx_eigenvalues(const fs::path& dir) {
 TEST(EquationCli, HangingNodesTiedByEquationsGiveCalculixFrequencies) {
   constexpr int kModes = 6;
   const fs::path dir = fresh_dir("equation");
-  std::ofstream(dir / "job.inp") << hanging_node_deck(kModes);
+  write_hanging_node_deck(dir, kModes);
   // A 1D spring of 1e-3 N/m to ground at the tip: the case needs a contact; it moves the
   // eigenvalues (≥ 1e4 rad²/s² · 1 kg) by < 1e-9 relative.
   const fs::path file = write_case(dir, "bar", R"(stickslip: 1
@@ -151,8 +157,7 @@ output: {plots: false, vtu: false}
   RecordProperty("max_relative_frequency_difference", scientific(worst));
   // The equations matter: with the hanging nodes left loose ccx's frequencies move by far more
   // than the tolerance (a reader that dropped them would fail above).
-  fs::create_directories(dir / "loose");
-  std::ofstream(dir / "loose" / "job.inp") << hanging_node_deck(kModes, /*corners_only=*/true);
+  write_hanging_node_deck(dir / "loose", kModes, /*corners_only=*/true);
   const std::vector<double> loose_lambda = ccx_eigenvalues(dir / "loose");
   ASSERT_EQ(static_cast<int>(loose_lambda.size()), kModes);
   double loose_worst = 0.0;

@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"generate_reversed.inp", 13, "GENERATE: last 1 < first 8"},
         BadFile{"generate_unknown_element.inp", 13, "element set G: unknown element 2"},
         BadFile{"data_before_keyword.inp", 1, "data line before any keyword"},
-        BadFile{"include.inp", 12, "*INCLUDE is not supported"},
+        BadFile{"include.inp", 12, "*INCLUDE: cannot open"},
         BadFile{"node_too_many_values.inp", 3, "got 5 values"},
         BadFile{"unsupported_parameter.inp", 1, "*NODE: unsupported parameter SYSTEM"},
         BadFile{"repeated_node.inp", 13, "element 2 uses node 3 twice"}),
@@ -261,6 +261,47 @@ TEST(InpReader, MalformedEquationsAreErrorsAtTheirLine) {
       EXPECT_EQ(e.where().line, bad.line) << bad.tail << ": " << e.message();
       EXPECT_NE(e.message().find(bad.message), std::string::npos) << e.message();
     }
+  }
+}
+
+TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
+  const std::string dir = kDir + "include/";
+  std::vector<std::string> warnings;
+  const Mesh m = read_inp(dir + "main.inp", &warnings);
+  EXPECT_EQ(m.num_nodes(), 8);  // the *NODE data lines come from sub/nodes.inp
+  EXPECT_EQ(m.num_elements(), 1);
+  EXPECT_EQ(ids_of(m, m.node_sets.at("ALL")), range(1, 8));
+  EXPECT_EQ(ids_of(m, m.node_sets.at("TOP")), range(5, 8));
+  ASSERT_EQ(m.equations.size(), 1u);  // from ../equations.inp, included by sub/elements.inp
+  EXPECT_EQ(m.equations[0].origin, dir + "sub/../equations.inp:2");
+  // Skipped keywords are reported per file, with that file's line numbers.
+  EXPECT_EQ(warnings,
+            (std::vector<std::string>{
+                dir + "sub/../equations.inp: *MATERIAL ignored (the material comes from the case "
+                      "file), line 4",
+                dir + "sub/elements.inp: *MATERIAL ignored (the material comes from the case "
+                      "file), line 5"}));
+}
+
+TEST(InpReader, IncludeErrorsNameTheIncludedFileAndLine) {
+  const std::string dir = kDir + "include/";
+  try {
+    read_inp(dir + "cycle_a.inp");
+    FAIL() << "a cycle was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, dir + "cycle_b.inp");
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_NE(e.message().find("cycle"), std::string::npos) << e.message();
+  }
+  try {
+    read_inp(dir + "duplicate.inp");
+    FAIL() << "a duplicate node was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, dir + "sub/dup.inp");
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_NE(e.message().find("duplicate node id 1 (first defined on line 2)"),
+              std::string::npos)
+        << e.message();
   }
 }
 

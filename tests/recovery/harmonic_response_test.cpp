@@ -539,3 +539,23 @@ TEST(HarmonicResponse, ComplexNodalForcesAddUp) {
 
 }  // namespace
 }  // namespace stickslip
+
+namespace stickslip {
+namespace {
+
+TEST(CompareResponses, AbsoluteDifferenceIsReportedWhereTheReferenceIsZero) {
+  // Column 0: reference zero (e.g. harmonic 0 without static loads), a = (0, 3e-9, -4e-9 i);
+  // column 1: reference (1, 2), a = (1.5, 2).
+  Eigen::MatrixXcd a(3, 2), b(3, 2);
+  a << 0.0, 1.5, 3e-9, 2.0, std::complex<double>(0, -4e-9), 7.0;
+  b << 0.0, 1.0, 0.0, 2.0, 0.0, 9.0;
+  const std::vector<int> dofs = {0, 1, 2};
+  const ResponseDifference d = compare_responses(a, b, dofs);
+  EXPECT_EQ(d.max_absolute[0], 4e-9);
+  EXPECT_TRUE(std::isinf(d.max_relative[0]));
+  EXPECT_EQ(d.max_absolute[1], 2.0);  // |7 − 9|
+  EXPECT_DOUBLE_EQ(d.max_relative[1], 2.0 / 9.0);
+}
+
+}  // namespace
+}  // namespace stickslip
