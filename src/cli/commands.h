@@ -93,6 +93,9 @@ struct StageRun {
   std::filesystem::path dir;  // output folder of this analysis
 };
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const std::filesystem::path& out_dir);
+// The output folder (output_dir, or the case's output.directory), created and checked writable
+// (InvalidInput with the reason otherwise; temporaries of killed runs in it removed); the case's
+// input files are protected from being replaced by a result (protect_input_file).
 std::filesystem::path stage_output_dir(const CaseDefinition& base, const std::string& output_dir);
 // "stickslip <stage> <case> -o <dir>", for messages that say what to run first.
 std::string stage_hint(const std::string& stage, const CaseDefinition& base,
