@@ -1,6 +1,7 @@
 // The subcommands of the stickslip program (docs/command-line.md). Each returns the process exit
-// code (0 success, 1 numerical failure reported to the user); bad input, and missing or stale
-// files of an earlier stage, throw InvalidInput naming the file and the command to run first.
+// code (0 success, 1 numerical failure reported to the user, kExitPlotsMissing = 4 when pictures
+// could not be drawn); bad input, missing or stale files of an earlier stage and file-system
+// refusals throw InvalidInput naming the file (and the command to run first, or the reason).
 //
 // Stages and the files they share, in an output folder DIR (docs/output-files.md):
 //   mesh     DIR/mesh/<body>.inp, .vtu          the bodies' meshes as the case builds them
