@@ -128,7 +128,10 @@ int main(int argc, char** argv) {
       "The loads of one solved point on the full bodies as an ANSYS APDL macro or a CalculiX "
       "deck, from the solve files in DIR",
       export_.stage);
-  export_cmd->add_option("--point", export_.point, "point number of points.csv")->required();
+  export_cmd
+      ->add_option("--point", export_.points,
+                   "point number of points.csv, a comma-separated list of them, peak or all")
+      ->required();
   export_cmd->add_option("--format", export_.format, "apdl or calculix")
       ->required()
       ->check(CLI::IsMember({"apdl", "calculix"}));

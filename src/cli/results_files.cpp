@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -277,6 +278,7 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       }
       FrequencyPoint p;
       p.omega = hz_to_rad_s(csv.number(c_f));
+      if (!(std::isfinite(p.omega) && p.omega > 0)) csv.fail("the frequency must be > 0 Hz");
       const int converged = csv.integer(c_conv);
       if (converged != 0 && converged != 1) csv.fail("converged must be 0 or 1");
       p.converged = converged == 1;
@@ -340,6 +342,12 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       if (r.harmonic < 0) csv.fail("negative harmonic");
       harmonic_set.insert(r.harmonic);
       r.value = {csv.number(c_re), csv.number(c_im)};
+      // The solve writes finite forces for every converged point (the only ones recovered): a
+      // NaN or an infinity there is a damaged file, and would be recovered into NaN fields.
+      if (fr.points[r.point].converged &&
+          !(std::isfinite(r.value.real()) && std::isfinite(r.value.imag()))) {
+        csv.fail(fmt::format("the force of converged point {} is not a finite number", r.point));
+      }
       r.line = csv.line();
       rows.push_back(r);
     }

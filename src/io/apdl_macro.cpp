@@ -49,6 +49,20 @@ std::string shortest_decimal(double v) {
   return std::string(buffer, result.ptr);
 }
 
+std::string decimal_in_width(double v, int width) {
+  STICKSLIP_VERIFY(width >= 12, "decimal_in_width: width must be >= 12");
+  std::string text = shortest_decimal(v);
+  if (static_cast<int>(text.size()) <= width) return text;
+  char buffer[64];
+  for (int digits = 16; digits >= 1; --digits) {
+    const auto result = std::to_chars(buffer, buffer + sizeof(buffer), v,
+                                      std::chars_format::scientific, digits - 1);
+    text.assign(buffer, result.ptr);
+    if (static_cast<int>(text.size()) <= width) return text;
+  }
+  return text;  // not reached: 1 digit takes at most 8 characters ("-1e-308")
+}
+
 void validate(const ApdlMacroOptions& options) {
   std::set<int> seen;
   bool dynamic = false;

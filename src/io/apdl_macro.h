@@ -51,7 +51,13 @@ void write_apdl_macro(std::ostream& out, const Mesh& mesh, const Eigen::MatrixXc
 void write_apdl_macro(const std::string& path, const Mesh& mesh, const Eigen::MatrixXcd& loads,
                       const ApdlMacroOptions& options);
 
-// Shortest decimal text that reads back to exactly v ("50", "-0.25", "1.2345e-07").
+// Shortest decimal text that reads back to exactly v ("50", "-0.25", "1.2345e-07"); at most 24
+// characters.
 std::string shortest_decimal(double v);
+// v in at most `width` characters (>= 12): shortest_decimal(v) when it fits (exact), else
+// scientific notation with as many significant digits as fit ("-3.44206885217e-11"): with width
+// 20, at least 13 significant digits (relative rounding error <= 5e-14). For fixed-width
+// fields (CalculiX reads 20 characters a field).
+std::string decimal_in_width(double v, int width);
 
 }  // namespace stickslip

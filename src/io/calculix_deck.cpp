@@ -15,6 +15,8 @@ namespace stickslip {
 
 namespace {
 
+constexpr int kFieldWidth = 20;  // characters ccx reads per number (ccx 2.20: longer stops it)
+
 void check_loads(const Mesh& mesh, const Eigen::MatrixXcd& loads,
                  const std::vector<int>& harmonics) {
   if (loads.rows() != mesh.num_dofs() ||
@@ -54,7 +56,7 @@ void write_cloads(std::ostream& out, const Mesh& mesh, const Eigen::MatrixXcd& l
     if (f.isZero(0.0)) continue;
     for (int d = 0; d < 3; ++d) {
       const double v = part == 0 ? f(d).real() : f(d).imag();
-      out << mesh.node_ids[n] << ", " << d + 1 << ", " << shortest_decimal(v) << '\n';
+      out << mesh.node_ids[n] << ", " << d + 1 << ", " << decimal_in_width(v, kFieldWidth) << '\n';
     }
   }
 }
@@ -123,9 +125,9 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
          "(x(t) = Re(X_k exp(i k Omega t)))\n";
   write_inp(out, deck_mesh);
   out << "*MATERIAL, NAME=SS_MATERIAL\n*ELASTIC\n"
-      << shortest_decimal(options.youngs_modulus) << ", " << shortest_decimal(options.poisson_ratio)
+      << decimal_in_width(options.youngs_modulus, kFieldWidth) << ", " << decimal_in_width(options.poisson_ratio, kFieldWidth)
       << "\n*DENSITY\n"
-      << shortest_decimal(options.density) << '\n'
+      << decimal_in_width(options.density, kFieldWidth) << '\n'
       << "*SOLID SECTION, ELSET=SS_EALL, MATERIAL=SS_MATERIAL\n";
   if (!options.clamped_nodes.empty()) out << "*BOUNDARY\nSS_FIXED, 1, 3\n";
 
@@ -144,10 +146,10 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
   }
   for (size_t j = 0; j < H.size(); ++j) {
     if (H[j] == 0) continue;
-    const std::string f = shortest_decimal(H[j] * options.frequency_hz);
+    const std::string f = decimal_in_width(H[j] * options.frequency_hz, kFieldWidth);
     out << "** harmonic " << H[j] << "\n*STEP\n*STEADY STATE DYNAMICS\n"
         << f << ", " << f << ", 2\n*MODAL DAMPING, RAYLEIGH\n, , "
-        << shortest_decimal(options.alpha) << ", " << shortest_decimal(options.beta) << '\n'
+        << decimal_in_width(options.alpha, kFieldWidth) << ", " << decimal_in_width(options.beta, kFieldWidth) << '\n'
         << "*CLOAD, OP=NEW, LOAD CASE=1\n";
     write_cloads(out, mesh, loads, static_cast<Eigen::Index>(j), 0);
     out << "*CLOAD, OP=NEW, LOAD CASE=2\n";

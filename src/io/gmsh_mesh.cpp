@@ -59,6 +59,41 @@ std::string gmsh_element_name(int type) {
   return name + " (MSH type " + std::to_string(type) + ")";
 }
 
+// Elements of dimension 0-2 that belong to no physical group are used for nothing (3D elements
+// make the mesh, physical groups the sets): one warning per dimension with the count by type.
+void warn_unused_lower_dimensional(const std::string& source, std::vector<std::string>* warnings) {
+  for (int dim = 0; dim < 3; ++dim) {
+    gmsh::vectorpair entities;
+    gmsh_call(source, "get the entities", [&] { gmsh::model::getEntities(entities, dim); });
+    std::vector<std::pair<int, std::size_t>> count;  // (MSH type, elements)
+    for (const auto& entity : entities) {
+      const int tag = entity.second;
+      std::vector<int> groups;
+      gmsh_call(source, "get the physical groups of an entity",
+                [&] { gmsh::model::getPhysicalGroupsForEntity(dim, tag, groups); });
+      if (!groups.empty()) continue;
+      std::vector<int> types;
+      std::vector<std::vector<std::size_t>> tags, nodes;
+      gmsh_call(source, "get the elements of an entity",
+                [&] { gmsh::model::mesh::getElements(types, tags, nodes, dim, tag); });
+      for (size_t t = 0; t < types.size(); ++t) {
+        if (tags[t].empty()) continue;
+        auto it = std::find_if(count.begin(), count.end(),
+                               [&](const auto& c) { return c.first == types[t]; });
+        if (it == count.end()) it = count.insert(count.end(), {types[t], 0});
+        it->second += tags[t].size();
+      }
+    }
+    if (count.empty()) continue;
+    std::string what;
+    for (const auto& [type, n] : count) {
+      what += (what.empty() ? "" : ", ") + std::to_string(n) + " " + gmsh_element_name(type);
+    }
+    warnings->push_back(source + ": " + what + " (dimension " + std::to_string(dim) +
+                        ") belong to no physical group and are ignored");
+  }
+}
+
 int checked_id(std::size_t tag, const std::string& source, const char* what) {
   if (tag == 0 || tag > static_cast<std::size_t>(INT_MAX)) {
     throw InvalidInput({source, 0, ""}, std::string(what) + " tag " + std::to_string(tag) +
@@ -115,7 +150,8 @@ const int* gmsh_to_calculix_order(int gmsh_type) {
   }
 }
 
-Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& options) {
+Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& options,
+                          std::vector<std::string>* warnings) {
   validate(options);
   std::vector<int> types;
   std::vector<std::vector<std::size_t>> element_tags;
@@ -224,9 +260,21 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
       gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, group_nodes, group_coords);
     });
     std::vector<int>& node_set = mesh.node_sets[name];
+    std::size_t off_solid = 0;
     for (std::size_t n : group_nodes) {
       const auto it = node_index.find(n);
-      if (it != node_index.end()) node_set.push_back(it->second);
+      if (it != node_index.end()) {
+        node_set.push_back(it->second);
+      } else {
+        ++off_solid;
+      }
+    }
+    if (off_solid > 0 && warnings != nullptr) {
+      warnings->push_back(source + ": physical group " + name + ": " +
+                          std::to_string(off_solid) + " of its " +
+                          std::to_string(group_nodes.size()) +
+                          " nodes are on no 3D element and are ignored (not in node set " + name +
+                          ")");
     }
     std::sort(node_set.begin(), node_set.end());
     node_set.erase(std::unique(node_set.begin(), node_set.end()), node_set.end());
@@ -247,11 +295,13 @@ Mesh mesh_from_gmsh_model(const std::string& source, const GmshReadOptions& opti
     std::sort(element_set.begin(), element_set.end());
     element_set.erase(std::unique(element_set.begin(), element_set.end()), element_set.end());
   }
+  if (warnings != nullptr) warn_unused_lower_dimensional(source, warnings);
   check_mesh(mesh);
   return mesh;
 }
 
-Mesh read_gmsh(const std::string& path, const GmshReadOptions& options) {
+Mesh read_gmsh(const std::string& path, const GmshReadOptions& options,
+               std::vector<std::string>* warnings) {
   validate(options);
   if (!std::ifstream(path).good()) {
     throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
@@ -261,7 +311,7 @@ Mesh read_gmsh(const std::string& path, const GmshReadOptions& options) {
     gmsh::clear();
     gmsh::open(path);
   });
-  Mesh mesh = mesh_from_gmsh_model(path, options);
+  Mesh mesh = mesh_from_gmsh_model(path, options, warnings);
   gmsh::clear();
   return mesh;
 }

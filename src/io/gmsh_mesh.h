@@ -12,6 +12,9 @@
 //  - Every physical group (any dimension) becomes a node set of the nodes of its elements;
 //    physical volumes also become element sets. Set name = the physical name, or
 //    "PHYSICAL_<dim>_<tag>" when the group has none.
+//  - Nothing vanishes silently: when `warnings` is not null, one line is appended per dimension
+//    0-2 whose elements belong to no physical group (they are used for nothing, counted by type)
+//    and per physical group with nodes on no 3D element (left out of its node set).
 //
 // Gmsh keeps global state: GmshSession is an RAII guard around gmsh::initialize/finalize
 // (nested guards share one initialisation; General.Terminal = 0 so Gmsh never prints). Not
@@ -20,6 +23,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.h"
 
@@ -40,11 +44,13 @@ class GmshSession {
 };
 
 // Reads a mesh file that Gmsh can open (.msh of any version Gmsh reads).
-Mesh read_gmsh(const std::string& path, const GmshReadOptions& options = {});
+Mesh read_gmsh(const std::string& path, const GmshReadOptions& options = {},
+               std::vector<std::string>* warnings = nullptr);
 
 // Converts the current model of an active GmshSession (meshed). `source_name` names it in
 // error messages.
-Mesh mesh_from_gmsh_model(const std::string& source_name, const GmshReadOptions& options = {});
+Mesh mesh_from_gmsh_model(const std::string& source_name, const GmshReadOptions& options = {},
+                          std::vector<std::string>* warnings = nullptr);
 
 // Gmsh-to-CalculiX local node order: calculix_node[i] = gmsh_node[permutation[i]].
 // Exposed for tests; `gmsh_type` is the MSH element type (4, 5, 11 or 17).

@@ -78,15 +78,79 @@ struct SetItem {
   int line = 0;
 };
 
+// One *EQUATION: the number of terms announced, then (node id, direction 1-3, coefficient) terms.
+struct RawEquation {
+  int num_terms = 0;
+  std::vector<int> node_ids;
+  std::vector<int> directions;  // 0-2
+  std::vector<double> coefficients;
+  int line = 0;  // its first data line
+};
+
 struct SetDefinition {
   bool is_node_set;
   std::string name;
   std::vector<SetItem> items;
 };
 
+// Keywords that would change the stiffness or mass of the model and that the reader does not
+// support: refused at their line, with the reason.
+struct Refusal {
+  const char* name;
+  const char* reason;
+};
+constexpr Refusal kRefused[] = {
+    {"*MPC", "multi-point constraints tie DOFs together"},
+    {"*TIE", "tied surfaces tie DOFs together"},
+    {"*COUPLING", "a coupling ties DOFs to a reference node"},
+    {"*KINEMATIC", "a kinematic coupling ties DOFs to a reference node"},
+    {"*KINEMATIC COUPLING", "a kinematic coupling ties DOFs to a reference node"},
+    {"*DISTRIBUTING", "a distributing coupling ties DOFs to a reference node"},
+    {"*DISTRIBUTING COUPLING", "a distributing coupling ties DOFs to a reference node"},
+    {"*RIGID BODY", "a rigid body ties DOFs to a reference node"},
+    {"*PRE-TENSION SECTION", "a pre-tension section adds constraints"},
+    {"*CYCLIC SYMMETRY MODEL", "cyclic symmetry constraints are not read from decks"},
+    {"*SHELL SECTION", "shell elements are not supported (solids only)"},
+    {"*MEMBRANE SECTION", "membrane elements are not supported (solids only)"},
+    {"*BEAM SECTION", "beam elements are not supported (solids only)"},
+    {"*BEAM GENERAL SECTION", "beam elements are not supported (solids only)"},
+    {"*SPRING", "spring elements are not supported yet"},
+    {"*DASHPOT", "dashpot elements are not supported"},
+    {"*MASS", "point masses are not supported yet"},
+    {"*ROTARY INERTIA", "rotary inertia is not supported"},
+    {"*GAP", "gap elements are not supported"},
+    {"*USER ELEMENT", "user elements are not supported"},
+    {"*MATRIX", "matrix input is not supported"},
+    {"*MATRIX INPUT", "matrix input is not supported"},
+    {"*SUBSTRUCTURE PROPERTY", "substructures are not supported"},
+    {"*PART", "parts and instances are not supported (write the input without parts)"},
+    {"*INSTANCE", "parts and instances are not supported (write the input without parts)"},
+    {"*ASSEMBLY", "parts and instances are not supported (write the input without parts)"},
+    {"*NGEN", "node generation is not supported (write the nodes out)"},
+    {"*NFILL", "node generation is not supported (write the nodes out)"},
+    {"*NCOPY", "node generation is not supported (write the nodes out)"},
+    {"*NMAP", "node mapping is not supported (write the nodes out)"},
+    {"*ELGEN", "element generation is not supported (write the elements out)"},
+    {"*ELCOPY", "element generation is not supported (write the elements out)"},
+};
+
+// Why a keyword the reader skips does not matter to stickslip (the warning's hint).
+const char* skip_hint(const std::string& name) {
+  if (name == "*MATERIAL" || name == "*ELASTIC" || name == "*DENSITY" || name == "*SOLID SECTION")
+    return "the material comes from the case file";
+  if (name == "*BOUNDARY") return "clamps come from the case file";
+  if (name == "*STEP" || name == "*END STEP" || name == "*STATIC" || name == "*FREQUENCY" ||
+      name == "*CLOAD" || name == "*DLOAD" || name == "*STEADY STATE DYNAMICS")
+    return "analyses and loads come from the case file";
+  if (name == "*CONTACT PAIR" || name == "*SURFACE INTERACTION" || name == "*FRICTION")
+    return "contacts come from the case file";
+  return "not used by stickslip";
+}
+
 class InpParser {
  public:
-  explicit InpParser(std::string file) : file_(std::move(file)) {}
+  InpParser(std::string file, std::vector<std::string>* warnings)
+      : file_(std::move(file)), warnings_(warnings) {}
 
   Mesh parse(std::istream& in) {
     std::string text;
@@ -105,7 +169,9 @@ class InpParser {
     }
     if (in.bad()) throw InvalidInput({file_, 0, ""}, "read error");
     finish_element_block();
-    return resolve();
+    Mesh mesh = resolve();
+    report_skipped();
+    return mesh;
   }
 
  private:
@@ -152,10 +218,43 @@ class InpParser {
     return std::nullopt;
   }
 
+  // One warning per skipped keyword name, in order of first appearance, with its lines.
+  void report_skipped() const {
+    if (warnings_ == nullptr) return;
+    constexpr size_t kMaxLinesListed = 10;
+    for (const auto& [name, lines] : skipped_) {
+      std::string where;
+      for (size_t i = 0; i < lines.size() && i < kMaxLinesListed; ++i) {
+        where += (i ? ", " : "") + std::to_string(lines[i]);
+      }
+      if (lines.size() > kMaxLinesListed) {
+        where += " and " + std::to_string(lines.size() - kMaxLinesListed) + " more";
+      }
+      warnings_->push_back(file_ + ": " + name + " ignored (" + skip_hint(name) + "), line" +
+                           (lines.size() > 1 ? "s " : " ") + where);
+    }
+  }
+
+  void skip(const Keyword& k) {
+    for (auto& [name, lines] : skipped_) {
+      if (name == k.name) {
+        lines.push_back(k.line);
+        return;
+      }
+    }
+    skipped_.push_back({k.name, {k.line}});
+  }
+
   void start_keyword(const Keyword& k) {
     keyword_ = k;
     mode_ = Mode::kSkip;
     current_set_ = -1;
+    for (const Refusal& r : kRefused) {
+      if (k.name == r.name) {
+        fail(k.line, k.name + " is not supported: " + r.reason +
+                         "; it would change the stiffness or mass, so the deck is refused");
+      }
+    }
     if (k.name == "*NODE") {
       check_params(k, {"NSET"});
       mode_ = Mode::kNode;
@@ -179,8 +278,13 @@ class InpParser {
       current_set_ = new_set(node, *n, k.line);
       generate_ = param(k, "GENERATE").has_value();
       mode_ = Mode::kSet;
+    } else if (k.name == "*EQUATION") {
+      check_params(k, {});
+      mode_ = Mode::kEquation;
     } else if (k.name == "*INCLUDE") {
       fail(k.line, "*INCLUDE is not supported: merge the included file into this one");
+    } else {
+      skip(k);
     }
   }
 
@@ -277,6 +381,46 @@ class InpParser {
         }
         return;
       }
+      case Mode::kEquation: {
+        const auto tokens = data_tokens(t, line);
+        if (equation_terms_left_ == 0) {
+          if (tokens.size() != 1) {
+            fail(line, "*EQUATION: expected the number of terms alone on the line, got " +
+                           std::to_string(tokens.size()) + " values");
+          }
+          equations_.push_back({parse_id(tokens[0], line, "number of terms"), {}, {}, {}, line});
+          equation_terms_left_ = equations_.back().num_terms;
+          return;
+        }
+        if (tokens.size() % 3 != 0) {
+          fail(line, "*EQUATION: expected terms 'node, direction, coefficient', got " +
+                         std::to_string(tokens.size()) + " values");
+        }
+        RawEquation& eq = equations_.back();
+        for (size_t i = 0; i < tokens.size(); i += 3) {
+          if (equation_terms_left_ == 0) {
+            fail(line, "*EQUATION: more terms than the " + std::to_string(eq.num_terms) +
+                           " announced on line " + std::to_string(eq.line));
+          }
+          if (!std::isdigit(static_cast<unsigned char>(tokens[i][0]))) {
+            fail(line, "*EQUATION: node set " + tokens[i] +
+                           " in an equation is not supported (write node numbers)");
+          }
+          eq.node_ids.push_back(parse_id(tokens[i], line, "node id"));
+          const int direction = parse_id(tokens[i + 1], line, "degree of freedom");
+          if (direction > 3) {
+            fail(line, "*EQUATION: degree of freedom " + tokens[i + 1] +
+                           " is not supported (solid nodes have translations 1, 2, 3 only)");
+          }
+          eq.directions.push_back(direction - 1);
+          eq.coefficients.push_back(parse_double(tokens[i + 2], line));
+          if (eq.node_ids.size() == 1 && eq.coefficients[0] == 0.0) {
+            fail(line, "*EQUATION: the coefficient of the first (dependent) term must not be 0");
+          }
+          --equation_terms_left_;
+        }
+        return;
+      }
       case Mode::kSet: {
         const auto tokens = data_tokens(t, line);
         SetDefinition& set = sets_[current_set_];
@@ -315,6 +459,11 @@ class InpParser {
   }
 
   void finish_element_block() {
+    if (equation_terms_left_ > 0) {
+      const RawEquation& eq = equations_.back();
+      fail(eq.line, "*EQUATION: " + std::to_string(eq.num_terms) + " terms announced, " +
+                        std::to_string(eq.node_ids.size()) + " given");
+    }
     if (pending_) {
       fail(pending_->line, "element " + std::to_string(pending_->id) + " of type " +
                                element_type_name(pending_->type) + " has " +
@@ -400,13 +549,31 @@ class InpParser {
       members.erase(std::unique(members.begin(), members.end()), members.end());
       sets[def.name] = std::move(members);
     }
+    for (const RawEquation& eq : equations_) {
+      LinearConstraint c{{}, eq.coefficients, file_ + ":" + std::to_string(eq.line)};
+      for (size_t k = 0; k < eq.node_ids.size(); ++k) {
+        const auto it = node_index.find(eq.node_ids[k]);
+        if (it == node_index.end()) {
+          fail(eq.line, "*EQUATION: unknown node " + std::to_string(eq.node_ids[k]));
+        }
+        const int dof = 3 * it->second + eq.directions[k];
+        if (std::find(c.dofs.begin(), c.dofs.end(), dof) != c.dofs.end()) {
+          fail(eq.line, "*EQUATION: node " + std::to_string(eq.node_ids[k]) + " direction " +
+                            std::to_string(eq.directions[k] + 1) + " appears twice");
+        }
+        c.dofs.push_back(dof);
+      }
+      mesh.equations.push_back(std::move(c));
+    }
     check_mesh(mesh);
     return mesh;
   }
 
-  enum class Mode { kNone, kSkip, kNode, kElement, kSet };
+  enum class Mode { kNone, kSkip, kNode, kElement, kSet, kEquation };
 
   std::string file_;
+  std::vector<std::string>* warnings_;
+  std::vector<std::pair<std::string, std::vector<int>>> skipped_;  // keyword name, its lines
   Keyword keyword_;
   Mode mode_ = Mode::kNone;
   ElementType element_type_ = ElementType::kC3D8;
@@ -416,18 +583,21 @@ class InpParser {
   std::vector<RawNode> nodes_;
   std::vector<RawElement> elements_;
   std::vector<SetDefinition> sets_;
+  std::vector<RawEquation> equations_;
+  int equation_terms_left_ = 0;
 };
 
 }  // namespace
 
-Mesh read_inp(std::istream& in, const std::string& source_name) {
-  return InpParser(source_name).parse(in);
+Mesh read_inp(std::istream& in, const std::string& source_name,
+              std::vector<std::string>* warnings) {
+  return InpParser(source_name, warnings).parse(in);
 }
 
-Mesh read_inp(const std::string& path) {
+Mesh read_inp(const std::string& path, std::vector<std::string>* warnings) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput({path, 0, ""}, "cannot open the file for reading");
-  return read_inp(in, path);
+  return read_inp(in, path, warnings);
 }
 
 }  // namespace stickslip

@@ -8,9 +8,18 @@
 //                                        (20-node elements take two lines)
 //   *NSET, NSET=name [, GENERATE]        node ids and/or names of node sets defined earlier;
 //   *ELSET, ELSET=name [, GENERATE]      with GENERATE, lines "first, last[, increment]"
+//   *EQUATION                            per equation: a line with the number of terms n, then
+//                                        n terms "node id, direction (1-3), coefficient", any
+//                                        number per line: Σ c_k u_k = 0, the first term's DOF
+//                                        dependent (Mesh::equations, origin "file:line")
 // Supported TYPE: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10 (node order as in the .inp, which is
-// Mesh's). Any other element type is rejected. Every other keyword (*MATERIAL, *STEP, ...) is
-// skipped with its data lines, except *INCLUDE, which is rejected (its content would be lost).
+// Mesh's). Any other element type is rejected.
+// Nothing vanishes silently: a keyword that would change the stiffness or mass and is not
+// supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *SPRING, *MASS,
+// parts and instances, node/element generation, *INCLUDE, ...; list in inp_reader.cpp) is an
+// error at its line. Every other keyword (*MATERIAL, *BOUNDARY, *STEP, ...) is skipped with its
+// data lines and gives one warning per keyword name, "<file>: *NAME ignored (<why>), lines a, b",
+// appended to `warnings` (when not null).
 // Set names are case-insensitive in Abaqus/CalculiX and are stored upper-cased; repeating a set
 // keyword with the same name adds to the set. Elements may refer to nodes defined later; a set
 // may refer only to sets defined above it.
@@ -21,13 +30,15 @@
 
 #include <istream>
 #include <string>
+#include <vector>
 
 #include "mesh/mesh.h"
 
 namespace stickslip {
 
-Mesh read_inp(const std::string& path);
+Mesh read_inp(const std::string& path, std::vector<std::string>* warnings = nullptr);
 // Same, from a stream; `source_name` is used as the file name in error messages.
-Mesh read_inp(std::istream& in, const std::string& source_name);
+Mesh read_inp(std::istream& in, const std::string& source_name,
+              std::vector<std::string>* warnings = nullptr);
 
 }  // namespace stickslip

@@ -5,12 +5,15 @@
 #include <locale>
 
 #include "core/errors.h"
+#include "io/apdl_macro.h"
 #include "io/atomic_file.h"
 
 namespace stickslip {
 namespace {
 
 constexpr int kMaxEntriesPerLine = 16;  // Abaqus/CalculiX data line limit
+constexpr int kFieldWidth = 20;         // characters CalculiX reads per number
+constexpr int kTermsPerEquationLine = 4;  // *EQUATION: 4 terms (12 entries) a line
 
 void check_set_name(const std::string& name) {
   if (name.empty() || name.find_first_of(",*\"\n\r") != std::string::npos) {
@@ -45,8 +48,9 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
       << " elements\n";
   out << "*NODE\n";
   for (int i = 0; i < mesh.num_nodes(); ++i) {
-    out << mesh.node_ids[i] << ", " << mesh.coordinates(0, i) << ", " << mesh.coordinates(1, i)
-        << ", " << mesh.coordinates(2, i) << '\n';
+    out << mesh.node_ids[i] << ", " << decimal_in_width(mesh.coordinates(0, i), kFieldWidth)
+        << ", " << decimal_in_width(mesh.coordinates(1, i), kFieldWidth) << ", "
+        << decimal_in_width(mesh.coordinates(2, i), kFieldWidth) << '\n';
   }
   constexpr std::array kTypes = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
                                  ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10};
@@ -80,6 +84,15 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
   for (const auto& [name, set] : mesh.element_sets) {
     out << "*ELSET, ELSET=" << name << '\n';
     write_id_list(out, set, mesh.element_ids);
+  }
+  for (const LinearConstraint& c : mesh.equations) {
+    out << "*EQUATION\n" << c.dofs.size() << '\n';
+    for (size_t k = 0; k < c.dofs.size(); ++k) {
+      out << mesh.node_ids[c.dofs[k] / 3] << ", " << c.dofs[k] % 3 + 1 << ", "
+          << decimal_in_width(c.coefficients[k], kFieldWidth);
+      const bool last = k + 1 == c.dofs.size();
+      out << (last ? "\n" : (k + 1) % kTermsPerEquationLine == 0 ? ",\n" : ", ");
+    }
   }
   out.precision(old_precision);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <unordered_set>
 
 #include "core/errors.h"
@@ -121,6 +122,24 @@ void check_mesh(const Mesh& mesh) {
   for (const auto& [name, set] : mesh.element_sets) {
     for (int e : set) {
       if (e < 0 || e >= ne) throw InvalidInput("mesh: element set " + name + " has an index out of range");
+    }
+  }
+  for (const LinearConstraint& c : mesh.equations) {
+    const std::string where = "mesh: equation" + (c.origin.empty() ? "" : " at " + c.origin);
+    if (c.dofs.empty() || c.dofs.size() != c.coefficients.size()) {
+      throw InvalidInput(where + " has inconsistent term arrays");
+    }
+    if (!(c.coefficients[0] != 0.0) || !std::isfinite(c.coefficients[0])) {
+      throw InvalidInput(where + ": the coefficient of its first (dependent) DOF must be finite and non-zero");
+    }
+    std::unordered_set<int> dofs;
+    for (size_t k = 0; k < c.dofs.size(); ++k) {
+      if (c.dofs[k] < 0 || c.dofs[k] >= 3 * nn) throw InvalidInput(where + " has a DOF out of range");
+      if (!std::isfinite(c.coefficients[k])) throw InvalidInput(where + " has a coefficient that is not finite");
+      if (!dofs.insert(c.dofs[k]).second) {
+        throw InvalidInput(where + " names node " + std::to_string(mesh.node_ids[c.dofs[k] / 3]) +
+                           " direction " + std::to_string(c.dofs[k] % 3 + 1) + " twice");
+      }
     }
   }
 }

@@ -34,6 +34,17 @@ const char* element_type_name(ElementType type);  // "C3D8", ...
 // Parses a CalculiX/Abaqus type name (case-insensitive); false if not supported.
 bool parse_element_type(const std::string& name, ElementType* type);
 
+// A linear multi-point constraint between DOFs of a mesh (DOF 3·node index + direction):
+//   Σ_k coefficients[k] · u(dofs[k]) = 0,
+// as Abaqus/CalculiX *EQUATION: the first DOF is the dependent one (eliminated in favour of the
+// others, fe/dof_map.h), coefficients[0] ≠ 0, no DOF twice. `origin` says where it was defined
+// ("file:line"), for messages.
+struct LinearConstraint {
+  std::vector<int> dofs;
+  std::vector<double> coefficients;
+  std::string origin;
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -48,6 +59,9 @@ struct Mesh {
   // --- sets (sorted, unique indices) ---
   std::map<std::string, std::vector<int>> node_sets;
   std::map<std::string, std::vector<int>> element_sets;
+
+  // --- linear constraints between DOFs (*EQUATION), in file order ---
+  std::vector<LinearConstraint> equations;
 
   int num_nodes() const { return static_cast<int>(node_ids.size()); }
   int num_elements() const { return static_cast<int>(element_types.size()); }

@@ -79,6 +79,29 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
     std::vector<int> r = restrict_set(set, new_element);
     if (!r.empty()) sub.mesh.element_sets.emplace(name, std::move(r));
   }
+  // Equations: kept when all their nodes are kept, dropped when none is (another part's); one
+  // that ties kept nodes to others cannot be honoured by the part alone.
+  for (const LinearConstraint& c : mesh.equations) {
+    LinearConstraint kept{{}, c.coefficients, c.origin};
+    int outside = -1;
+    for (int dof : c.dofs) {
+      const int n = new_node[dof / 3];
+      if (n < 0) {
+        outside = dof / 3;
+      } else {
+        kept.dofs.push_back(3 * n + dof % 3);
+      }
+    }
+    if (kept.dofs.empty()) continue;
+    if (outside >= 0) {
+      throw InvalidInput("the equation" + (c.origin.empty() ? "" : " at " + c.origin) +
+                         " ties nodes of this part to node " +
+                         std::to_string(mesh.node_ids[outside]) +
+                         ", which is on none of its elements (equations between bodies are not "
+                         "supported)");
+    }
+    sub.mesh.equations.push_back(std::move(kept));
+  }
   return sub;
 }
 
@@ -244,6 +267,10 @@ AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset, int 
   };
   merge(mesh.node_sets, part.node_sets, range.first_node);
   merge(mesh.element_sets, part.element_sets, range.first_element);
+  for (LinearConstraint c : part.equations) {
+    for (int& dof : c.dofs) dof += 3 * range.first_node;
+    mesh.equations.push_back(std::move(c));
+  }
   check_mesh(mesh);  // throws on colliding ids
   return range;
 }

@@ -29,7 +29,8 @@ struct SubMesh {
 
 // Sub-mesh made of `elements` (parent indices, any order, duplicates ignored) and the nodes they
 // use, in increasing parent order. Node and element sets are restricted to what is kept; sets
-// that become empty are dropped.
+// that become empty are dropped. Equations are kept when all their nodes are kept and dropped
+// when none is; one that ties kept nodes to dropped ones throws InvalidInput naming its origin.
 SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements);
 // Same for the element set `element_set` (e.g. one body); InvalidInput if it does not exist.
 SubMesh extract_element_set(const Mesh& mesh, const std::string& element_set);
@@ -74,7 +75,7 @@ std::vector<std::pair<int, int>> match_coincident_nodes(const Mesh& mesh_a,
                                                         double tolerance);
 
 // Appends `part` to `mesh`: its node ids are shifted by node_id_offset and its element ids by
-// element_id_offset; its sets are merged into `mesh`'s by name (union). Returns the index of
+// element_id_offset; its sets are merged into `mesh`'s by name (union), its equations appended. Returns the index of
 // the first appended node and element. Throws InvalidInput if ids collide.
 struct AppendedRange {
   int first_node = 0;

@@ -41,6 +41,11 @@ void check_loads(const Eigen::MatrixXcd& F, int num_dofs, int harmonic, double o
 Eigen::MatrixXd restrict_split(const DofMap& dofs, const Eigen::MatrixXcd& F) {
   const Eigen::Index m = F.cols();
   Eigen::MatrixXd out(dofs.num_free(), 2 * m);
+  if (dofs.has_dependents()) {  // loads on dependent DOFs go to the DOFs they depend on: TᵀF
+    const Eigen::MatrixXcd Ff = dofs.restrict_load(F);
+    out << Ff.real(), Ff.imag();
+    return out;
+  }
   for (int f = 0; f < dofs.num_free(); ++f) {
     const int d = dofs.full_dof(f);
     for (Eigen::Index j = 0; j < m; ++j) {
@@ -53,6 +58,12 @@ Eigen::MatrixXd restrict_split(const DofMap& dofs, const Eigen::MatrixXcd& F) {
 
 Eigen::MatrixXcd expand_columns(const DofMap& dofs, const Eigen::MatrixXcd& x_free) {
   Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(dofs.num_dofs(), x_free.cols());
+  if (dofs.has_dependents()) {  // x = T x_f
+    for (Eigen::Index j = 0; j < x_free.cols(); ++j) {
+      x.col(j) = dofs.expand(Eigen::VectorXcd(x_free.col(j)));
+    }
+    return x;
+  }
   for (int f = 0; f < dofs.num_free(); ++f) x.row(dofs.full_dof(f)) = x_free.row(f);
   return x;
 }
@@ -301,6 +312,10 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
       require(d >= 0 && d < dofs.num_dofs(),
               "ModalRecoveryOptions::load_dofs[" + std::to_string(i) + "]", std::to_string(d),
               "0 <= DOF < " + std::to_string(dofs.num_dofs()));
+      require(!dofs.is_dependent(d),
+              "ModalRecoveryOptions::load_dofs[" + std::to_string(i) + "]", std::to_string(d),
+              "not a dependent DOF of an equation (" +
+                  (dofs.is_dependent(d) ? dofs.dependent_origin(d) : std::string()) + ")");
       if (dofs.is_constrained(d) || impl_->is_load_dof[static_cast<size_t>(d)]) continue;
       impl_->is_load_dof[static_cast<size_t>(d)] = 1;
       impl_->load_full.push_back(d);

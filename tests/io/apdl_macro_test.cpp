@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "core/errors.h"
 
 namespace stickslip {
@@ -124,6 +127,28 @@ TEST(ApdlMacro, ShortestDecimalRoundTrips) {
   EXPECT_EQ(shortest_decimal(-0.0), "0");
   for (double v : {0.1, 1.0 / 3.0, -2.718281828459045e-7, 6.02214076e23}) {
     EXPECT_EQ(std::stod(shortest_decimal(v)), v);
+  }
+}
+
+TEST(ApdlMacro, DecimalInWidthFitsTwentyCharactersWithThirteenOrMoreDigits) {
+  // The field that stopped ccx 2.20 (22 characters).
+  EXPECT_EQ(decimal_in_width(-3.442068852166358e-11, 20), "-3.4420688521664e-11");
+  EXPECT_EQ(decimal_in_width(0.05, 20), "0.05");  // short values stay exact
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> mantissa(-10.0, 10.0);
+  std::uniform_int_distribution<int> exponent(-320, 308);
+  for (int i = 0; i < 20000; ++i) {
+    const double v = mantissa(rng) * std::pow(10.0, exponent(rng));
+    if (!std::isfinite(v)) continue;
+    const std::string text = decimal_in_width(v, 20);
+    ASSERT_LE(text.size(), 20u) << text;
+    const double back = std::strtod(text.c_str(), nullptr);
+    if (shortest_decimal(v).size() <= 20) {
+      EXPECT_EQ(back, v) << text;  // exact when the shortest text fits
+    } else if (std::abs(v) >= 1e-300) {
+      // 13 significant digits at least: relative rounding error <= 5e-13 (14 digits: 5e-14).
+      EXPECT_LE(std::abs(back - v), 5e-13 * std::abs(v)) << text;
+    }
   }
 }
 

@@ -269,6 +269,46 @@ TEST(GmshMesh, RejectsUnsupportedElementTypesNamingThem) {
   std::filesystem::remove(path);
 }
 
+TEST(GmshMesh, WarnsAboutElementsAndGroupNodesItDoesNotUse) {
+  // One hexahedron in a physical volume; a triangle on a surface entity without a physical group
+  // (used for nothing); a physical point whose node is on no 3D element (left out of its set).
+  const std::string path = temp_path("unused.msh");
+  {
+    GmshSession session;
+    gmsh::model::add("unused");
+    const int v = gmsh::model::addDiscreteEntity(3);
+    gmsh::model::mesh::addNodes(3, v, {1, 2, 3, 4, 5, 6, 7, 8},
+                                {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
+                                 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1});
+    gmsh::model::mesh::addElementsByType(v, 5, {1}, {1, 2, 3, 4, 5, 6, 7, 8});
+    gmsh::model::setPhysicalName(3, gmsh::model::addPhysicalGroup(3, {v}), "SOLID");
+    const int s = gmsh::model::addDiscreteEntity(2);
+    gmsh::model::mesh::addElementsByType(s, 2, {2}, {1, 2, 3});
+    const int p = gmsh::model::addDiscreteEntity(0);
+    gmsh::model::mesh::addNodes(0, p, {9}, {5, 5, 5});
+    gmsh::model::mesh::addElementsByType(p, 15, {3}, {9});
+    gmsh::model::setPhysicalName(0, gmsh::model::addPhysicalGroup(0, {p}), "LOOSE");
+    gmsh::option::setNumber("Mesh.SaveAll", 1);
+    gmsh::write(path);
+    gmsh::option::setNumber("Mesh.SaveAll", 0);
+    gmsh::model::remove();
+  }
+  std::vector<std::string> warnings;
+  const Mesh m = read_gmsh(path, {}, &warnings);
+  std::filesystem::remove(path);
+  EXPECT_EQ(m.num_elements(), 1);
+  EXPECT_TRUE(m.node_sets.at("LOOSE").empty());
+  ASSERT_EQ(warnings.size(), 2u);
+  std::string all = warnings[0] + "\n" + warnings[1];
+  EXPECT_NE(all.find("physical group LOOSE: 1 of its 1 nodes are on no 3D element"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("1 Triangle 3 (MSH type 2) (dimension 2) belong to no physical group"),
+            std::string::npos)
+      << all;
+  for (const std::string& w : warnings) EXPECT_EQ(w.rfind(path + ": ", 0), 0u) << w;
+}
+
 TEST(GmshMesh, BadOrMissingFilesAreInvalidInputNamingTheFile) {
   const std::string path = temp_path("garbage.msh");
   {

@@ -156,5 +156,113 @@ TEST(InpReader, StreamFormHandlesCrLfAndTrailingCommas) {
   EXPECT_EQ(m.element_ids, std::vector<int>{7});
 }
 
+// A one-tetrahedron deck followed by `tail`.
+std::string tet_deck(const std::string& tail) {
+  return "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n"
+         "*ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 4\n" +
+         tail;
+}
+
+TEST(InpReader, EveryKeywordItDoesNotUseGivesOneWarningWithItsLines) {
+  std::vector<std::string> warnings;
+  read_inp(kDir + "sample_all_features.inp", &warnings);
+  // In order of first appearance; lines of the sample counted by hand.
+  const std::string f = kDir + "sample_all_features.inp: ";
+  EXPECT_EQ(warnings, (std::vector<std::string>{
+                          f + "*HEADING ignored (not used by stickslip), line 3",
+                          f + "*MATERIAL ignored (the material comes from the case file), line 58",
+                          f + "*ELASTIC ignored (the material comes from the case file), line 59",
+                          f + "*STEP ignored (analyses and loads come from the case file), line 75",
+                          f + "*STATIC ignored (analyses and loads come from the case file), line 76",
+                          f + "*END STEP ignored (analyses and loads come from the case file), "
+                              "line 77"}));
+}
+
+TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
+  std::istringstream in(tet_deck(
+      "*BOUNDARY\n1, 1, 3\n*Boundary\n2, 1, 3\n*FOO, BAR=1\nx\n"
+      "*BOUNDARY\n3,1\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n"
+      "*BOUNDARY\n*BOUNDARY\n"));
+  std::vector<std::string> warnings;
+  read_inp(in, "deck", &warnings);
+  EXPECT_EQ(warnings,
+            (std::vector<std::string>{
+                "deck: *BOUNDARY ignored (clamps come from the case file), lines 8, 10, 14, 16, "
+                "17, 18, 19, 20, 21, 22 and 1 more",
+                "deck: *FOO ignored (not used by stickslip), line 12"}));
+}
+
+TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
+  for (const char* keyword :
+       {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
+        "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E", "*BEAM SECTION",
+        "*SPRING, ELSET=E", "*MASS, ELSET=E", "*DISTRIBUTING COUPLING", "*Part, name=P",
+        "*NGEN", "*PRE-TENSION SECTION"}) {
+    std::istringstream in(tet_deck("*MATERIAL, NAME=S\n" + std::string(keyword) + "\n1\n"));
+    try {
+      read_inp(in, "deck");
+      ADD_FAILURE() << keyword << " was accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().line, 9) << keyword;
+      EXPECT_NE(e.message().find("is not supported"), std::string::npos) << e.message();
+      EXPECT_NE(e.message().find("would change the stiffness or mass"), std::string::npos)
+          << e.message();
+    }
+  }
+  for (const char* type : {"S4R", "B31", "SPRINGA", "MASS", "CPS4"}) {
+    std::istringstream in(
+        tet_deck("*ELEMENT, TYPE=" + std::string(type) + "\n2, 1, 2, 3, 4\n"));
+    try {
+      read_inp(in, "deck");
+      ADD_FAILURE() << type << " was accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().line, 8) << type;
+      EXPECT_NE(e.message().find("unsupported element type"), std::string::npos) << e.message();
+    }
+  }
+}
+
+TEST(InpReader, EquationsBecomeLinearConstraintsOnDofs) {
+  // Terms split over lines and several per line; "2" announces the second equation.
+  std::istringstream in(tet_deck(
+      "*EQUATION\n3\n4, 2, 1.0, 1, 2, -0.5,\n2, 2, -5D-1\n*Equation\n2\n3,3,2.,2,1,-2.\n"));
+  const Mesh m = read_inp(in, "deck");
+  ASSERT_EQ(m.equations.size(), 2u);
+  EXPECT_EQ(m.equations[0].dofs, (std::vector<int>{3 * 3 + 1, 0 * 3 + 1, 1 * 3 + 1}));
+  EXPECT_EQ(m.equations[0].coefficients, (std::vector<double>{1.0, -0.5, -0.5}));
+  EXPECT_EQ(m.equations[0].origin, "deck:9");
+  EXPECT_EQ(m.equations[1].dofs, (std::vector<int>{2 * 3 + 2, 1 * 3 + 0}));
+  EXPECT_EQ(m.equations[1].coefficients, (std::vector<double>{2.0, -2.0}));
+  EXPECT_EQ(m.equations[1].origin, "deck:13");
+}
+
+TEST(InpReader, MalformedEquationsAreErrorsAtTheirLine) {
+  struct Bad {
+    const char* tail;
+    int line;
+    const char* message;
+  };
+  for (const Bad& bad : {
+           Bad{"*EQUATION\n2\n4, 2, 1.0\n*STEP\n", 9, "2 terms announced, 1 given"},
+           Bad{"*EQUATION\n1\n4, 2, 1.0, 1, 2, 1.0\n", 10, "more terms than the 1 announced"},
+           Bad{"*EQUATION\n2\n4, 5, 1.0, 1, 2, 1.0\n", 10, "degree of freedom 5"},
+           Bad{"*EQUATION\n2\n4, 1, 0.0, 1, 2, 1.0\n", 10, "must not be 0"},
+           Bad{"*EQUATION\n2\nTIP, 1, 1.0, 1, 2, 1.0\n", 10, "node set TIP"},
+           Bad{"*EQUATION\n2\n9, 1, 1.0, 1, 2, 1.0\n", 9, "unknown node 9"},
+           Bad{"*EQUATION\n2\n4, 1, 1.0, 4, 1, 1.0\n", 9, "appears twice"},
+           Bad{"*EQUATION\n2\n4, 1, 1.0, 1, 2\n", 10, "expected terms"},
+           Bad{"*EQUATION, INPUT=eq.txt\n2\n", 8, "unsupported parameter INPUT"},
+       }) {
+    std::istringstream in(tet_deck(bad.tail));
+    try {
+      read_inp(in, "deck");
+      ADD_FAILURE() << bad.tail << " was accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().line, bad.line) << bad.tail << ": " << e.message();
+      EXPECT_NE(e.message().find(bad.message), std::string::npos) << e.message();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stickslip
