@@ -81,7 +81,7 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
     const bool result_name =
         kResults.count(name) || (kPlots.count(stem) && (ext == ".png" || ext == ".svg" ||
                                                         ext == ".dat" || ext == ".gp")) ||
-        name.rfind("recovery_p", 0) == 0 || name.rfind("loads_p", 0) == 0;
+        name.rfind("recovery", 0) == 0 || name.rfind("loads_p", 0) == 0;
     std::error_code ec;
     const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     const bool in_output = fs::equivalent(parent, dir, ec) ||
