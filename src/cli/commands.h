@@ -1,6 +1,7 @@
 // The subcommands of the stickslip program (docs/command-line.md). Each returns the process exit
-// code (0 success, 1 numerical failure reported to the user); bad input, and missing or stale
-// files of an earlier stage, throw InvalidInput naming the file and the command to run first.
+// code (0 success, 1 numerical failure reported to the user, kExitPlotsMissing = 4 when pictures
+// could not be drawn); bad input, missing or stale files of an earlier stage and file-system
+// refusals throw InvalidInput naming the file (and the command to run first, or the reason).
 //
 // Stages and the files they share, in an output folder DIR (docs/output-files.md):
 //   mesh     DIR/mesh/<body>.inp, .vtu          the bodies' meshes as the case builds them
@@ -93,6 +94,9 @@ struct StageRun {
   std::filesystem::path dir;  // output folder of this analysis
 };
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const std::filesystem::path& out_dir);
+// The output folder (output_dir, or the case's output.directory), created and checked writable
+// (InvalidInput with the reason otherwise; temporaries of killed runs in it removed); the case's
+// input files are protected from being replaced by a result (protect_input_file).
 std::filesystem::path stage_output_dir(const CaseDefinition& base, const std::string& output_dir);
 // "stickslip <stage> <case> -o <dir>", for messages that say what to run first.
 std::string stage_hint(const std::string& stage, const CaseDefinition& base,

@@ -4,7 +4,9 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <mutex>
 #include <thread>
@@ -17,6 +19,7 @@ namespace stickslip {
 namespace {
 
 int g_pipe[2] = {-1, -1};
+std::atomic<bool> g_signalled{false};  // lock-free: set by the handler
 std::mutex g_status_mutex;
 std::string g_doing;
 std::vector<std::string> g_done;
@@ -24,6 +27,7 @@ std::vector<std::string> g_done;
 extern "C" void on_signal(int signal) {
   const int saved = errno;
   const int s = signal;
+  g_signalled.store(true);
   (void)!::write(g_pipe[1], &s, sizeof s);
   errno = saved;
 }
@@ -47,13 +51,17 @@ const char* signal_name(int s) {
   std::string line = std::string("stickslip: interrupted by ") + signal_name(signal);
   {
     std::lock_guard<std::mutex> lock(g_status_mutex);
-    line += " while " + (g_doing.empty() ? std::string("reading the input") : g_doing);
-    if (g_done.empty()) {
-      line += "; no result of this run was written completely";
+    if (g_doing.empty()) {
+      line += "; the files written so far are complete, no partial file is left";
     } else {
-      line += "; complete: ";
-      for (size_t i = 0; i < g_done.size(); ++i) line += (i ? ", " : "") + g_done[i];
-      line += "; nothing else of this run";
+      line += " while " + g_doing;
+      if (g_done.empty()) {
+        line += "; no result of this run was written completely";
+      } else {
+        line += "; complete: ";
+        for (size_t i = 0; i < g_done.size(); ++i) line += (i ? ", " : "") + g_done[i];
+        line += "; nothing else of this run";
+      }
     }
   }
   line += "\n";
@@ -90,6 +98,16 @@ void install_interruption_handling() {
   struct sigaction ignore {};
   ignore.sa_handler = SIG_IGN;
   ::sigaction(SIGXFSZ, &ignore, nullptr);
+}
+
+void yield_to_interruption(double grace_seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (g_signalled.load()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (!g_signalled.load()) return;
+  for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));  // the watcher exits the process
 }
 
 void interruption_doing(const std::string& activity) {

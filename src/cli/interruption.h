@@ -27,4 +27,9 @@ void install_interruption_handling();
 void interruption_doing(const std::string& activity);
 void interruption_done(const std::string& result);
 
+// For a caller whose child process was just killed by a signal (Ctrl-C reaches the whole process
+// group, so gnuplot may die before this process's handler has run): if an interruption arrives
+// within `grace_seconds`, never returns (the interruption ends the process); else returns.
+void yield_to_interruption(double grace_seconds);
+
 }  // namespace stickslip

@@ -14,6 +14,7 @@
 #include <fmt/ostream.h>
 
 #include "cli/child_process.h"
+#include "cli/interruption.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -90,6 +91,9 @@ bool picture_complete(const fs::path& p) {
   return end != std::string::npos && end + 1 >= 6 && b.compare(end + 1 - 6, 6, "</svg>") == 0;
 }
 
+// How long a killed gnuplot waits for this process's own interruption (the signal reaches both).
+constexpr double kInterruptionGrace = 1.0;  // s
+
 // Draws p's pictures from its data and script (already in dir): gnuplot runs in a TemporaryFolder
 // of dir on a copy of the script whose data path is "../<stem>.dat"; the pictures are published
 // only complete. Returns false after logging the pictures not drawn.
@@ -116,6 +120,8 @@ bool draw(const fs::path& dir, const PlotSpec& p, PlotLog* log) {
     }
   }
   const ChildOutcome outcome = run_program(gnuplot, {script}, tmp.path(), tmp.lock_descriptor());
+  // gnuplot killed by Ctrl-C with us: no warning, the interruption ends the program.
+  if (outcome.started && !outcome.exited) yield_to_interruption(kInterruptionGrace);
   std::string why;
   if (!outcome.started) {
     why = "gnuplot could not be started: " + outcome.message;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include <fmt/core.h>
 
@@ -41,7 +42,65 @@ std::vector<StageRun> stage_runs(const CaseDefinition& base, const fs::path& out
 }
 
 fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_dir) {
-  return output_dir.empty() ? fs::path(base.output.directory) : fs::path(output_dir);
+  const fs::path dir = output_dir.empty() ? fs::path(base.output.directory) : fs::path(output_dir);
+  // The case's own files are never replaced by a result (io/atomic_file.h).
+  protect_input_file(base.file);
+  for (const auto& [name, mesh] : base.meshes) {
+    if (mesh.source == MeshDefinition::Source::kFile) protect_input_file(mesh.file);
+  }
+  for (const auto& [name, body] : base.bodies) {
+    if (body.source != BodyDefinition::Source::kReduced) continue;
+    for (const std::string& f : {body.reduced.stiffness, body.reduced.mass, body.reduced.mapping}) {
+      protect_input_file(f);
+    }
+  }
+  for (const ContactDefinition& c : base.contacts) {
+    protect_input_file(c.pairs_file);
+    protect_input_file(c.preload_file);
+  }
+  // An input named like a result in the output folder or one of its folders would be refused when
+  // that result is written: refuse now, before any work.
+  std::vector<std::string> inputs = {base.file};
+  for (const auto& [name, mesh] : base.meshes) inputs.push_back(mesh.file);
+  for (const auto& [name, body] : base.bodies) {
+    inputs.insert(inputs.end(), {body.reduced.stiffness, body.reduced.mass, body.reduced.mapping});
+  }
+  for (const ContactDefinition& c : base.contacts) {
+    inputs.insert(inputs.end(), {c.pairs_file, c.preload_file});
+  }
+  static const std::set<std::string> kResults = {
+      "points.csv", "master_response.csv", "contact_forces.csv", "contact_state.csv",
+      "histories.csv", "summary.json", "recovery_check.csv", "recovered_nodes.csv"};
+  static const std::set<std::string> kPlots = {"frf", "contact_state", "hysteresis",
+                                               "frf_full_vs_reduced", "frf_study"};
+  for (const std::string& input : inputs) {
+    if (input.empty() || !fs::exists(input)) continue;
+    const fs::path p(input);
+    const std::string name = p.filename().string(), stem = p.stem().string();
+    const std::string ext = p.extension().string();
+    const bool result_name =
+        kResults.count(name) || (kPlots.count(stem) && (ext == ".png" || ext == ".svg" ||
+                                                        ext == ".dat" || ext == ".gp")) ||
+        name.rfind("recovery", 0) == 0 || name.rfind("loads_p", 0) == 0;
+    std::error_code ec;
+    const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    const bool in_output = fs::equivalent(parent, dir, ec) ||
+                           fs::equivalent(parent.parent_path().empty() ? fs::path(".")
+                                                                       : parent.parent_path(),
+                                          dir, ec);
+    if (result_name && in_output) {
+      throw InvalidInput({input, 0, ""},
+                         "this input file has the name of a result that would be written in the "
+                         "output folder " + dir.string() +
+                             ": results never replace inputs; choose another output folder (-o) "
+                             "or rename the file");
+    }
+  }
+  // Before any work: the folder exists and takes files (a read-only or full folder stops the
+  // command now, not after the solve), and temporaries that killed runs left there are removed.
+  create_output_folder(dir);
+  TemporaryFolder probe(dir);
+  return dir;
 }
 
 std::string stage_hint(const std::string& stage, const CaseDefinition& base,

@@ -11,6 +11,7 @@
 #include <fmt/ostream.h>
 
 #include "cli/commands.h"
+#include "cli/interruption.h"
 #include "cli/pipeline.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
@@ -237,12 +238,15 @@ int run_solve(const StageCommand& command) {
   for (const StageRun& run : stage_runs(base, out_dir)) {
     if (!run.folder.empty()) progress("study: " + run.folder);
     const auto t_run = Clock::now();
+    interruption_doing("solving for " + run.dir.string());
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/false, &cache);
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
+    interruption_doing("writing the solve files in " + run.dir.string());
     write_solve_results(run.dir, run.definition, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
+    interruption_done("solve files in " + run.dir.string());
     failed_points += report_solved(solved, run.dir, progress);
   }
   return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,

@@ -33,6 +33,15 @@ constexpr const char* kLockSuffix = ".lock";
 std::mutex g_mutex;
 std::set<const TemporaryFolder*> g_live;
 std::set<std::pair<dev_t, ino_t>> g_scanned;  // directories already cleaned by this process
+std::mutex g_protected_mutex;
+std::set<std::pair<dev_t, ino_t>> g_protected;  // input files (protect_input_file)
+
+bool is_protected(const fs::path& p) {
+  struct stat st {};
+  if (::stat(p.c_str(), &st) != 0) return false;
+  std::lock_guard<std::mutex> lock(g_protected_mutex);
+  return g_protected.count({st.st_dev, st.st_ino}) > 0;
+}
 
 std::string reason(int error) { return std::strerror(error); }
 
@@ -119,7 +128,8 @@ int remove_stale_unlocked(const fs::path& dir) {
       ::close(fd);
     } else if (const long pid = legacy_temporary_pid(name); pid > 0) {
       if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH &&
-          it->is_regular_file(ec) && ::unlink(it->path().c_str()) == 0) {
+          it->is_regular_file(ec) && !is_protected(it->path()) &&
+          ::unlink(it->path().c_str()) == 0) {
         ++removed;
       }
     }
@@ -202,7 +212,19 @@ void remove_all_temporaries_and_stop() {
   }
 }
 
+void protect_input_file(const fs::path& path) {
+  struct stat st {};
+  if (path.empty() || ::stat(path.c_str(), &st) != 0) return;
+  std::lock_guard<std::mutex> lock(g_protected_mutex);
+  g_protected.insert({st.st_dev, st.st_ino});
+}
+
 void publish_file(const fs::path& from, const fs::path& to) {
+  if (is_protected(to)) {
+    throw InvalidInput({to.string(), 0, ""},
+                       "this is an input file of the case: a result would replace it (results "
+                       "never replace inputs; choose another output folder with -o)");
+  }
   if (::rename(from.c_str(), to.c_str()) != 0) {
     throw InvalidInput({to.string(), 0, ""}, "cannot put the file in place: " + reason(errno));
   }

@@ -70,6 +70,12 @@ int remove_stale_temporaries(const std::filesystem::path& dir);
 // calls block). Call once.
 void remove_all_temporaries_and_stop();
 
+// Files that results must never replace (the inputs of a case, when the output folder is theirs):
+// publish_file (hence write_file_atomically) refuses a target that is the same file (device and
+// inode) as one of them, with InvalidInput naming it, and the clean-up of temporaries never
+// removes one. Paths that do not exist (or are empty) are ignored.
+void protect_input_file(const std::filesystem::path& path);
+
 // Creates `dir` and its missing parents. InvalidInput naming the path and the reason in words
 // when that is impossible: a read-only file system, no permission, a name too long, `dir` or one
 // of its parents an existing file.

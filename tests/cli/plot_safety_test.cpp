@@ -28,13 +28,14 @@ bool complete_png(const fs::path& p) {
 
 // Every way to make gnuplot or a shell run `touch <marker>`: backquotes (gnuplot substitutes them
 // in double-quoted strings), $(...) and `;` (a shell), quotes to end a string early, gnuplot's
-// system(), a newline to end a command (when `newline`), a trailing backslash to continue one.
+// system(), a newline to end a command and a trailing backslash to continue one (when `free_text`:
+// names may hold neither, docs/case-file.md).
 // The marker is ${SS_MARK}<what>_<how>: no slash in the text (a name may become a file name), the
 // environment of the program gives the folder.
-std::string hostile(const std::string& what, bool newline) {
+std::string hostile(const std::string& what, bool free_text) {
   const std::string m = "${SS_MARK}" + what;
   return "x`touch " + m + "_bq` $(touch " + m + "_dollar) ' \"; touch " + m + "_semi; \" '; " +
-         "system('touch " + m + "_sys'); " + (newline ? "\n!touch " + m + "_nl " : "") + "\\";
+         "system('touch " + m + "_sys'); " + (free_text ? "\n!touch " + m + "_nl \\" : "");
 }
 
 // Names in the case: the title (free text, with newlines), a body and a contact (the study's

@@ -1,6 +1,8 @@
 #include "io/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -71,6 +73,56 @@ TEST_F(AtomicFile, UnwritableLocationIsInvalidInputNamingThePath) {
     EXPECT_EQ(e.where().file, path);
   }
   EXPECT_FALSE(fs::exists(path));
+}
+
+// The temporaries folder of a live process (a forked child holding its lock) is kept; once that
+// process is killed with SIGKILL, the folder, its content and its lock file are removed.
+TEST_F(AtomicFile, TemporariesOfAKilledProcessAreRemovedThoseOfALiveOneKept) {
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    TemporaryFolder folder(dir_);
+    ::close(folder.create_file("half.csv", "half.csv"));
+    (void)!::write(ready[1], "x", 1);
+    for (;;) ::pause();
+  }
+  char c;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  EXPECT_EQ(files_in_dir(), 2);  // the folder and its lock file
+  EXPECT_EQ(remove_stale_temporaries(dir_), 0);
+  EXPECT_EQ(files_in_dir(), 2);
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  EXPECT_EQ(remove_stale_temporaries(dir_), 1);
+  EXPECT_EQ(files_in_dir(), 0);
+}
+
+TEST_F(AtomicFile, AProtectedInputIsNeverReplaced) {
+  const fs::path input = dir_ / "points.csv";
+  std::ofstream(input) << "an input\n";
+  protect_input_file(input);
+  try {
+    write_file_atomically(input.string(), [](std::ostream& out) { out << "a result\n"; });
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().file, input.string());
+    EXPECT_NE(e.message().find("input file"), std::string::npos);
+  }
+  EXPECT_EQ(read(input), "an input\n");
+  EXPECT_EQ(files_in_dir(), 1);
+}
+
+TEST_F(AtomicFile, AFolderThatIsAFileIsInvalidInputSayingSo) {
+  std::ofstream(dir_ / "file") << "x";
+  for (const fs::path& p : {dir_ / "file", dir_ / "file" / "sub"}) {
+    try {
+      create_output_folder(p);
+      FAIL() << p;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(e.message().find("is a file, not a folder"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
