@@ -26,9 +26,9 @@
 #include "io/inp_reader.h"
 #include "io/matrix_market.h"
 #include "io/two_beam_model.h"
+#include "linalg/modal.h"
 #include "mesh/mesh_tools.h"
 #include "mesh/surface_area.h"
-#include "linalg/modal.h"
 #include "reduction/craig_bampton.h"
 
 namespace stickslip {
@@ -543,8 +543,8 @@ void check_recovery_nodes(const CaseDefinition& def, const std::vector<CaseBody>
   if (by_id.empty()) return;
   for (size_t i = 0; i < def.recovery.nodes.size(); ++i) {
     const int id = def.recovery.nodes[i];
-    const bool found = std::any_of(by_id.begin(), by_id.end(),
-                                   [&](const auto& ids) { return ids.count(id) > 0; });
+    const bool found =
+        std::any_of(by_id.begin(), by_id.end(), [&](const auto& ids) { return ids.count(id) > 0; });
     if (!found) {
       throw InvalidInput(def.where(fmt::format("recovery.nodes[{}]", i)),
                          fmt::format("node {} is not a node of any body given by a mesh (the "
@@ -634,8 +634,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     const std::string key = fmt::format("output.frf[{}]", i);
     const auto it = body_index.find(r.body);
     if (it == body_index.end()) throw InvalidInput(def.where(key), "unknown body " + r.body);
-    const auto nodes =
-        resolve_nodes(def, key, out.bodies[it->second], NodeSelection{{}, {r.node}});
+    const auto nodes = resolve_nodes(def, key, out.bodies[it->second], NodeSelection{{}, {r.node}});
     add_master(it->second, nodes[0], key);
   }
   check_recovery_nodes(def, out.bodies);
@@ -741,11 +740,11 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
             const auto asked = resolved.bodies[b].master_keys.find(id);
             const std::string key =
                 asked == resolved.bodies[b].master_keys.end() ? "bodies." + name : asked->second;
-            throw InvalidInput(def.where(key),
-                               fmt::format("node {} direction {} is not a DOF of the reduced "
-                                           "matrices of body {} (its mapping: {})",
-                                           id, "xyz"[dir], name,
-                                           def.bodies.at(name).reduced.mapping));
+            throw InvalidInput(
+                def.where(key),
+                fmt::format("node {} direction {} is not a DOF of the reduced "
+                            "matrices of body {} (its mapping: {})",
+                            id, "xyz"[dir], name, def.bodies.at(name).reduced.mapping));
           }
         }
       }

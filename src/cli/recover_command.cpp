@@ -73,8 +73,8 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
   }
 }
 
-void rebuild_master_response(SolveResults& results, const PreparedModel& model,
-                             const StageRun& run, const std::string& hint) {
+void rebuild_master_response(SolveResults& results, const PreparedModel& model, const StageRun& run,
+                             const std::string& hint) {
   // The reduced model's response at every reduced DOF from the contact forces of the files.
   const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);
   // Its harmonics are 0 + analysis.harmonics, those of the files (check_solve_matches_model).
@@ -120,9 +120,9 @@ void rebuild_master_response(SolveResults& results, const PreparedModel& model,
     for (const auto& [key, g] : body.master_dof) {
       const auto it = results.master.find(MasterDofKey{body.name, key.first, key.second});
       if (it == results.master.end()) {
-        throw InvalidInput({(run.dir / "master_response.csv").string(), 0, ""},
-                           fmt::format("no rows for body {} node {}: run `{}` again", body.name,
-                                       key.first, hint));
+        throw InvalidInput(
+            {(run.dir / "master_response.csv").string(), 0, ""},
+            fmt::format("no rows for body {} node {}: run `{}` again", body.name, key.first, hint));
       }
       for (size_t i = 0; i < response.points.size(); ++i) {
         const Eigen::VectorXcd rebuilt = response.points[i].master.row(g).transpose();

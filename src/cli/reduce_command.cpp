@@ -14,8 +14,8 @@
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
-#include "io/atomic_file.h"
 #include "io/ansys_mapping.h"
+#include "io/atomic_file.h"
 #include "io/case_file.h"
 #include "mesh/mesh_tools.h"
 
@@ -69,8 +69,8 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
     inputs.insert(inputs.end(), {c.pairs_file, c.preload_file});
   }
   static const std::set<std::string> kResults = {
-      "points.csv", "master_response.csv", "contact_forces.csv", "contact_state.csv",
-      "histories.csv", "summary.json", "recovery_check.csv", "recovered_nodes.csv"};
+      "points.csv",    "master_response.csv", "contact_forces.csv", "contact_state.csv",
+      "histories.csv", "summary.json",        "recovery_check.csv", "recovered_nodes.csv"};
   static const std::set<std::string> kPlots = {"frf", "contact_state", "hysteresis",
                                                "frf_full_vs_reduced", "frf_study"};
   for (const std::string& input : inputs) {
@@ -79,19 +79,20 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
     const std::string name = p.filename().string(), stem = p.stem().string();
     const std::string ext = p.extension().string();
     const bool result_name =
-        kResults.count(name) || (kPlots.count(stem) && (ext == ".png" || ext == ".svg" ||
-                                                        ext == ".dat" || ext == ".gp")) ||
+        kResults.count(name) ||
+        (kPlots.count(stem) && (ext == ".png" || ext == ".svg" || ext == ".dat" || ext == ".gp")) ||
         name.rfind("recovery", 0) == 0 || name.rfind("loads_p", 0) == 0;
     std::error_code ec;
     const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    const bool in_output = fs::equivalent(parent, dir, ec) ||
-                           fs::equivalent(parent.parent_path().empty() ? fs::path(".")
-                                                                       : parent.parent_path(),
-                                          dir, ec);
+    const bool in_output =
+        fs::equivalent(parent, dir, ec) ||
+        fs::equivalent(parent.parent_path().empty() ? fs::path(".") : parent.parent_path(), dir,
+                       ec);
     if (result_name && in_output) {
       throw InvalidInput({input, 0, ""},
                          "this input file has the name of a result that would be written in the "
-                         "output folder " + dir.string() +
+                         "output folder " +
+                             dir.string() +
                              ": results never replace inputs; choose another output folder (-o) "
                              "or rename the file");
     }
@@ -143,7 +144,9 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
     for (const auto& [node, value] : cd.preloads) text += fmt::format(" {}:{:.17g}", node, value);
   }
   for (const auto& [name, m] : definition.meshes) {
-    if (m.source == MeshDefinition::Source::kFile) text += "\nmesh " + mesh_fingerprint(definition, name);  // with its *INCLUDEs
+    // The mesh file and the files it includes, by contents.
+    if (m.source == MeshDefinition::Source::kFile)
+      text += "\nmesh " + mesh_fingerprint(definition, name);
   }
   for (const auto& [name, b] : definition.bodies) {
     if (b.source != BodyDefinition::Source::kReduced) continue;
