@@ -9,7 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx gnuplot-nox
   libopenblas0-pthread time
-  python3-numpy python3-scipy python3-matplotlib
+  python3-numpy python3-scipy python3-matplotlib python3-vtk9 zlib1g-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -73,7 +73,7 @@ int run_recover(const RecoverCommand& command);
 
 struct ExportCommand {
   StageCommand stage;
-  int point = -1;
+  std::string points;   // --point: N, N,M,..., peak or all (points_from_option)
   std::string format;  // apdl | calculix
 };
 int run_export(const ExportCommand& command);
@@ -124,6 +124,12 @@ SolveResults read_stage_solve(const StageRun& run, const CaseDefinition& base,
                               const std::filesystem::path& out_dir);
 // Refuses solve files whose contact pairs (contact, nodes, order) or harmonics are not those of
 // the prepared model.
+// The master-DOF response of every point (points[i].master) rebuilt from the contact forces of
+// the solve files exactly as the solve made it (HarmonicBalanceSystem::master_response); refuses
+// files whose master_response.csv does not follow from their contact_forces.csv (edited or mixed
+// solves), naming the file and `hint` (the command that makes them again).
+void rebuild_master_response(SolveResults& results, const PreparedModel& model,
+                             const StageRun& run, const std::string& hint);
 void check_solve_matches_model(const SolveResults& results, const PreparedModel& model,
                                const CaseDefinition& definition, const StageRun& run,
                                const std::string& hint);

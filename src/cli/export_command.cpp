@@ -1,7 +1,9 @@
-// `stickslip export CASE -o DIR --point N --format apdl|calculix`: the loads of one solved point
+// `stickslip export CASE -o DIR --point N|N,M,...|peak|all --format apdl|calculix`: the loads of
+// solved points
 // (excitation, static preload loads and contact forces, from the solve files) on each full body,
 // as an ANSYS APDL macro (loads_p<N>_<body>.mac) or a CalculiX deck (recovery_p<N>_<body>.inp),
-// the files run writes with output.apdl_macro / output.calculix_deck.
+// the files run writes with output.apdl_macro / output.calculix_deck. A body given by matrices
+// gets the APDL macro of its master loads on its mapping's node numbers (the thesis's route).
 #include <filesystem>
 
 #include <fmt/core.h>
@@ -28,38 +30,44 @@ int run_export(const ExportCommand& command) {
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
-    const SolveResults results = read_stage_solve(run, base, out_dir);
-    const auto& points = results.response.points;
-    if (command.point < 0 || command.point >= static_cast<int>(points.size())) {
-      throw InvalidInput({"", 0, "--point"},
-                         fmt::format("point {} is not in {} (0..{})", command.point,
-                                     (run.dir / "points.csv").string(), points.size() - 1));
-    }
-    const FrequencyPoint& p = points[command.point];
-    if (!p.converged) {
-      throw InvalidInput({(run.dir / "points.csv").string(), 0, "--point"},
-                         fmt::format("point {} did not converge", command.point));
-    }
+    SolveResults results = read_stage_solve(run, base, out_dir);
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/false,
                             progress, /*load_basis_if_present=*/false, &cache);
-    check_solve_matches_model(results, model, def, run, stage_hint("solve", base, out_dir));
+    const std::string hint = stage_hint("solve", base, out_dir);
+    check_solve_matches_model(results, model, def, run, hint);
+    rebuild_master_response(results, model, run, hint);  // for the peak
+    const std::vector<int> points = points_from_option(
+        command.points, def, model, results.response, (run.dir / "points.csv").string());
     const std::vector<int>& harmonics = results.response.harmonics;
     int written = 0;
-    for (const PreparedBody& body : model.bodies) {
-      if (!body.from_mesh) continue;
-      const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
+    for (const int point : points) {
+      const FrequencyPoint& p = results.response.points[point];
       const double f_hz = rad_s_to_hz(p.omega);
-      const std::string path =
-          command.format == "apdl"
-              ? write_apdl_loads(run.dir, def, body, command.point, f_hz, harmonics, F)
-              : write_calculix_loads(run.dir, def, body, command.point, f_hz, harmonics, F);
-      progress("wrote " + path);
-      ++written;
+      for (const PreparedBody& body : model.bodies) {
+        std::string path;
+        if (body.from_mesh) {
+          const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
+          path = command.format == "apdl"
+                     ? write_apdl_loads(run.dir, def, body.name, body.mesh, point, f_hz,
+                                        harmonics, F)
+                     : write_calculix_loads(run.dir, def, body, point, f_hz, harmonics, F);
+        } else if (command.format == "apdl") {
+          // A body given by matrices: its master loads on the mapping's node numbers.
+          const auto [mesh, F] = mapped_master_loads(model, body, harmonics, p);
+          path = write_apdl_loads(run.dir, def, body.name, mesh, point, f_hz, harmonics, F);
+        } else {
+          continue;  // a CalculiX deck needs the body's mesh
+        }
+        progress("wrote " + path);
+        ++written;
+      }
     }
     if (written == 0) {
       throw InvalidInput(def.where("bodies"),
-                         "no body is given by a mesh: there is no full model to load");
+                         "no body is given by a mesh: a CalculiX deck needs the full model "
+                         "(`--format apdl` writes the loads of bodies given by matrices on their "
+                         "mapping's node numbers)");
     }
   }
   return 0;

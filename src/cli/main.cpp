@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "cli/interruption.h"
 #include "core/errors.h"
 
 #ifndef STICKSLIP_VERSION
@@ -41,6 +42,7 @@ CLI::App* add_stage(CLI::App& app, const std::string& name, const std::string& d
 }  // namespace
 
 int main(int argc, char** argv) {
+  install_interruption_handling();  // SIGINT, SIGTERM, SIGHUP: exit 128 + signal, nothing partial
   CLI::App app{
       "stickslip: vibration and stresses of friction-damped structures.\n"
       "`stickslip run CASE` runs everything; the other subcommands run one stage and reuse the "
@@ -126,7 +128,10 @@ int main(int argc, char** argv) {
       "The loads of one solved point on the full bodies as an ANSYS APDL macro or a CalculiX "
       "deck, from the solve files in DIR",
       export_.stage);
-  export_cmd->add_option("--point", export_.point, "point number of points.csv")->required();
+  export_cmd
+      ->add_option("--point", export_.points,
+                   "point number of points.csv, a comma-separated list of them, peak or all")
+      ->required();
   export_cmd->add_option("--format", export_.format, "apdl or calculix")
       ->required()
       ->check(CLI::IsMember({"apdl", "calculix"}));
@@ -159,6 +164,11 @@ int main(int argc, char** argv) {
     if (*plot_cmd) return run_plot(plot);
   } catch (const InvalidInput& e) {
     std::fprintf(stderr, "stickslip: error: %s\n", e.what());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A file-system refusal that no stage turned into an InvalidInput: still the user's files.
+    std::fprintf(stderr, "stickslip: error: %s: %s\n", e.path1().string().c_str(),
+                 e.code().message().c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stickslip: internal error: %s\n", e.what());

@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/progress.h"
 #include "core/errors.h"
+#include "io/atomic_file.h"
 #include "io/case_file.h"
 #include "io/inp_writer.h"
 #include "io/vtu_writer.h"
@@ -23,7 +24,7 @@ int run_mesh(const StageCommand& command) {
   const auto progress = stderr_progress(quiet);
   const fs::path dir = stage_output_dir(base, command.output_dir) / "mesh";
   const CaseBodies bodies = resolve_case_bodies(base, progress);
-  fs::create_directories(dir);
+  create_output_folder(dir);
   int written = 0;
   for (const CaseBody& body : bodies.bodies) {
     if (!body.from_mesh) {

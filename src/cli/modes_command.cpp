@@ -65,7 +65,7 @@ int run_case_modes(const ModesCommand& command) {
     const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues().size()));
     const Eigen::VectorXd f = eig.eigenvalues().head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
     const fs::path dir = run.dir / "modes";
-    fs::create_directories(dir);
+    create_output_folder(dir);
     write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
       out << "mode,frequency_hz\n";
       for (int j = 0; j < n; ++j) fmt::print(out, "{},{}\n", j + 1, f(j));
@@ -125,7 +125,7 @@ int run_modes(const ModesCommand& command) {
   const Eigen::VectorXd f = modes.frequencies_hz();
 
   const std::filesystem::path dir(command.output_dir.empty() ? "." : command.output_dir);
-  std::filesystem::create_directories(dir);
+  create_output_folder(dir);
   write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
     out << "mode,frequency_hz\n";
     for (int j = 0; j < f.size(); ++j) fmt::print(out, "{},{:.9g}\n", j + 1, f(j));

@@ -93,14 +93,15 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  std::string text = fmt::format("file {} format {} hex8 {} hex20 {} bytes {}", m.file, m.format,
+  // The file by its contents, not its path (a moved project keeps its reductions), and the
+  // contents of the files it includes, in the order read.
+  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format,
                                  m.hexahedron8, m.hexahedron20, file_fingerprint_hex(m.file));
-  if (m.format == "inp") {  // the bytes of the files it includes too
+  if (m.format == "inp") {
     const std::vector<std::string> files = inp_files(m.file);
     for (size_t i = 1; i < files.size(); ++i) {  // unreadable: read_inp names the line
       const bool readable = std::ifstream(files[i]).good();
-      text += fmt::format(" include {} bytes {}", files[i],
-                          readable ? file_fingerprint_hex(files[i]) : "unreadable");
+      text += fmt::format(" include bytes {}", readable ? file_fingerprint_hex(files[i]) : "none");
     }
   }
   return text;
@@ -152,6 +153,25 @@ int node_id_of(const PreparedBody& body, int node) {
   return body.from_mesh ? body.mesh.node_ids[node] : node;
 }
 
+// Every node of a contact's preload_file must be the A node of one of its pairs: a preload that
+// acts nowhere is a wrong file (another contact's, or the B nodes' ids).
+void check_preload_nodes(const CaseDefinition& def, const ContactDefinition& cd, const CaseBody& A,
+                         const CaseContact& rc) {
+  if (cd.preloads.empty()) return;
+  std::set<int> a_nodes;
+  for (const auto& [a, b] : rc.node_pairs) a_nodes.insert(A.node_id(a));
+  for (size_t k = 0; k < cd.preloads.size(); ++k) {
+    const int id = cd.preloads[k].first;
+    if (a_nodes.count(id) == 0) {
+      throw InvalidInput(def.where(fmt::format("contacts.{}.preloads[{}]", cd.name, k)),
+                         fmt::format("node {} is not the first node (body {}) of any pair of "
+                                     "contact {}: preloads are given per pair, by its node on "
+                                     "the first body",
+                                     id, A.name, cd.name));
+    }
+  }
+}
+
 CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<CaseBody>& bodies,
                             const std::map<std::string, int>& body_index) {
   const ContactDefinition& cd = def.contacts[c];
@@ -170,16 +190,18 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   const CaseBody& A = bodies[rc.body_a];
   if (!cd.pairs.empty() || !cd.pairs_file.empty()) {
     const auto& listed = cd.pairs;  // pairs_file was read into `pairs` by the parser
-    for (const auto& p : listed) {
-      NodeSelection sa{{}, {p[0]}};
-      const int a = resolve_nodes(def, key + ".pairs", A, sa)[0];
+    for (size_t i = 0; i < listed.size(); ++i) {
+      const std::string pair_key = fmt::format("{}.pairs[{}]", key, i);
+      NodeSelection sa{{}, {listed[i][0]}};
+      const int a = resolve_nodes(def, pair_key, A, sa)[0];
       int b = -1;
       if (rc.body_b >= 0) {
-        NodeSelection sb{{}, {p[1]}};
-        b = resolve_nodes(def, key + ".pairs", bodies[rc.body_b], sb)[0];
+        NodeSelection sb{{}, {listed[i][1]}};
+        b = resolve_nodes(def, pair_key, bodies[rc.body_b], sb)[0];
       }
       rc.node_pairs.emplace_back(a, b);
     }
+    check_preload_nodes(def, cd, A, rc);
     return rc;
   }
   const std::vector<int> nodes_a = resolve_nodes(def, key + ".between", A, cd.nodes_a);
@@ -204,6 +226,7 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   if (rc.node_pairs.empty()) {
     throw InvalidInput(def.where(key + ".between"), "the contact has no node pairs");
   }
+  check_preload_nodes(def, cd, A, rc);
   return rc;
 }
 
@@ -508,6 +531,28 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
   return out;
 }
 
+// Every recovery.nodes id must be a node of a body given by a mesh (the bodies recovered). The
+// parser refuses recovery.nodes in a case without such bodies; the stages' rewritten case, whose
+// bodies all come from reduced files, has none either and was checked as the user wrote it.
+void check_recovery_nodes(const CaseDefinition& def, const std::vector<CaseBody>& bodies) {
+  std::vector<std::unordered_map<int, int>> by_id;
+  for (const CaseBody& body : bodies) {
+    if (body.from_mesh) by_id.push_back(node_index_by_id(body.mesh));
+  }
+  if (by_id.empty()) return;
+  for (size_t i = 0; i < def.recovery.nodes.size(); ++i) {
+    const int id = def.recovery.nodes[i];
+    const bool found = std::any_of(by_id.begin(), by_id.end(),
+                                   [&](const auto& ids) { return ids.count(id) > 0; });
+    if (!found) {
+      throw InvalidInput(def.where(fmt::format("recovery.nodes[{}]", i)),
+                         fmt::format("node {} is not a node of any body given by a mesh (the "
+                                     "bodies recovered)",
+                                     id));
+    }
+  }
+}
+
 CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& progress,
                                ModelCache* cache) {
   CaseBodies out;
@@ -552,38 +597,47 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     out.bodies.push_back(std::move(body));
   }
 
-  // Contacts: node pairs, which also name master nodes; then forced, listed and FRF nodes.
+  // Contacts: node pairs, which also name master nodes; then forced, listed and FRF nodes. Each
+  // master remembers the first key that asked for it.
   std::vector<std::vector<int>> masters(out.bodies.size());
+  const auto add_master = [&](int b, int node, const std::string& key) {
+    masters[b].push_back(node);
+    out.bodies[b].master_keys.emplace(node, key);
+  };
   for (size_t c = 0; c < def.contacts.size(); ++c) {
     out.contacts.push_back(resolve_contact(def, static_cast<int>(c), out.bodies, body_index));
-    for (const auto& [a, b] : out.contacts.back().node_pairs) {
-      masters[out.contacts.back().body_a].push_back(a);
-      if (out.contacts.back().body_b >= 0) masters[out.contacts.back().body_b].push_back(b);
+    const ContactDefinition& cd = def.contacts[c];
+    const CaseContact& rc = out.contacts.back();
+    const bool listed = !cd.pairs.empty();
+    for (size_t i = 0; i < rc.node_pairs.size(); ++i) {
+      const std::string key = listed ? fmt::format("contacts.{}.pairs[{}]", cd.name, i)
+                                     : fmt::format("contacts.{}.between", cd.name);
+      add_master(rc.body_a, rc.node_pairs[i].first, key);
+      if (rc.body_b >= 0) add_master(rc.body_b, rc.node_pairs[i].second, key);
     }
   }
   for (size_t e = 0; e < def.excitation.size(); ++e) {
     const ExcitationDefinition& ed = def.excitation[e];
     const int b = body_index.at(ed.body);
-    out.excitation_nodes.push_back(
-        resolve_nodes(def, fmt::format("excitation[{}]", e), out.bodies[b], ed.nodes));
-    masters[b].insert(masters[b].end(), out.excitation_nodes.back().begin(),
-                      out.excitation_nodes.back().end());
+    const std::string key = fmt::format("excitation[{}]", e);
+    out.excitation_nodes.push_back(resolve_nodes(def, key, out.bodies[b], ed.nodes));
+    for (int n : out.excitation_nodes.back()) add_master(b, n, key);
   }
   for (const auto& [name, bd] : def.bodies) {
     const int b = body_index.at(name);
-    const auto nodes = resolve_nodes(def, "bodies." + name + ".masters", out.bodies[b], bd.masters);
-    masters[b].insert(masters[b].end(), nodes.begin(), nodes.end());
+    const std::string key = "bodies." + name + ".masters";
+    for (int n : resolve_nodes(def, key, out.bodies[b], bd.masters)) add_master(b, n, key);
   }
   for (size_t i = 0; i < def.output.frf.size(); ++i) {
     const ResponseDofDefinition& r = def.output.frf[i];
+    const std::string key = fmt::format("output.frf[{}]", i);
     const auto it = body_index.find(r.body);
-    if (it == body_index.end()) {
-      throw InvalidInput(def.where(fmt::format("output.frf[{}]", i)), "unknown body " + r.body);
-    }
-    const auto nodes = resolve_nodes(def, fmt::format("output.frf[{}]", i), out.bodies[it->second],
-                                     NodeSelection{{}, {r.node}});
-    masters[it->second].push_back(nodes[0]);
+    if (it == body_index.end()) throw InvalidInput(def.where(key), "unknown body " + r.body);
+    const auto nodes =
+        resolve_nodes(def, key, out.bodies[it->second], NodeSelection{{}, {r.node}});
+    add_master(it->second, nodes[0], key);
   }
+  check_recovery_nodes(def, out.bodies);
   for (const auto& [name, bd] : def.bodies) {
     CaseBody& body = out.bodies[body_index.at(name)];
     std::vector<int>& m = masters[body_index.at(name)];
@@ -683,10 +737,14 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       for (int id : m) {
         for (int dir = 0; dir < 3; ++dir) {
           if (body.global_dof(id, dir) < 0) {
-            throw InvalidInput(def.where("bodies." + name),
+            const auto asked = resolved.bodies[b].master_keys.find(id);
+            const std::string key =
+                asked == resolved.bodies[b].master_keys.end() ? "bodies." + name : asked->second;
+            throw InvalidInput(def.where(key),
                                fmt::format("node {} direction {} is not a DOF of the reduced "
-                                           "matrices of body {}",
-                                           id, "xyz"[dir], name));
+                                           "matrices of body {} (its mapping: {})",
+                                           id, "xyz"[dir], name,
+                                           def.bodies.at(name).reduced.mapping));
           }
         }
       }
@@ -763,7 +821,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       if (!preload_by_node.empty()) {
         const auto it = preload_by_node.find(info.node_a_id);
         if (it == preload_by_node.end()) {
-          throw InvalidInput({cd.preload_file, 0, ""},
+          throw InvalidInput(def.where("contacts." + cd.name + ".preload_file"),
                              "no preload for node " + std::to_string(info.node_a_id) +
                                  " (the A node of a pair of contact " + cd.name + ")");
         }

@@ -64,6 +64,9 @@ struct CaseBody {
   IsotropicMaterial material;  // from_mesh
   std::vector<int> clamp;      // from_mesh: clamped node indices
   std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
+  // The dotted case key that first asked for each master (a contact pair, an excitation entry,
+  // bodies.B.masters, an output.frf entry), for messages about that node.
+  std::map<int, std::string> master_keys;
   int node_id(int node) const { return from_mesh ? mesh.node_ids[node] : node; }
 };
 struct CaseContact {

@@ -1,6 +1,8 @@
 // `stickslip plot DIR`: (re)renders the plots of a solve from the files in DIR (or in each study
 // folder DIR/<parameter>_<value>/, plus the overlay frf_study), and frf_full_vs_reduced from the
-// data and script the recovery left (the recovered full-model amplitudes are in no CSV).
+// data file the recovery left (the recovered full-model amplitudes are in no CSV). Every script is
+// written again by stickslip (cli/plots.h): no script found in DIR is run. Exit status
+// kExitPlotsMissing when pictures could not be drawn.
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -8,6 +10,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/interruption.h"
 #include "cli/plots.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
@@ -23,21 +26,20 @@ int run_plot(const PlotCommand& command) {
   if (!fs::is_directory(dir)) {
     throw InvalidInput({dir.string(), 0, ""}, "no such folder: run `" + hint + "` first");
   }
+  PlotLog plots;
   const auto plot_folder = [&](const fs::path& folder, const std::string& prefix) {
     const SolveResults results = read_solve_results(folder, hint);
     const std::vector<PlotSeries> frf = frf_series(results, prefix);
-    plot_solve_results(folder, results, frf, stderr_warning);
-    std::string warning;
-    if (fs::exists(folder / "frf_full_vs_reduced.gp") &&
-        !render_plot_script(folder, "frf_full_vs_reduced", &warning)) {
-      stderr_warning(warning);
-    }
+    interruption_doing("plotting in " + folder.string());
+    plot_solve_results(folder, results, frf, &plots);
+    redraw_full_vs_reduced(folder, results.title, &plots);
+    interruption_done("plots in " + folder.string());
     say("plots in " + folder.string());
     return std::make_pair(results.title, frf);
   };
   if (fs::exists(dir / "points.csv")) {
     plot_folder(dir, "");
-    return 0;
+    return plots_exit_code(plots, dir);
   }
   // A study: every sub-folder with solve files, in the order of the studied value.
   std::vector<std::pair<double, fs::path>> folders;
@@ -61,9 +63,10 @@ int run_plot(const PlotCommand& command) {
     overlay.insert(overlay.end(), frf.begin(), frf.end());
   }
   if (folders.size() > 1 && !overlay.empty()) {
-    plot_study(dir, title, parameter, overlay, stderr_warning);
+    interruption_doing("plotting the study overlay in " + dir.string());
+    plot_study(dir, title, parameter, overlay, &plots);
   }
-  return 0;
+  return plots_exit_code(plots, dir);
 }
 
 }  // namespace stickslip

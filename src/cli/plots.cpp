@@ -1,73 +1,230 @@
 #include "cli/plots.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
 
+#include "cli/child_process.h"
+#include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
 
 namespace stickslip {
 namespace {
 
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+namespace fs = std::filesystem;
+
+// Text for one line of a gnuplot script or data file: control characters (newlines, tabs, escape
+// sequences; a newline would end the command, a trailing backslash would continue it) become
+// spaces.
+std::string one_line(const std::string& s) {
+  std::string out = s;
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
   }
-  return out + "\"";
+  return out;
 }
 
-}  // namespace
+// A gnuplot string constant that gnuplot takes literally. gnuplot substitutes backquoted commands
+// (`...`, run by a shell) inside double-quoted strings but not inside single-quoted ones, where
+// the only special character is the quote itself, written twice; macros (@name) are expanded in
+// neither (checked with gnuplot 5.4; tests/cli/plot_safety_test.cpp). So: single quotes, quotes
+// doubled, on one line.
+std::string gp_string(const std::string& s) {
+  std::string out = "'";
+  for (char c : one_line(s)) {
+    if (c == '\'') out += '\'';
+    out += c;
+  }
+  return out + "'";
+}
 
-bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
-                 const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<PlotSeries>& series, std::string* warning) {
+struct PlotSpec {
+  std::string stem, title, xlabel, ylabel;
+  std::vector<PlotSeries> series;
+};
+
+// The gnuplot script of a plot reading `data` and drawing `png` and `svg` (our own file names).
+std::string plot_script(const PlotSpec& p, const std::string& data, const std::string& png,
+                        const std::string& svg) {
+  std::string plot = "plot ";
+  for (size_t i = 0; i < p.series.size(); ++i) {
+    plot += fmt::format("{}{} index {} using 1:2 with {} title {}", i ? ", " : "", gp_string(data),
+                        i, p.series[i].style, gp_string(p.series[i].label));
+  }
+  return fmt::format(
+      "set title {}\nset xlabel {}\nset ylabel {}\nset grid\nset key outside\n"
+      "set terminal pngcairo size 1000,600 noenhanced\nset output {}\n{}\n"
+      "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\nunset output\n",
+      gp_string(p.title), gp_string(p.xlabel), gp_string(p.ylabel), gp_string(png), plot,
+      gp_string(svg), plot);
+}
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A PNG that ends with its IEND chunk, an SVG that ends with </svg>: what gnuplot writes when it
+// finishes (a full disk makes it stop early, often with exit status 0).
+bool picture_complete(const fs::path& p) {
+  const std::string b = file_bytes(p);
+  if (p.extension() == ".png") {
+    static const std::string kSignature("\x89PNG\r\n\x1a\n", 8);
+    static const std::string kEnd("\0\0\0\0IEND\xae\x42\x60\x82", 12);
+    return b.size() >= 20 && b.compare(0, 8, kSignature) == 0 &&
+           b.compare(b.size() - 12, 12, kEnd) == 0;
+  }
+  size_t end = b.find_last_not_of(" \t\r\n");
+  return end != std::string::npos && end + 1 >= 6 && b.compare(end + 1 - 6, 6, "</svg>") == 0;
+}
+
+// Draws p's pictures from its data and script (already in dir): gnuplot runs in a TemporaryFolder
+// of dir on a copy of the script whose data path is "../<stem>.dat"; the pictures are published
+// only complete. Returns false after logging the pictures not drawn.
+bool draw(const fs::path& dir, const PlotSpec& p, PlotLog* log) {
+  const fs::path png = dir / (p.stem + ".png"), svg = dir / (p.stem + ".svg");
+  const fs::path gnuplot = find_program("gnuplot");
+  if (gnuplot.empty()) {
+    log->gnuplot_absent("gnuplot not found: no .png/.svg pictures (install gnuplot-nox; the data "
+                        "and scripts are in the .dat and .gp files)");
+    return false;
+  }
+  TemporaryFolder tmp(dir);
+  const std::string script = p.stem + ".gp";
+  {
+    const int fd = tmp.create_file(script, (dir / script).string());
+    const std::string text =
+        plot_script(p, "../" + p.stem + ".dat", p.stem + ".png", p.stem + ".svg");
+    const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+    const int error = errno;
+    ::close(fd);
+    if (!ok) {
+      throw InvalidInput({(tmp.path() / script).string(), 0, ""},
+                         std::string("cannot write the gnuplot script: ") + std::strerror(error));
+    }
+  }
+  const ChildOutcome outcome = run_program(gnuplot, {script}, tmp.path(), tmp.lock_descriptor());
+  std::string why;
+  if (!outcome.started) {
+    why = "gnuplot could not be started: " + outcome.message;
+  } else if (!outcome.exited) {
+    why = fmt::format("gnuplot was killed by signal {}", outcome.signal);
+  } else if (outcome.exit_code != 0) {
+    why = fmt::format("gnuplot failed (exit status {}){}", outcome.exit_code,
+                      outcome.message.empty() ? "" : ": " + outcome.message);
+  }
+  bool all = true;
+  for (const fs::path& picture : {png, svg}) {
+    const fs::path drawn = tmp.path() / picture.filename();
+    std::string reason = why;
+    if (reason.empty() && !picture_complete(drawn)) {
+      reason = "gnuplot left it incomplete (full disk?)" +
+               (outcome.message.empty() ? std::string() : ": " + outcome.message);
+    }
+    if (reason.empty()) {
+      publish_file(drawn, picture);
+    } else {
+      std::error_code ignored;
+      fs::remove(picture, ignored);  // an older picture would not show this .dat
+      log->failed(picture, reason);
+      all = false;
+    }
+  }
+  return all;
+}
+
+bool plot_spec(const fs::path& dir, const PlotSpec& p, PlotLog* log) {
   // Data: one gnuplot index block per series.
-  write_file_atomically((dir / (stem + ".dat")).string(), [&](std::ostream& out) {
-    for (const PlotSeries& s : series) {
-      fmt::print(out, "# {}\n", s.label);
+  write_file_atomically((dir / (p.stem + ".dat")).string(), [&](std::ostream& out) {
+    for (const PlotSeries& s : p.series) {
+      fmt::print(out, "# {}\n", one_line(s.label));
       for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
         fmt::print(out, "{:.10g} {:.10g}\n", s.x[i], s.y[i]);
       }
       out << "\n\n";
     }
   });
-  std::string plot = "plot ";
-  for (size_t i = 0; i < series.size(); ++i) {
-    plot += fmt::format("{}{} index {} using 1:2 with {} title {}", i ? ", " : "",
-                        quoted(stem + ".dat"), i, series[i].style, quoted(series[i].label));
-  }
-  write_file_atomically((dir / (stem + ".gp")).string(), [&](std::ostream& out) {
-    fmt::print(out, "set title {}\nset xlabel {}\nset ylabel {}\nset grid\nset key outside\n",
-               quoted(title), quoted(xlabel), quoted(ylabel));
-    fmt::print(out, "set terminal pngcairo size 1000,600 noenhanced\nset output {}\n{}\n",
-               quoted(stem + ".png"), plot);
-    fmt::print(out, "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\n",
-               quoted(stem + ".svg"), plot);
+  write_file_atomically((dir / (p.stem + ".gp")).string(), [&](std::ostream& out) {
+    out << plot_script(p, p.stem + ".dat", p.stem + ".png", p.stem + ".svg");
   });
-  return render_plot_script(dir, stem, warning);
+  return draw(dir, p, log);
 }
 
-bool render_plot_script(const std::filesystem::path& dir, const std::string& stem,
-                        std::string* warning) {
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    *warning = "gnuplot not found: " + stem +
-               ".png/.svg not drawn (install gnuplot-nox; the "
-               "data and script are in " +
-               (dir / (stem + ".gp")).string() + ")";
-    return false;
+constexpr const char* kFullModelPrefix = "full model: ";
+constexpr const char* kFullModelStyle = "points pt 6 ps 1.3";
+
+}  // namespace
+
+void PlotLog::failed(const fs::path& picture, const std::string& reason) {
+  std::fprintf(stderr, "stickslip: warning: %s not drawn: %s\n", picture.string().c_str(),
+               reason.c_str());
+  missing_.push_back(picture.string());
+}
+
+void PlotLog::gnuplot_absent(const std::string& warning) {
+  if (absent_reported_) return;
+  absent_reported_ = true;
+  std::fprintf(stderr, "stickslip: warning: %s\n", warning.c_str());
+}
+
+int plots_exit_code(const PlotLog& log, const fs::path& redraw_dir) {
+  if (log.missing().empty()) return 0;
+  std::string list;
+  for (size_t i = 0; i < log.missing().size(); ++i) list += (i ? ", " : "") + log.missing()[i];
+  std::fprintf(stderr,
+               "stickslip: %zu picture(s) not drawn: %s; every other result is complete; redraw "
+               "them with `stickslip plot %s`\n",
+               log.missing().size(), list.c_str(), redraw_dir.string().c_str());
+  return kExitPlotsMissing;
+}
+
+bool plot_curves(const fs::path& dir, const std::string& stem, const std::string& title,
+                 const std::string& xlabel, const std::string& ylabel,
+                 const std::vector<PlotSeries>& series, PlotLog* log) {
+  return plot_spec(dir, PlotSpec{stem, title, xlabel, ylabel, series}, log);
+}
+
+void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotLog* log) {
+  const fs::path data = dir / "frf_full_vs_reduced.dat";
+  if (!fs::exists(data)) return;
+  std::ifstream in(data);
+  if (!in) throw InvalidInput({data.string(), 0, ""}, "cannot read this file");
+  std::vector<PlotSeries> series;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    if (line.rfind("# ", 0) == 0) {
+      PlotSeries s{line.substr(2), {}, {}};
+      if (s.label.rfind(kFullModelPrefix, 0) == 0) s.style = kFullModelStyle;
+      series.push_back(std::move(s));
+      continue;
+    }
+    std::istringstream row(line);
+    row.imbue(std::locale::classic());
+    double x, y;
+    std::string rest;
+    if (series.empty() || !(row >> x >> y) || (row >> rest)) {
+      throw InvalidInput({data.string(), number, ""},
+                         "expected '# <label>' or two numbers (frequency, amplitude): run `stickslip "
+                         "recover` again to rewrite it");
+    }
+    series.back().x.push_back(x);
+    series.back().y.push_back(y);
   }
-  const std::string cmd =
-      "cd " + quoted(dir.string()) + " && gnuplot " + quoted(stem + ".gp") + " > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0) {
-    *warning = "gnuplot failed on " + (dir / (stem + ".gp")).string();
-    return false;
-  }
-  return true;
+  plot_curves(dir, "frf_full_vs_reduced", title, "frequency (Hz)", "amplitude of harmonic 1 (m)",
+              series, log);
 }
 
 std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix) {
@@ -91,13 +248,10 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
 }
 
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
-                        const std::vector<PlotSeries>& frf, const WarnFn& warn) {
-  std::string warning;
+                        const std::vector<PlotSeries>& frf, PlotLog* log) {
   const std::string title = results.title.empty() ? "stickslip" : results.title;
-  if (!frf.empty() && !plot_curves(dir, "frf", title, "frequency (Hz)",
-                                   "amplitude of harmonic 1 (m)", frf, &warning)) {
-    warn(warning);
-    return;
+  if (!frf.empty()) {
+    plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", frf, log);
   }
   // Contact state along the sweep: mean fractions over all pairs.
   PlotSeries stick{"stick", {}, {}}, slip{"slip", {}, {}}, separation{"separation", {}, {}};
@@ -115,10 +269,9 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
     slip.x.push_back(f), slip.y.push_back(b / n);
     separation.x.push_back(f), separation.y.push_back(c / n);
   }
-  if (!stick.x.empty() && !plot_curves(dir, "contact_state", title, "frequency (Hz)",
-                                       "fraction of the cycle (mean over pairs)",
-                                       {stick, slip, separation}, &warning)) {
-    warn(warning);
+  if (!stick.x.empty()) {
+    plot_curves(dir, "contact_state", title, "frequency (Hz)",
+                "fraction of the cycle (mean over pairs)", {stick, slip, separation}, log);
   }
   // Hysteresis loops (first local axis) of the pairs with a sampled cycle, at the point that
   // dissipates most.
@@ -142,36 +295,29 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
     }
     loops.push_back(std::move(s));
   }
-  if (!loops.empty() &&
-      !plot_curves(dir, "hysteresis", fmt::format("{}: {:.6g} Hz", title, rad_s_to_hz(p.omega)),
-                   "relative displacement, first local axis (m)",
-                   "contact force, first local axis (N)", loops, &warning)) {
-    warn(warning);
+  if (!loops.empty()) {
+    plot_curves(dir, "hysteresis", fmt::format("{}: {:.6g} Hz", title, rad_s_to_hz(p.omega)),
+                "relative displacement, first local axis (m)",
+                "contact force, first local axis (N)", loops, log);
   }
 }
 
 void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
                           const std::vector<PlotSeries>& frf,
-                          const std::vector<PlotSeries>& full_frf, const WarnFn& warn) {
+                          const std::vector<PlotSeries>& full_frf, PlotLog* log) {
   if (full_frf.empty() || full_frf.front().x.size() < 2) return;
   std::vector<PlotSeries> both = frf;  // the same curves, relabelled
   for (PlotSeries& c : both) c.label = "reduced: " + c.label;
   both.insert(both.end(), full_frf.begin(), full_frf.end());
-  std::string warning;
-  if (!plot_curves(dir, "frf_full_vs_reduced", title, "frequency (Hz)",
-                   "amplitude of harmonic 1 (m)", both, &warning)) {
-    warn(warning);
-  }
+  plot_curves(dir, "frf_full_vs_reduced", title, "frequency (Hz)", "amplitude of harmonic 1 (m)",
+              both, log);
 }
 
 void plot_study(const std::filesystem::path& dir, const std::string& title,
                 const std::string& parameter, const std::vector<PlotSeries>& overlay,
-                const WarnFn& warn) {
-  std::string warning;
-  if (!plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
-                   "amplitude of harmonic 1 (m)", overlay, &warning)) {
-    warn(warning);
-  }
+                PlotLog* log) {
+  plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
+              "amplitude of harmonic 1 (m)", overlay, log);
 }
 
 }  // namespace stickslip

@@ -12,6 +12,7 @@
 #include <fmt/core.h>
 
 #include "core/errors.h"
+#include "core/printable.h"
 
 namespace stickslip {
 
@@ -44,7 +45,7 @@ std::function<void(const std::string&)> stderr_progress(bool quiet) {
 }
 
 void stderr_warning(const std::string& warning) {
-  std::fprintf(stderr, "stickslip: warning: %s\n", warning.c_str());
+  std::fprintf(stderr, "stickslip: warning: %s\n", printable(warning).c_str());
 }
 
 std::string format_duration(double seconds) {

@@ -42,7 +42,8 @@ ProgressOptions stderr_progress_options(bool quiet);
 
 // The stage commands' plain progress lines on stderr, "stickslip: <line>"; nothing when quiet.
 std::function<void(const std::string&)> stderr_progress(bool quiet);
-// A warning on stderr, "stickslip: warning: <text>" (printed also when quiet).
+// A warning on stderr, "stickslip: warning: <text>" (printed also when quiet; bytes that are not
+// printable escaped as \xNN, core/printable.h).
 void stderr_warning(const std::string& warning);
 
 // "0:07", "12:34", "1:02:03" (seconds rounded up to whole seconds; "--:--" if not finite).

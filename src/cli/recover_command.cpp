@@ -2,6 +2,7 @@
 // recovery_stage.h) of points of a solve whose files are in DIR. The master-DOF harmonics of the
 // reduced model are rebuilt from the contact forces in contact_forces.csv exactly as the solve
 // made them (HarmonicBalanceSystem::master_response), so the recovery equals run's to round-off.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -72,13 +73,67 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
   }
 }
 
+void rebuild_master_response(SolveResults& results, const PreparedModel& model,
+                             const StageRun& run, const std::string& hint) {
+  // The reduced model's response at every reduced DOF from the contact forces of the files.
+  const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);
+  // Its harmonics are 0 + analysis.harmonics, those of the files (check_solve_matches_model).
+  FrequencyResponse& response = results.response;
+  const int nh = static_cast<int>(response.harmonics.size());
+  for (FrequencyPoint& p : response.points) {
+    Eigen::MatrixXcd f(system.contact_rows(), nh);
+    for (size_t q = 0; q < p.pairs.size(); ++q) {
+      f.middleRows(system.pair_row(static_cast<int>(q)), p.pairs[q].force_local.rows()) =
+          p.pairs[q].force_local;
+    }
+    p.master = system.master_response(f, p.omega);
+  }
+  // The rebuilt response must be the one the solve wrote (master_response.csv): a file edited
+  // or mixed from another solve would otherwise be recovered silently.
+  for (const PreparedBody& body : model.bodies) {
+    for (const auto& [key, g] : body.master_dof) {
+      const auto it = results.master.find(MasterDofKey{body.name, key.first, key.second});
+      if (it == results.master.end()) {
+        throw InvalidInput({(run.dir / "master_response.csv").string(), 0, ""},
+                           fmt::format("no rows for body {} node {}: run `{}` again", body.name,
+                                       key.first, hint));
+      }
+      for (size_t i = 0; i < response.points.size(); ++i) {
+        const Eigen::VectorXcd rebuilt = response.points[i].master.row(g).transpose();
+        const Eigen::VectorXcd written = it->second.row(static_cast<Eigen::Index>(i)).transpose();
+        const double scale = response.points[i].master.cwiseAbs().maxCoeff();
+        if ((rebuilt - written).cwiseAbs().maxCoeff() > kMasterConsistency * scale) {
+          throw InvalidInput(
+              {(run.dir / "master_response.csv").string(), 0, ""},
+              fmt::format("point {}, body {} node {}: the response does not follow from the "
+                          "contact forces of contact_forces.csv (files of different solves?): "
+                          "run `{}` again",
+                          i, body.name, key.first, hint));
+        }
+      }
+    }
+  }
+}
+
 int run_recover(const RecoverCommand& command) {
   const CaseDefinition base = read_case_file(command.stage.case_file);
+  // Only bodies given by a mesh have a full model to recover; a case of matrix bodies alone would
+  // otherwise "recover" its points into empty files.
+  if (std::none_of(base.bodies.begin(), base.bodies.end(), [](const auto& named) {
+        return named.second.source == BodyDefinition::Source::kMesh;
+      })) {
+    throw InvalidInput(base.where("bodies"),
+                       "recover needs a body given by a mesh: every body of this case is given by "
+                       "reduced matrices, which have no full model (the contact forces of "
+                       "contact_forces.csv are the loads to apply in the program the matrices "
+                       "came from)");
+  }
   const bool quiet = command.stage.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.stage.output_dir);
   const std::string hint = stage_hint("solve", base, out_dir);
   ModelCache cache;  // meshes, reductions and full matrices shared by the study's analyses
+  PlotLog plots;
   for (const StageRun& stage_run : stage_runs(base, out_dir)) {
     StageRun run = stage_run;
     if (command.point == "peak" || command.point == "all") {
@@ -109,44 +164,8 @@ int run_recover(const RecoverCommand& command) {
         prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/true, progress,
                             /*load_basis_if_present=*/false, &cache);
     check_solve_matches_model(results, model, def, run, hint);
-    // The reduced model's response at every reduced DOF from the contact forces of the files.
-    const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);
-    // Its harmonics are 0 + analysis.harmonics, those of the files (check_solve_matches_model).
+    rebuild_master_response(results, model, run, hint);
     FrequencyResponse& response = results.response;
-    const int nh = static_cast<int>(response.harmonics.size());
-    for (FrequencyPoint& p : response.points) {
-      Eigen::MatrixXcd f(system.contact_rows(), nh);
-      for (size_t q = 0; q < p.pairs.size(); ++q) {
-        f.middleRows(system.pair_row(static_cast<int>(q)), p.pairs[q].force_local.rows()) =
-            p.pairs[q].force_local;
-      }
-      p.master = system.master_response(f, p.omega);
-    }
-    // The rebuilt response must be the one the solve wrote (master_response.csv): a file edited
-    // or mixed from another solve would otherwise be recovered silently.
-    for (const PreparedBody& body : model.bodies) {
-      for (const auto& [key, g] : body.master_dof) {
-        const auto it = results.master.find(MasterDofKey{body.name, key.first, key.second});
-        if (it == results.master.end()) {
-          throw InvalidInput({(run.dir / "master_response.csv").string(), 0, ""},
-                             fmt::format("no rows for body {} node {}: run `{}` again", body.name,
-                                         key.first, hint));
-        }
-        for (size_t i = 0; i < response.points.size(); ++i) {
-          const Eigen::VectorXcd rebuilt = response.points[i].master.row(g).transpose();
-          const Eigen::VectorXcd written = it->second.row(static_cast<Eigen::Index>(i)).transpose();
-          const double scale = response.points[i].master.cwiseAbs().maxCoeff();
-          if ((rebuilt - written).cwiseAbs().maxCoeff() > kMasterConsistency * scale) {
-            throw InvalidInput(
-                {(run.dir / "master_response.csv").string(), 0, ""},
-                fmt::format("point {}, body {} node {}: the response does not follow from the "
-                            "contact forces of contact_forces.csv (files of different solves?): "
-                            "run `{}` again",
-                            i, body.name, key.first, hint));
-          }
-        }
-      }
-    }
     const std::vector<int> points = explicit_point >= 0 ? std::vector<int>{explicit_point}
                                                         : recovery_points(def, model, response);
     if (points.empty()) {
@@ -157,11 +176,11 @@ int run_recover(const RecoverCommand& command) {
     run_recovery(run.dir, def, model, response, points, progress, &full_frf);
     if (def.output.plots) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, stderr_warning);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
     }
     progress(fmt::format("recovered {} point(s); results in {}", points.size(), run.dir.string()));
   }
-  return 0;
+  return plots_exit_code(plots, out_dir);
 }
 
 }  // namespace stickslip

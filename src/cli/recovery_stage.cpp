@@ -1,7 +1,11 @@
 #include "cli/recovery_stage.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <map>
+#include <sstream>
 #include <memory>
 #include <optional>
 
@@ -62,6 +66,48 @@ MasterDofs master_dofs(const PreparedBody& body) {
   return out;
 }
 
+struct RecoveredVtu {
+  int point;
+  std::string body, file;  // file relative to the output folder
+};
+
+// The ParaView entry points of the recovered fields (docs/output-files.md): per point a .vtm of
+// its bodies, one .pvd of the sweep (time = frequency in Hz when the recovered points' frequencies
+// are distinct, as on a stepped sweep; the point number otherwise, e.g. two points of a fold at
+// one frequency), and a .vtm of the bodies' envelopes. The per-body files live in
+// recovery/<body>/ so that ParaView's grouping of numbered names makes series over points only.
+void write_vtk_collections(const std::filesystem::path& dir, const FrequencyResponse& response,
+                           const std::vector<int>& points, const std::vector<RecoveredVtu>& files,
+                           const std::vector<VtmBlock>& envelope_blocks) {
+  if (files.empty()) return;
+  std::vector<std::string> bodies;  // in order of first appearance: the part numbers
+  for (const RecoveredVtu& f : files) {
+    if (std::find(bodies.begin(), bodies.end(), f.body) == bodies.end()) bodies.push_back(f.body);
+  }
+  std::vector<double> frequencies;
+  for (int p : points) frequencies.push_back(rad_s_to_hz(response.points[p].omega));
+  std::sort(frequencies.begin(), frequencies.end());
+  const bool by_frequency =
+      std::adjacent_find(frequencies.begin(), frequencies.end()) == frequencies.end();
+  std::vector<PvdEntry> entries;
+  for (int p : points) {
+    std::vector<VtmBlock> blocks;
+    for (const RecoveredVtu& f : files) {
+      if (f.point != p) continue;
+      blocks.push_back({f.body, f.file});
+      const int part = static_cast<int>(std::find(bodies.begin(), bodies.end(), f.body) -
+                                        bodies.begin());
+      entries.push_back({by_frequency ? rad_s_to_hz(response.points[p].omega) : p, part, f.body,
+                         f.file});
+    }
+    if (!blocks.empty()) write_vtm((dir / fmt::format("recovery_p{}.vtm", p)).string(), blocks);
+  }
+  write_pvd((dir / "recovery.pvd").string(), entries);
+  if (!envelope_blocks.empty()) {
+    write_vtm((dir / "recovery_envelope.vtm").string(), envelope_blocks);
+  }
+}
+
 }  // namespace
 
 std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
@@ -100,31 +146,67 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
   return out;
 }
 
-Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
-                                const std::vector<int>& harmonics, const FrequencyPoint& p) {
+std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& def,
+                                    const PreparedModel& model, const FrequencyResponse& response,
+                                    const std::string& points_csv) {
+  const auto& points = response.points;
+  if (spec == "peak" || spec == "all") {
+    CaseDefinition d = def;
+    d.recovery.points = spec;
+    std::vector<int> out = recovery_points(d, model, response);
+    if (out.empty()) {
+      throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
+    }
+    return out;
+  }
+  std::vector<int> out;
+  std::stringstream list(spec);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    char* end = nullptr;
+    const long n = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < 0 || n >= static_cast<long>(points.size())) {
+      throw InvalidInput({"", 0, "--point"},
+                         fmt::format("'{}' is not peak, all, or a point (0..{}) or comma-separated "
+                                     "points of {}",
+                                     spec, points.size() - 1, points_csv));
+    }
+    if (!points[n].converged) {
+      throw InvalidInput({points_csv, 0, "--point"}, fmt::format("point {} did not converge", n));
+    }
+    if (std::find(out.begin(), out.end(), static_cast<int>(n)) == out.end()) {
+      out.push_back(static_cast<int>(n));
+    }
+  }
+  if (out.empty()) throw InvalidInput({"", 0, "--point"}, "no point given");
+  return out;
+}
+
+Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
+                              const std::vector<int>& harmonics, const FrequencyPoint& p) {
   const int nh = static_cast<int>(harmonics.size());
-  const auto [full_dofs, reduced_dofs] = master_dofs(body);
-  // Loads: excitation (and preload loads) on the master DOFs, plus contact forces.
-  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(body.mesh.num_dofs(), nh);
+  const int n = body.reduced.size();
+  // Excitation (and preload loads) on the master DOFs.
+  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
   for (int h = 0; h < nh; ++h) {
     const auto it = model.excitation.harmonics.find(harmonics[h]);
     if (it == model.excitation.harmonics.end()) continue;
-    for (size_t i = 0; i < full_dofs.size(); ++i) {
-      F(full_dofs[i], h) += it->second(reduced_dofs[i]);
+    for (int j = 0; j < n; ++j) {
+      if (body.reduced.dofs[j].kind == ReducedDof::Kind::kPhysical) {
+        F(j, h) += it->second(body.offset + j);
+      }
     }
   }
+  // Contact forces.
   for (size_t q = 0; q < model.pairs.size(); ++q) {
     const ContactPair& pair = model.pairs[q];
     const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
     for (int d = 0; d < 3; ++d) {
       for (int side = 0; side < 2; ++side) {
         const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
-        if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + body.reduced.size()) {
-          continue;
-        }
-        const int full = body.reduced.dofs[dofs[d] - body.offset].full_dof;
+        if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + n) continue;
         const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
-        F.row(full) += sign * fg.row(d);
+        F.row(dofs[d] - body.offset) += sign * fg.row(d);
       }
     }
   }
@@ -135,16 +217,47 @@ Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& 
   return F;
 }
 
+Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
+                                const std::vector<int>& harmonics, const FrequencyPoint& p) {
+  const Eigen::MatrixXcd reduced = master_loads(model, body, harmonics, p);
+  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(body.mesh.num_dofs(), reduced.cols());
+  for (int j = 0; j < body.reduced.size(); ++j) {
+    const ReducedDof& d = body.reduced.dofs[j];
+    if (d.kind == ReducedDof::Kind::kPhysical) F.row(d.full_dof) += reduced.row(j);
+  }
+  return F;
+}
+
+std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
+                                                     const PreparedBody& body,
+                                                     const std::vector<int>& harmonics,
+                                                     const FrequencyPoint& p) {
+  const Eigen::MatrixXcd reduced = master_loads(model, body, harmonics, p);
+  std::map<int, int> node_of_id;  // mapping node number -> node index (ascending numbers)
+  for (const ReducedDof& d : body.reduced.dofs) {
+    if (d.kind == ReducedDof::Kind::kPhysical) node_of_id.emplace(d.node_id, 0);
+  }
+  Mesh mesh;
+  for (auto& [id, index] : node_of_id) index = mesh.add_node(id, Eigen::Vector3d::Zero());
+  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(mesh.num_dofs(), reduced.cols());
+  for (int j = 0; j < body.reduced.size(); ++j) {
+    const ReducedDof& d = body.reduced.dofs[j];
+    if (d.kind != ReducedDof::Kind::kPhysical) continue;
+    F.row(3 * node_of_id.at(d.node_id) + d.direction) += reduced.row(j);
+  }
+  return {std::move(mesh), std::move(F)};
+}
+
 std::string write_apdl_loads(const std::filesystem::path& dir, const CaseDefinition& def,
-                             const PreparedBody& body, int point, double f_hz,
+                             const std::string& body, const Mesh& mesh, int point, double f_hz,
                              const std::vector<int>& harmonics, const Eigen::MatrixXcd& F) {
   ApdlMacroOptions o;
   o.frequency_hz = f_hz;
   o.harmonics = harmonics;
   o.alpha = def.damping.alpha;
   o.beta = def.damping.beta;
-  const std::string path = (dir / fmt::format("loads_p{}_{}.mac", point, body.name)).string();
-  write_apdl_macro(path, body.mesh, F, o);
+  const std::string path = (dir / fmt::format("loads_p{}_{}.mac", point, body)).string();
+  write_apdl_macro(path, mesh, F, o);
   return path;
 }
 
@@ -189,9 +302,21 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
 
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
+  std::vector<RecoveredVtu> vtu_files;
+  std::vector<VtmBlock> envelope_blocks;
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const PreparedBody& body = model.bodies[b];
-    if (!body.from_mesh) continue;
+    if (!body.from_mesh) {
+      // No full model: the loads on the mapping's node numbers, for the program the matrices
+      // came from (the thesis's route).
+      if (!def.output.apdl_macro) continue;
+      for (int pi : points) {
+        const FrequencyPoint& p = response.points[pi];
+        const auto [mesh, F] = mapped_master_loads(model, body, harmonics, p);
+        write_apdl_loads(dir, def, body.name, mesh, pi, rad_s_to_hz(p.omega), harmonics, F);
+      }
+      continue;
+    }
     // FRF DOFs of this body: full-model amplitude per recovered point (plotted against the
     // reduced nonlinear curve: the thesis's validation plot).
     std::vector<std::pair<int, int>> frf_dofs;  // (full DOF, index into full_frf)
@@ -236,7 +361,9 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       const FrequencyPoint& p = response.points[pi];
       const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
       const double f_hz = rad_s_to_hz(p.omega);
-      if (def.output.apdl_macro) write_apdl_loads(dir, def, body, pi, f_hz, harmonics, F);
+      if (def.output.apdl_macro) {
+        write_apdl_loads(dir, def, body.name, body.mesh, pi, f_hz, harmonics, F);
+      }
       if (def.output.calculix_deck) {
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
@@ -315,8 +442,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         }
       }
       data.field_data.emplace_back("frequency_hz", rad_s_to_hz(p.omega));
-      write_vtu((dir / fmt::format("recovery_p{}_{}.vtu", pi, body.name)).string(), body.mesh,
-                data);
+      const std::string file = fmt::format("recovery/{}/p{}.vtu", body.name, pi);
+      create_output_folder(dir / "recovery" / body.name);
+      write_vtu((dir / file).string(), body.mesh, data);
+      vtu_files.push_back({pi, body.name, file});
     }
     if (points.size() > 1 && sweep_vm_max.size() > 0) {
       VtuData data;
@@ -324,10 +453,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       data.point_data.push_back({"von_mises_alternating", sweep_vm_alt.transpose()});
       data.point_data.push_back({"max_principal_max", sweep_p_max.transpose()});
       data.field_data.emplace_back("recovered_points", static_cast<double>(points.size()));
-      write_vtu((dir / fmt::format("recovery_envelope_{}.vtu", body.name)).string(), body.mesh,
-                data);
+      const std::string file = fmt::format("recovery/{}/envelope.vtu", body.name);
+      write_vtu((dir / file).string(), body.mesh, data);
+      envelope_blocks.push_back({body.name, file});
     }
   }
+  write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);
   write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
     out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative,"
            "max_absolute_m\n";

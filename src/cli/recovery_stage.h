@@ -35,17 +35,39 @@ namespace stickslip {
 std::vector<int> recovery_points(const CaseDefinition& definition, const PreparedModel& model,
                                  const FrequencyResponse& response);
 
-// Loads of one mesh body at one point (3 num_nodes x harmonics, full DOF numbering): the
-// excitation and static preload loads on its master DOFs plus the contact forces it receives
-// (force_global of each pair: +f on B, -f on A). Harmonic 0 is made exactly real.
+// The points named by a --point option: "peak", "all" (every converged point), a point number
+// or a comma-separated list of them (each must exist and have converged; InvalidInput naming
+// --point and points_csv otherwise).
+std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& definition,
+                                    const PreparedModel& model, const FrequencyResponse& response,
+                                    const std::string& points_csv);
+
+// Loads of one body at one point on its reduced DOFs (body.reduced.size() x harmonics; rows of
+// modal DOFs are zero): the excitation and static preload loads on its master DOFs plus the
+// contact forces it receives (force_global of each pair: +f on B, -f on A). Harmonic 0 is made
+// exactly real.
+Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
+                              const std::vector<int>& harmonics, const FrequencyPoint& point);
+
+// The same loads of one mesh body in its full DOF numbering (3 num_nodes x harmonics).
 Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
                                 const std::vector<int>& harmonics, const FrequencyPoint& point);
 
+// The same loads of a body given by matrices on the node numbers of its mapping: a mesh of its
+// master nodes (no coordinates, no elements; node ids of the mapping, ascending) and the loads in
+// that mesh's DOF numbering (3 num_nodes x harmonics). For the APDL macro of the thesis's route.
+std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
+                                                     const PreparedBody& body,
+                                                     const std::vector<int>& harmonics,
+                                                     const FrequencyPoint& point);
+
 // The APDL macro loads_p<point>_<body>.mac / the CalculiX deck recovery_p<point>_<body>.inp of
 // one body at one point, in dir; returns the path written.
+// `mesh` is the body's own mesh, or mapped_master_loads' mesh for a body given by matrices.
 std::string write_apdl_loads(const std::filesystem::path& dir, const CaseDefinition& definition,
-                             const PreparedBody& body, int point, double frequency_hz,
-                             const std::vector<int>& harmonics, const Eigen::MatrixXcd& loads);
+                             const std::string& body, const Mesh& mesh, int point,
+                             double frequency_hz, const std::vector<int>& harmonics,
+                             const Eigen::MatrixXcd& loads);
 std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDefinition& definition,
                                  const PreparedBody& body, int point, double frequency_hz,
                                  const std::vector<int>& harmonics, const Eigen::MatrixXcd& loads);

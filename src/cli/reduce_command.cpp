@@ -13,6 +13,7 @@
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
+#include "io/atomic_file.h"
 #include "io/ansys_mapping.h"
 #include "io/case_file.h"
 #include "mesh/mesh_tools.h"
@@ -22,18 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string study_folder(const std::string& parameter, double value) {
-  std::string name = parameter.substr(parameter.rfind('.') + 1);
-  return fmt::format("{}_{:g}", name, value);
-}
-
 }  // namespace
 
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const fs::path& out_dir) {
   std::vector<StageRun> runs;
   if (base.study.active()) {
     for (double v : base.study.values) {
-      const std::string folder = study_folder(base.study.parameter, v);
+      const std::string folder = study_folder_name(base.study.parameter, v);
       runs.push_back({folder,
                       with_parameter(base, base.study.parameter, v, base.where("study.parameter")),
                       out_dir / folder});
@@ -66,6 +62,20 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
   d.output.calculix_deck = defaults.calculix_deck;
   d.output.quiet = defaults.quiet;
   d.title.clear();
+  // Input files count by their contents, never by their paths: the same case read as
+  // `case.yaml`, as `$PWD/case.yaml`, from another working directory or after the project folder
+  // was moved has the same fingerprint (the paths are blanked here and the contents hashed below;
+  // pairs and preloads are listed by value).
+  for (auto& [name, m] : d.meshes) m.file.clear();
+  for (auto& [name, b] : d.bodies) {
+    b.reduced.stiffness.clear();
+    b.reduced.mass.clear();
+    b.reduced.mapping.clear();
+  }
+  for (ContactDefinition& cd : d.contacts) {
+    cd.pairs_file.clear();
+    cd.preload_file.clear();
+  }
   std::string text = describe_case(d);
   for (const ContactDefinition& cd : d.contacts) {
     text += "\npairs " + cd.name;
@@ -73,10 +83,10 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
     text += "\npreloads";
     for (const auto& [node, value] : cd.preloads) text += fmt::format(" {}:{:.17g}", node, value);
   }
-  for (const auto& [name, m] : d.meshes) {
+  for (const auto& [name, m] : definition.meshes) {
     if (m.source == MeshDefinition::Source::kFile) text += "\nmesh " + file_fingerprint_hex(m.file);
   }
-  for (const auto& [name, b] : d.bodies) {
+  for (const auto& [name, b] : definition.bodies) {
     if (b.source != BodyDefinition::Source::kReduced) continue;
     text += "\nmatrices " + file_fingerprint_hex(b.reduced.stiffness) + " " +
             file_fingerprint_hex(b.reduced.mass);
@@ -271,7 +281,7 @@ int run_reduce(const ReduceCommand& reduce) {
   for (size_t r = 0; r < runs.size(); ++r) {
     if (shared && r > 0) break;
     const fs::path dir = (shared ? out_dir : runs[r].dir) / "reduced";
-    fs::create_directories(dir);
+    create_output_folder(dir);
     fs::remove(dir / "manifest.txt");  // files being replaced belong to no case until it is back
     const PreparedModel model =
         prepare_model(runs[r].definition, std::move(resolved[r]), progress, {}, &cache);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -132,27 +133,26 @@ int axis_row(const std::string& axis, bool global) {
   return -1;
 }
 
-// The string value of `"key": "..."` on a line of our summary.json (JSON escapes undone).
-bool json_string_line(const std::string& line, const std::string& key, std::string* value) {
-  const std::string prefix = "\"" + key + "\": \"";
-  const size_t at = line.find(prefix);
-  if (at == std::string::npos) return false;
+// The JSON string whose opening quote is at line[*i] (escapes undone: \n, \t, \uXXXX below 0x100,
+// any other \c as c, as our writer makes them); *i is left after its closing quote.
+bool json_string_at(const std::string& line, size_t* i, std::string* value) {
   std::string out;
-  for (size_t i = at + prefix.size(); i < line.size(); ++i) {
-    const char c = line[i];
+  for (size_t k = *i + 1; k < line.size(); ++k) {
+    const char c = line[k];
     if (c == '"') {
       *value = out;
+      *i = k + 1;
       return true;
     }
-    if (c == '\\' && i + 1 < line.size()) {
-      const char e = line[++i];
+    if (c == '\\' && k + 1 < line.size()) {
+      const char e = line[++k];
       if (e == 'n') {
         out += '\n';
       } else if (e == 't') {
         out += '\t';
-      } else if (e == 'u' && i + 4 < line.size()) {
-        out += static_cast<char>(std::strtol(line.substr(i + 1, 4).c_str(), nullptr, 16));
-        i += 4;
+      } else if (e == 'u' && k + 4 < line.size()) {
+        out += static_cast<char>(std::strtol(line.substr(k + 1, 4).c_str(), nullptr, 16));
+        k += 4;
       } else {
         out += e;
       }
@@ -163,7 +163,16 @@ bool json_string_line(const std::string& line, const std::string& key, std::stri
   return false;
 }
 
-// All strings of a one-line JSON array `"key": ["a", "b"]`.
+// The string value of `"key": "..."` on a line of our summary.json (JSON escapes undone).
+bool json_string_line(const std::string& line, const std::string& key, std::string* value) {
+  const std::string prefix = "\"" + key + "\": \"";
+  const size_t at = line.find(prefix);
+  if (at == std::string::npos) return false;
+  size_t i = at + prefix.size() - 1;
+  return json_string_at(line, &i, value);
+}
+
+// All strings of a one-line JSON array `"key": ["a", "b"]` (escapes undone).
 bool json_string_array_line(const std::string& line, const std::string& key,
                             std::vector<std::string>* values) {
   const std::string prefix = "\"" + key + "\": [";
@@ -172,15 +181,13 @@ bool json_string_array_line(const std::string& line, const std::string& key,
   values->clear();
   size_t i = at + prefix.size();
   while (true) {
-    const size_t open = line.find('"', i);
-    const size_t close_bracket = line.find(']', i);
-    if (open == std::string::npos || (close_bracket != std::string::npos && close_bracket < open)) {
-      break;
-    }
-    const size_t close = line.find('"', open + 1);
-    if (close == std::string::npos) return false;
-    values->push_back(line.substr(open + 1, close - open - 1));
-    i = close + 1;
+    const size_t open = line.find_first_of("\"]", i);
+    if (open == std::string::npos) return false;
+    if (line[open] == ']') break;
+    i = open;
+    std::string value;
+    if (!json_string_at(line, &i, &value)) return false;
+    values->push_back(value);
   }
   return true;
 }
@@ -271,6 +278,7 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       }
       FrequencyPoint p;
       p.omega = hz_to_rad_s(csv.number(c_f));
+      if (!(std::isfinite(p.omega) && p.omega > 0)) csv.fail("the frequency must be > 0 Hz");
       const int converged = csv.integer(c_conv);
       if (converged != 0 && converged != 1) csv.fail("converged must be 0 or 1");
       p.converged = converged == 1;
@@ -334,6 +342,12 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       if (r.harmonic < 0) csv.fail("negative harmonic");
       harmonic_set.insert(r.harmonic);
       r.value = {csv.number(c_re), csv.number(c_im)};
+      // The solve writes finite forces for every converged point (the only ones recovered): a
+      // NaN or an infinity there is a damaged file, and would be recovered into NaN fields.
+      if (fr.points[r.point].converged &&
+          !(std::isfinite(r.value.real()) && std::isfinite(r.value.imag()))) {
+        csv.fail(fmt::format("the force of converged point {} is not a finite number", r.point));
+      }
       r.line = csv.line();
       rows.push_back(r);
     }

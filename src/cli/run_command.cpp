@@ -2,6 +2,8 @@
 // earlier runs: reduction and harmonic balance (cli/pipeline.h), the solve files
 // (write_solve_results), the full-model recovery (cli/recovery_stage.h) and the plots, drawn from
 // the files just written (as `stickslip plot` draws them). Every file is written atomically.
+// Exit status: 1 when frequency points failed, else kExitPlotsMissing when pictures could not be
+// drawn (cli/plots.h), else 0.
 // With a study, the analyses share their meshes and reductions (ModelCache, cli/pipeline.h): a
 // body is reduced again only when the studied parameter changes its reduction fingerprint (a
 // material), as `stickslip reduce` decides; the assembled model, contacts, preload loads,
@@ -13,6 +15,7 @@
 #include <fmt/core.h>
 
 #include "cli/commands.h"
+#include "cli/interruption.h"
 #include "cli/pipeline.h"
 #include "cli/plots.h"
 #include "cli/progress.h"
@@ -34,32 +37,44 @@ int run_case(const StageCommand& command) {
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   int failed_points = 0;
   std::vector<PlotSeries> overlay;
+  PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : runs) {
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
     const auto t_run = Clock::now();
+    const std::string where = run.dir.string();
+    interruption_doing("reducing and solving for " + where);
     const PreparedModel model = prepare_model(def, progress, {}, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
+    interruption_doing("writing the solve files in " + where);
     write_solve_results(run.dir, def, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
+    interruption_done("solve files in " + where);
+    interruption_doing("recovering in " + where);
     std::vector<PlotSeries> full_frf;
     run_recovery(run.dir, def, model, solved.response, recovery_points(def, model, solved.response),
                  progress, &full_frf);
+    interruption_done("recovery files in " + where);
     if (def.output.plots) {
+      interruption_doing("plotting in " + where);
       const SolveResults results = read_solve_results(run.dir, "stickslip run");
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_solve_results(run.dir, results, frf, stderr_warning);
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, stderr_warning);
+      plot_solve_results(run.dir, results, frf, &plots);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
       overlay.insert(overlay.end(), frf.begin(), frf.end());
+      interruption_done("plots in " + where);
     }
     failed_points += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
-    plot_study(out_dir, base.title, base.study.parameter, overlay, stderr_warning);
+    interruption_doing("plotting the study overlay in " + out_dir.string());
+    plot_study(out_dir, base.title, base.study.parameter, overlay, &plots);
   }
-  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
-                         progress);
+  const int solved_code = solve_exit_code(
+      std::chrono::duration<double>(Clock::now() - t0).count(), failed_points, progress);
+  const int plots_code = plots_exit_code(plots, out_dir);
+  return solved_code != 0 ? solved_code : plots_code;
 }
 
 }  // namespace stickslip

@@ -67,7 +67,7 @@ std::string local_axis(const PreparedModel& model, int pair, int row) {
 
 void write_solve_results(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
                          const SolvedCase& solved, double seconds_total) {
-  fs::create_directories(dir);
+  create_output_folder(dir);
   const FrequencyResponse& fr = solved.response;
   const std::vector<int>& harmonics = fr.harmonics;
 
@@ -77,7 +77,7 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
       const FrequencyPoint& p = fr.points[i];
       fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
-                 p.residual_norm / solved.system->residual_scale());
+                 p.residual_norm / p.residual_scale);
     }
   });
 

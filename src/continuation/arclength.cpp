@@ -55,6 +55,11 @@ class ArcLengthSystem final : public ParametrizedSystem {
 
   int size() const override { return n_ + 1; }
   double residual_scale() const override { return sys_.residual_scale(); }
+  // The corrector's convergence test: the system's scale at the last converged point's λ.
+  double residual_scale_at(double /*unused*/) const override {
+    return y_prev_.size() == n_ + 1 ? sys_.residual_scale_at(lambda_scale_ * y_prev_(n_))
+                                    : sys_.residual_scale();
+  }
 
   void evaluate(const Eigen::VectorXd& y, double /*unused*/, Eigen::VectorXd& F,
                 Eigen::MatrixXd* dF_dy, Eigen::VectorXd* /*unused*/) const override {

@@ -74,8 +74,8 @@ NewtonSummary solve_newton(const ParametrizedSystem& sys, double lambda, Eigen::
     throw InvalidInput("solve_newton: x has size " + std::to_string(x.size()) +
                        " but the system has size " + std::to_string(n));
   }
-  const double scale = sys.residual_scale();
-  require(std::isfinite(scale) && scale > 0, "ParametrizedSystem::residual_scale()", str(scale),
+  const double scale = sys.residual_scale_at(lambda);
+  require(std::isfinite(scale) && scale > 0, "ParametrizedSystem::residual_scale_at()", str(scale),
           "must be finite and > 0");
   const double threshold = options.tolerance * scale;
 

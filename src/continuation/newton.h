@@ -12,7 +12,7 @@
 // watch point); if no iterate improves on the watch point by then, the solver returns to it and
 // backtracks from it. This crosses the kinks of piecewise-smooth residuals (stick/slip switches
 // of stiff contacts), where the Newton step is right but ||R|| rises at first.
-// Converged when ||R(x_k)||₂ <= tolerance · sys.residual_scale() (checked before each step, so an
+// Converged when ||R(x_k)||₂ <= tolerance · sys.residual_scale_at(λ) (checked before each step, so an
 // initial guess that already satisfies it returns with 0 iterations).
 //
 // Numerical failure is a returned value, never an exception: NewtonSummary.termination says why
@@ -27,7 +27,7 @@
 //                      dR/dx is below min_rcond (estimated only then: it costs about half an LU).
 //   kNonFinite         R or dR/dx is NaN/inf at an accepted iterate (incl. the initial guess), or
 //                      at every trial point of a line search.
-// Bad options, a size mismatch between x and sys.size(), or a residual_scale() that is not a
+// Bad options, a size mismatch between x and sys.size(), or a residual_scale_at(λ) that is not a
 // positive finite number throw InvalidInput.
 #pragma once
 
@@ -42,7 +42,7 @@
 namespace stickslip {
 
 struct NewtonOptions {
-  double tolerance = 1e-8;  // on ||R||₂ relative to sys.residual_scale(); > 0
+  double tolerance = 1e-8;  // on ||R||₂ relative to sys.residual_scale_at(λ); > 0
   int max_iterations = 30;  // Newton steps (linear solves); >= 1
   // Smallest step fraction tried by the backtracking line search; in (0, 1]. 1 = plain
   // (undamped) Newton that stops with kLineSearchFailed when the full step does not decrease ||R||.

@@ -18,9 +18,13 @@ class ParametrizedSystem {
   // backtrack from them.
   virtual void evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& R,
                         Eigen::MatrixXd* dR_dx, Eigen::VectorXd* dR_dlambda) const = 0;
-  // Scale for convergence: Newton stops when ||R|| <= tolerance * residual_scale().
-  // E.g. the norm of the excitation. Must be > 0.
+  // Scale for convergence: Newton at parameter λ stops when ||R|| <= tolerance *
+  // residual_scale_at(λ). E.g. the norm of the excitation. Must be > 0 (and should never be a
+  // round-off-sized number: the test would then compare round-off with round-off).
+  // residual_scale(): a λ-independent scale (arc-length's augmented equation uses it);
+  // residual_scale_at(λ): the scale at one λ, by default the same.
   virtual double residual_scale() const { return 1.0; }
+  virtual double residual_scale_at(double /*lambda*/) const { return residual_scale(); }
 
   // Optional structured linear solver for large systems. When has_structured_jacobian() is true,
   // Newton never asks evaluate() for dR_dx; each step instead calls

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "core/printable.h"
+
 namespace stickslip {
 
 std::string format_location(const SourceLocation& where) {
@@ -21,13 +23,15 @@ std::string format_location(const SourceLocation& where) {
   return s;
 }
 
+// The file name, the key and the message may carry bytes from users' files: what() and message()
+// hold them escaped (core/printable.h); where() keeps the file and key as given.
 InvalidInput::InvalidInput(const std::string& message)
-    : std::runtime_error(message), message_(message) {}
+    : std::runtime_error(printable(message)), message_(printable(message)) {}
 
 InvalidInput::InvalidInput(SourceLocation where, const std::string& message)
-    : std::runtime_error(format_location(where) + message),
+    : std::runtime_error(printable(format_location(where) + message)),
       where_(std::move(where)),
-      message_(message) {}
+      message_(printable(message)) {}
 
 void require(bool ok, const std::string& field, const std::string& value,
              const std::string& rule) {

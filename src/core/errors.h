@@ -20,9 +20,11 @@ struct SourceLocation {
   std::string key;   // case-file key or field name; may be empty
 };
 
-// "file:line: key: message" with the parts that are known.
+// "file:line: key: message" with the parts that are known (as given, not escaped).
 std::string format_location(const SourceLocation& where);
 
+// what() and message() show bytes that are not printable (control characters, bytes that are not
+// UTF-8) as \xNN (core/printable.h), so a name read from a damaged file cannot drive the terminal.
 class InvalidInput : public std::runtime_error {
  public:
   explicit InvalidInput(const std::string& message);

@@ -31,7 +31,10 @@ class ExcitationRamp final : public ParametrizedSystem {
     }
   }
   int size() const override { return system_.size(); }
-  double residual_scale() const override { return system_.residual_scale(); }
+  double residual_scale() const override { return system_.residual_scale_at(omega_); }
+  double residual_scale_at(double /*lambda*/) const override {
+    return system_.residual_scale_at(omega_);
+  }
   void evaluate(const Eigen::VectorXd& x, double lambda, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
                 Eigen::VectorXd* dR_dlambda) const override {
     system_.evaluate(x, omega_, R, dR_dx, nullptr);
@@ -44,6 +47,30 @@ class ExcitationRamp final : public ParametrizedSystem {
   double omega_;
   Eigen::VectorXd ulin_dyn_;
 };
+
+// static: uncoupled: each pair's cycle-mean force against its frozen static force (see
+// kStaticMismatchThreshold in the header). One extra march per pair without derivatives.
+void check_static_state(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                        FrequencyPoint& point) {
+  const Eigen::VectorXd& f0 = system.static_force();
+  for (size_t p = 0; p < point.pairs.size(); ++p) {
+    PairResponse& out = point.pairs[p];
+    const int m = system.pairs()[p].element->dimension(), r = system.pair_row(static_cast<int>(p));
+    const AftSamples cycle =
+        out.history.f.size() > 0 ? out.history : system.pair_cycle(x, static_cast<int>(p));
+    out.cycle_mean_force = cycle.f.rowwise().mean();
+    const Eigen::VectorXd frozen = f0.segment(r, m);
+    const double scale = std::max(frozen.norm(), cycle.f.colwise().norm().maxCoeff());
+    out.static_mismatch = scale > 0 ? (out.cycle_mean_force - frozen).norm() / scale : 0.0;
+    if (out.static_mismatch > point.static_mismatch || point.static_worst_pair < 0) {
+      point.static_mismatch = out.static_mismatch;
+      point.static_worst_pair = static_cast<int>(p);
+    }
+    if (out.static_mismatch > kStaticMismatchThreshold || out.cycle.separation_fraction > 0) {
+      point.static_warning = true;
+    }
+  }
+}
 
 // The arc-length fallback of a stepped sweep (and of the first point's ramp) works on the dense
 // dR/dx: for a system that solves its Newton steps structurally (a large one) it is off, so that a
@@ -195,6 +222,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
   FrequencyPoint point;
   point.omega = omega;
   point.unknowns = x;
+  point.residual_scale = system.residual_scale_at(omega);  // the operator at Ω is still cached
   Eigen::VectorXd forces;
   std::vector<CycleStatistics> stats;
   system.contact_forces(x, forces, &stats);  // usually the last residual's, kept by the system
@@ -215,6 +243,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
     out.cycle = stats[p];
   }
   for (int p : history_pairs) point.pairs[p].history = system.pair_cycle(x, p);
+  if (frozen) check_static_state(system, x, point);
   return point;
 }
 

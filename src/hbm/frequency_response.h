@@ -32,12 +32,27 @@
 
 namespace stickslip {
 
+// Check of the uncoupled static formulation (static: uncoupled freezes the static state u0, f0;
+// it is exact only when the vibration leaves the static balance alone, i.e. when each pair's
+// cycle-mean force f̄ (the AFT's own harmonic 0 over the cycle) equals its frozen f0). Per pair:
+//   static_mismatch = ||f̄ − f0|| / max(||f0||, max_t ||f(t)||)   (local axes, 2-norms),
+// and a point is flagged when some pair's mismatch exceeds kStaticMismatchThreshold or some pair
+// separates (N = 0 over part of the cycle: its mean normal force then exceeds the frozen one, and
+// the mean approach shifts). Stuck, closed cycles give f̄ = f0 to round-off (f is linear about
+// f0 and u has no mean beyond u0); a cycle that slips symmetrically about f0 is not flagged
+// either, and rightly: its harmonic-0 balance holds. With static: coupled nothing is checked.
+inline constexpr double kStaticMismatchThreshold = 1e-2;  // 1 % of the pair's force scale
+
 struct PairResponse {
   Eigen::MatrixXcd displacement_local;  // m x nh, u = R (x_A − x_B)
   Eigen::MatrixXcd force_local;         // m x nh, force on B in the pair frame
   Eigen::MatrixXcd force_global;        // k x nh, force on B in global axes (+Rᵀ f)
   CycleStatistics cycle;
   AftSamples history;  // filled for the requested pairs only (u, f: m x N over one period)
+  // static: uncoupled only (else empty / 0): the cycle-mean local force f̄ (m) and the mismatch
+  // against the frozen f0 (see kStaticMismatchThreshold).
+  Eigen::VectorXd cycle_mean_force;
+  double static_mismatch = 0.0;
 };
 
 struct FrequencyPoint {
@@ -45,10 +60,16 @@ struct FrequencyPoint {
   bool converged = false;
   int iterations = 0;
   double residual_norm = 0.0;
+  double residual_scale = 1.0;  // Newton's scale at this Ω (residual_scale_at), m
   std::string message;
   Eigen::VectorXd unknowns;  // the solution vector (layout of harmonic_balance.h)
   Eigen::MatrixXcd master;   // ndof x nh master-DOF harmonics
   std::vector<PairResponse> pairs;
+  // static: uncoupled: the largest pair mismatch, its pair (−1: none) and whether the frozen
+  // static state is flagged as wrong at this point (mismatch above the threshold or separation).
+  double static_mismatch = 0.0;
+  int static_worst_pair = -1;
+  bool static_warning = false;
 };
 
 enum class ContinuationMethod { kSteppedSweep, kArcLength };

@@ -321,13 +321,14 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
     }
   }
 
-  // Quasi-static linear response scale.
+  // Quasi-static linear response scale (see residual_scale()).
   double scale = 0.0;
   for (const auto& [k, q] : modal_load_) {
     const Eigen::VectorXcd h = modal_receptance(0, 0.0).cast<Complex>();
     scale += (Psi_.cast<Complex>() * h.cwiseProduct(q)).norm();
   }
   solve_static();
+  const double floor = displacement_floor();
   for (size_t p = 0; p < pairs_.size(); ++p) {
     pair_offset_.push_back(
         unknown_harmonics().has_static()
@@ -339,8 +340,48 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
       options_.linear_solver == HbmLinearSolver::kStructured ||
       (options_.linear_solver == HbmLinearSolver::kAuto && size() >= kStructuredSolverThreshold);
   build_stuck_tangent();
-  residual_scale_ =
-      options_.residual_scale > 0 ? options_.residual_scale : (scale > 0 ? scale : 1.0);
+  residual_scale_ = options_.residual_scale > 0 ? options_.residual_scale
+                    : std::max(scale, floor) > 0 ? std::max(scale, floor)
+                                                 : 1.0;
+}
+
+double HarmonicBalanceSystem::displacement_floor() const {
+  // Force scale: the excitation's nodal forces (all harmonics) and the static contact forces.
+  double force = f0_.norm();
+  for (const auto& [k, load] : excitation_.harmonics) force += load.norm();
+  // Stiffness scale: the largest element tangent at the static state (a harmonic-0 AFT of the
+  // constant signal u0 gives it) plus the structure's stiffness at the contacts, 1/||G_0||.
+  const Aft tangent_aft(FourierBasis(HarmonicSet({0}), 2));
+  double stiffness = 0.0;
+  Eigen::VectorXd fp;
+  Eigen::MatrixXd jp;
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+    tangent_aft.evaluate(*pairs_[p].element, u0_.segment(r, m), Eigen::VectorXd(), fp, &jp);
+    if (jp.allFinite()) stiffness = std::max(stiffness, jp.norm());
+  }
+  const double compliance = receptance(0, 0.0).real().norm();
+  if (compliance > 0) stiffness += 1.0 / compliance;
+  return stiffness > 0 && std::isfinite(force) ? force / stiffness : 0.0;
+}
+
+double HarmonicBalanceSystem::residual_scale_at(double omega) const {
+  if (options_.residual_scale > 0) return options_.residual_scale;
+  // The dynamic linear response at this Ω: the operator's u_lin (cached for the Newton
+  // iterations at Ω that follow), its coefficients of the harmonics >= 1.
+  const std::shared_ptr<const CondensedOperator> op = condensed_operator(omega, false);
+  const HarmonicSet& set = unknown_harmonics();
+  double dynamic2 = 0.0;
+  for (int pos = 0; pos < set.size(); ++pos) {
+    if (set.harmonics()[pos] == 0) continue;
+    const int o = set.offset(pos);
+    for (int r = 0; r < rows_; ++r) {
+      dynamic2 += op->ulin[r * nc_ + o] * op->ulin[r * nc_ + o] +
+                  op->ulin[r * nc_ + o + 1] * op->ulin[r * nc_ + o + 1];
+    }
+  }
+  const double dynamic = std::sqrt(dynamic2);
+  return std::isfinite(dynamic) ? std::max(residual_scale_, dynamic) : residual_scale_;
 }
 
 Eigen::VectorXcd HarmonicBalanceSystem::modal_receptance(int k, double omega) const {

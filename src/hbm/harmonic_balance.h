@@ -154,9 +154,23 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   int size() const override { return rows_ * nc_; }
   void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
                 Eigen::VectorXd* dR_domega) const override;
-  // options.residual_scale if set, else the 2-norm of the quasi-static linear contact response
-  // Σ_k ||B Φ diag(1/ω²) Φᵀ F_k|| plus ||u0|| (1 if both vanish).
+  // Newton's convergence scale (m): ||R|| <= tolerance · residual_scale_at(Ω). options.
+  // residual_scale if set, else the largest of three displacement scales of the contact rows:
+  //   s_qs   = Σ_k ||B K⁺ F_k|| + ||u0||  the quasi-static linear response to every excitation
+  //            harmonic (K⁺ = Φ diag(1/ω²) Φᵀ over the elastic modes) plus the static state;
+  //   s_dyn  = ||u_lin(Ω)||               the dynamic linear response at Ω (its coefficients of
+  //            the harmonics >= 1: the excitation through the receptance D_k(Ω)⁻¹);
+  //   s_abs  = (Σ_k ||F_k|| + ||f0||) / (max_p ||K_p|| + 1/||G_0||)  an absolute floor: the force
+  //            scale (excitation and static contact forces) over the stiffness scale (the
+  //            largest element tangent K_p at the static state, plus the structure's at the
+  //            contacts, G_0 = B K⁺ Bᵀ; Frobenius norms).
+  // s_qs alone is 0 when the static load does not load the joints (a damper or a chain element
+  // between two masses with the force on one of them): then the test compared round-off with
+  // round-off and never converged. s_abs > 0 whenever there is a force; 1 if all three vanish
+  // (no excitation, no preload: the solution is 0).
+  // residual_scale() = max(s_qs, s_abs) (Ω-independent; arc-length's augmented equation).
   double residual_scale() const override { return residual_scale_; }
+  double residual_scale_at(double omega) const override;
   // Structured solve (see HbmLinearSolver): GMRES to 1e-10 relative.
   bool has_structured_jacobian() const override { return structured_; }
   bool solve_jacobian(const Eigen::VectorXd& x, double omega, const Eigen::VectorXd& rhs,
@@ -245,6 +259,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   void state_space_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
 
   void solve_static();
+  double displacement_floor() const;  // s_abs (see residual_scale_at)
 
   LinearModel model_;
   std::vector<ContactPair> pairs_;

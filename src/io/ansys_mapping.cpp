@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <istream>
 #include <ostream>
 #include <string_view>
@@ -31,6 +32,13 @@ bool to_int(const std::string& s, int* v) {
   return ec == std::errc() && p == e && !s.empty();
 }
 
+// A label that reads like a misspelt nodal DOF ("UQ", "ROTW", "U"), not a generalised coordinate:
+// U or ROT followed by at most one character.
+bool looks_nodal(const std::string& label) {
+  const std::string u = upper(label);
+  return (u.rfind("U", 0) == 0 && u.size() <= 2) || (u.rfind("ROT", 0) == 0 && u.size() <= 4);
+}
+
 // Relative asymmetry allowed in an RUA matrix read as a symmetric body matrix: ASCII exports of
 // symmetric matrices are symmetric to the digits written.
 constexpr double kImportSymmetryTolerance = 1e-10;
@@ -54,6 +62,7 @@ AnsysDofKind classify_ansys_label(const std::string& label, int* direction) {
 AnsysMapping read_ansys_mapping(std::istream& in, const std::string& name) {
   std::vector<AnsysMappingEntry> rows;
   std::vector<int> row_line;
+  std::map<std::pair<int, int>, int> nodal_line;  // (node, UX..UZ = 0..2, ROTX..ROTZ = 3..5) -> line
   std::string line;
   int line_no = 0;
   bool first = true;
@@ -85,6 +94,23 @@ AnsysMapping read_ansys_mapping(std::istream& in, const std::string& name) {
     }
     if (node < 0) {
       throw InvalidInput({name, line_no, "node"}, "node number must not be negative, got " + t[1]);
+    }
+    int direction = -1;
+    const AnsysDofKind kind = classify_ansys_label(t[2], &direction);
+    if (kind == AnsysDofKind::kGeneralized && looks_nodal(t[2])) {
+      throw InvalidInput({name, line_no, "DOF"},
+                         "'" + t[2] + "' is not a DOF label: nodal labels are UX, UY, UZ, ROTX, "
+                                      "ROTY, ROTZ (any other label is a generalised coordinate, "
+                                      "e.g. GEN)");
+    }
+    if (kind != AnsysDofKind::kGeneralized) {
+      const int slot = (kind == AnsysDofKind::kRotation ? 3 : 0) + direction;
+      const auto [it, inserted] = nodal_line.emplace(std::pair{node, slot}, line_no);
+      if (!inserted) {
+        throw InvalidInput({name, line_no, "DOF"},
+                           "node " + t[1] + " " + upper(t[2]) + " is mapped twice (also on line " +
+                               std::to_string(it->second) + ")");
+      }
     }
     rows.push_back({equation, node, t[2], line_no});
     row_line.push_back(line_no);

@@ -37,7 +37,9 @@ enum class AnsysDofKind { kTranslation, kRotation, kGeneralized };
 // kTranslation: *direction = 0, 1, 2 for UX, UY, UZ. Labels are case-insensitive.
 AnsysDofKind classify_ansys_label(const std::string& label, int* direction);
 
-// Equation numbers must be exactly 1..n, each once (rows may come in any order).
+// Equation numbers must be exactly 1..n, each once (rows may come in any order); a nodal DOF
+// (node, UX..ROTZ) at most once; a label of U or ROT plus at most one character that is not one of
+// the six nodal labels ("UQ") is refused as a misspelt nodal DOF. Errors name the file and line.
 AnsysMapping read_ansys_mapping(const std::string& path);
 AnsysMapping read_ansys_mapping(std::istream& in, const std::string& name);
 void write_ansys_mapping(const std::string& path, const AnsysMapping& mapping);

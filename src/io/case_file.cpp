@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "core/printable.h"
 #include "io/ansys_mapping.h"
 
 namespace stickslip {
@@ -41,8 +42,20 @@ constexpr double kPi = 3.14159265358979323846;
 // ---------------------------------------------------------------------------------------------
 // Value rules shared by the parser and with_parameter(), by the last key of the path.
 // Returns an empty string when `value` is allowed.
+// Every number of a case (and of its preload file) is 0 or of magnitude in [1e-30, 1e30]
+// (kMinNumberMagnitude, kMaxNumberMagnitude, case_file.h). Empty string when `value` is.
+std::string magnitude_rule_violation(double value) {
+  const double a = std::abs(value);
+  if (a == 0.0 || (a >= kMinNumberMagnitude && a <= kMaxNumberMagnitude)) return {};
+  return fmt::format("{} is out of range: numbers of a case are 0 or of magnitude between {:g} "
+                     "and {:g} (SI units; a product or a square of such numbers must stay a "
+                     "finite double)",
+                     value, kMinNumberMagnitude, kMaxNumberMagnitude);
+}
+
 std::string numeric_rule_violation(const std::string& key, double value) {
   if (!std::isfinite(value)) return "must be a finite number";
+  if (std::string range = magnitude_rule_violation(value); !range.empty()) return range;
   if (key == "youngs_modulus" || key == "density" || key == "kt" || key == "kn" || key == "k") {
     if (!(value > 0)) return "must be > 0";
   } else if (key == "poisson_ratio") {
@@ -183,6 +196,8 @@ class Parser {
     check(YAML::convert<double>::decode(node, v), path, at,
           "expected a number, got '" + node.Scalar() + "'");
     check(std::isfinite(v), path, at, "must be a finite number");
+    const std::string range = magnitude_rule_violation(v);
+    check(range.empty(), path, at, range);
     return v;
   }
   double checked_number(const YAML::Node& node, const std::string& path, const std::string& key,
@@ -487,11 +502,12 @@ auto with_key(const std::string& key, F&& f) {
   }
 }
 
-// Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'.
+// Names appear in dotted paths (contacts.joint.per_pair.kt): no '.', '[', ']'; and in file and
+// folder names of the results (recovery/<body>/, loads_p<N>_<body>.mac): no '/'.
 void check_name(const Parser& p, const std::string& name, const std::string& path, int line) {
   p.check(!name.empty(), path, line, "empty name");
-  p.check(name.find_first_of(".[]") == std::string::npos, path, line,
-          "names may not contain '.', '[' or ']', got '" + name + "'");
+  p.check(name.find_first_of(".[]/") == std::string::npos, path, line,
+          "names may not contain '.', '[', ']' or '/', got '" + name + "'");
 }
 
 // Iterates the entries of a map whose keys are user-chosen names.
@@ -813,6 +829,9 @@ void parse_contacts(Parser& p, const MapView& top) {
           }
           p.check(ids[0] > 0 && (ids[1] > 0 || (d.body_b == "ground" && ids[1] == 0)), ppath, at,
                   "node ids must be positive");
+          p.check(d.body_a != d.body_b || ids[0] != ids[1], ppath, at,
+                  "the pair joins node " + std::to_string(ids[0]) + " of body " + d.body_a +
+                      " to itself");
           p.record(ppath + "[" + std::to_string(d.pairs.size()) + "]", at);
           d.pairs.push_back(ids);
         }
@@ -825,6 +844,11 @@ void parse_contacts(Parser& p, const MapView& top) {
         for (size_t k = 0; k < lines.size(); ++k) {
           const std::string key = m.full("pairs") + "[" + std::to_string(k) + "]";
           p.out().locations[key] = {d.pairs_file, lines[k], key};
+          if (d.body_a == d.body_b && d.pairs[k][0] == d.pairs[k][1]) {
+            throw InvalidInput(p.out().locations[key], "the pair joins node " +
+                                                           std::to_string(d.pairs[k][0]) +
+                                                           " of body " + d.body_a + " to itself");
+          }
         }
       }
     }
@@ -1173,6 +1197,8 @@ void parse_recovery(Parser& p, const MapView& top) {
     for (const YAML::Node& n : v) {
       const int id = p.integer(n, m.full("nodes"), m.line("nodes"));
       p.check(id > 0, m.full("nodes"), m.line("nodes"), "node ids are positive");
+      p.record(m.full("nodes") + "[" + std::to_string(r.nodes.size()) + "]",
+               Parser::here(n, m.line("nodes")));
       r.nodes.push_back(id);
     }
   }
@@ -1222,6 +1248,7 @@ void parse_output(Parser& p, const MapView& top) {
     for (size_t i = 0; i < v.size(); ++i) {
       MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]",
                 line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), {"body", "node", "direction"});
+      p.record(d.path(), d.line());
       ResponseDofDefinition r;
       for (const char* key : {"body", "node", "direction"}) d.require(key);
       d.text("body", &r.body);
@@ -1248,6 +1275,13 @@ void cross_check(Parser& p) {
                 " is not solved: analysis.harmonics has 1.." +
                 std::to_string(c.analysis.max_harmonic()) + " (use 0 for a static force)");
   }
+  if (!c.recovery.nodes.empty()) {
+    const bool any_mesh_body = std::any_of(c.bodies.begin(), c.bodies.end(), [](const auto& b) {
+      return b.second.source == BodyDefinition::Source::kMesh;
+    });
+    p.check(any_mesh_body, "recovery.nodes", c.where("recovery.nodes").line,
+            "no body is given by a mesh: there is nothing to recover at these nodes");
+  }
 }
 
 void parse_study(Parser& p, const MapView& top) {
@@ -1260,13 +1294,109 @@ void parse_study(Parser& p, const MapView& top) {
   const YAML::Node& v = m.value("values");
   p.sequence(v, m.full("values"), m.line("values"));
   p.check(v.size() > 0, m.full("values"), m.line("values"), "expected at least one value");
-  for (const YAML::Node& x : v) s.values.push_back(p.number(x, m.full("values"), m.line("values")));
-  // Each value must be accepted by the key it sets.
+  std::vector<int> lines;
+  for (const YAML::Node& x : v) {
+    lines.push_back(Parser::here(x, m.line("values")));
+    s.values.push_back(p.number(x, m.full("values"), lines.back()));
+  }
   // The path must name a numeric key; each value must be accepted by that key.
   with_parameter(p.out(), s.parameter, s.values.front(),
                  {p.file(), m.line("parameter"), "study.parameter"});
-  for (double x : s.values)
-    with_parameter(p.out(), s.parameter, x, {p.file(), m.line("values"), "study.values"});
+  for (size_t i = 0; i < s.values.size(); ++i)
+    with_parameter(p.out(), s.parameter, s.values[i], {p.file(), lines[i], "study.values"});
+  // Each value has a folder of its own: a value twice, or two values with the same folder name,
+  // would write the second analysis over the first.
+  std::map<double, size_t> seen;  // -0 and 0 are the same key
+  std::map<std::string, size_t> folders;
+  for (size_t i = 0; i < s.values.size(); ++i) {
+    const auto [same, fresh] = seen.emplace(s.values[i], i);
+    p.check(fresh, m.full("values"), lines[i],
+            fmt::format("the value {} is listed twice (first on line {})",
+                        format_number(s.values[i]), lines[same->second]));
+    const std::string folder = study_folder_name(s.parameter, s.values[i]);
+    const auto [it, inserted] = folders.emplace(folder, i);
+    if (inserted) continue;
+    const double first = s.values[it->second];
+    p.fail(m.full("values"), lines[i],
+           fmt::format("values {} and {} (line {}) would both write to the folder {}/ "
+                       "(folder names keep 6 significant digits): make them differ within 6 "
+                       "digits",
+                       format_number(s.values[i]), format_number(first), lines[it->second],
+                       folder));
+  }
+}
+
+std::string case_file_size_message(std::uintmax_t bytes) {
+  return fmt::format("the case file has {} bytes; a case file may have at most {} bytes ({} MiB): "
+                     "long lists of pairs or preloads belong in pairs_file and preload_file",
+                     bytes, kMaxCaseFileBytes, kMaxCaseFileBytes >> 20);
+}
+
+// yaml-cpp (0.7) ends a quoted scalar without its closing quote at the end of the file instead of
+// reporting it: `title: "abc` swallowed the rest of the file and the error was a missing key at
+// line 1. So every quoted scalar (tag "!") of the tree is checked against the text: from its
+// opening quote, the closing one must come before the end (\" escapes in double quotes, '' in
+// single quotes).
+void check_quotes(const YAML::Node& node, const std::string& text,
+                  const std::vector<size_t>& line_starts, const std::string& file) {
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      check_quotes(it->first, text, line_starts, file);
+      check_quotes(it->second, text, line_starts, file);
+    }
+    return;
+  }
+  if (node.IsSequence()) {
+    for (const YAML::Node& item : node) check_quotes(item, text, line_starts, file);
+    return;
+  }
+  if (!node.IsScalar() || node.Tag() != "!") return;
+  const YAML::Mark mark = node.Mark();
+  if (mark.is_null() || mark.line < 0 || static_cast<size_t>(mark.line) >= line_starts.size())
+    return;
+  size_t i = line_starts[static_cast<size_t>(mark.line)] + static_cast<size_t>(mark.column);
+  if (i >= text.size() || (text[i] != '"' && text[i] != '\'')) return;  // a block scalar
+  const char quote = text[i];
+  for (++i; i < text.size(); ++i) {
+    if (quote == '"' && text[i] == '\\') {
+      ++i;
+    } else if (text[i] == quote) {
+      if (quote == '\'' && i + 1 < text.size() && text[i + 1] == '\'') {
+        ++i;
+      } else {
+        return;
+      }
+    }
+  }
+  throw InvalidInput(SourceLocation{file, mark.line + 1, ""},
+                     fmt::format("the string quoted with {} at column {} is not closed: it runs "
+                                 "to the end of the file",
+                                 quote, mark.column + 1));
+}
+
+// A case file is UTF-8 text (an optional UTF-8 byte-order mark is allowed). yaml-cpp would take
+// other bytes into names and titles unchecked, and they would reach file names, plots and logs.
+void check_encoding(const std::string& text, const std::string& file) {
+  const auto starts = [&](std::string_view bom) {
+    return std::string_view(text).substr(0, bom.size()) == bom;
+  };
+  if (starts(std::string_view("\0\0\xFE\xFF", 4)) || starts(std::string_view("\xFF\xFE", 2)) ||
+      starts(std::string_view("\xFE\xFF", 2))) {
+    throw InvalidInput(SourceLocation{file, 1, ""},
+                       "the case file is UTF-16 or UTF-32 (it starts with that byte-order mark): "
+                       "save it as UTF-8");
+  }
+  const size_t bad = first_invalid_utf8(text);
+  if (bad == std::string::npos) return;
+  const size_t newline = bad == 0 ? std::string::npos : text.rfind('\n', bad - 1);
+  const size_t line_start = newline == std::string::npos ? 0 : newline + 1;
+  const int line = 1 + static_cast<int>(std::count(
+                           text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n'));
+  const size_t column = bad - line_start + 1;
+  throw InvalidInput(SourceLocation{file, line, ""},
+                     fmt::format("byte {} (column {}) is not UTF-8 text: a case file must be "
+                                 "UTF-8 (save it as UTF-8 in the editor)",
+                                 printable(std::string_view(text).substr(bad, 1)), column));
 }
 
 CaseDefinition parse_case_unguarded(const std::string& yaml_text,
@@ -1275,6 +1405,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   CaseDefinition out;
   out.file = name_for_messages;
   out.base_dir = base_dir;
+  check_encoding(yaml_text, name_for_messages);
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -1282,6 +1413,11 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
     throw InvalidInput(SourceLocation{name_for_messages, e.mark.line + 1, ""},
                        "YAML syntax error: " + e.msg);
   }
+  std::vector<size_t> line_starts{0};
+  for (size_t i = 0; i < yaml_text.size(); ++i) {
+    if (yaml_text[i] == '\n') line_starts.push_back(i + 1);
+  }
+  check_quotes(root, yaml_text, line_starts, name_for_messages);
   Parser p(name_for_messages, base_dir, out);
   if (!root.IsDefined() || root.IsNull())
     throw InvalidInput(SourceLocation{name_for_messages, 0, ""}, "the case file is empty");
@@ -1318,6 +1454,10 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
 
 CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_for_messages,
                           const std::string& base_dir) {
+  if (yaml_text.size() > kMaxCaseFileBytes) {
+    throw InvalidInput(SourceLocation{name_for_messages, 0, ""},
+                       case_file_size_message(yaml_text.size()));
+  }
   try {
     return parse_case_unguarded(yaml_text, name_for_messages, base_dir);
   } catch (const YAML::Exception& e) {
@@ -1328,9 +1468,20 @@ CaseDefinition parse_case(const std::string& yaml_text, const std::string& name_
   }
 }
 
+std::string study_folder_name(const std::string& parameter, double value) {
+  const std::string name = parameter.substr(parameter.rfind('.') + 1);
+  return fmt::format("{}_{:g}", name, value);
+}
+
 CaseDefinition read_case_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput(SourceLocation{path, 0, ""}, "cannot open the case file");
+  // The size first: the YAML tree takes several times the file's bytes (a 1 GB list took 5.8 GB).
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (!ec && bytes > kMaxCaseFileBytes) {
+    throw InvalidInput(SourceLocation{path, 0, ""}, case_file_size_message(bytes));
+  }
   std::stringstream text;
   text << in.rdbuf();
   std::string base = fs::path(path).parent_path().string();
@@ -1378,6 +1529,8 @@ std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
       throw InvalidInput(
           SourceLocation{path, r.line, ""},
           "field 2: the preload must be a number >= 0 (N), got '" + r.fields[1] + "'");
+    if (const std::string range = magnitude_rule_violation(preload); !range.empty())
+      throw InvalidInput(SourceLocation{path, r.line, ""}, "field 2: " + range);
     if (!seen.insert(node).second)
       throw InvalidInput(SourceLocation{path, r.line, ""},
                          "node " + std::to_string(node) + " listed twice");

@@ -27,6 +27,7 @@
 
 #include <array>
 #include <complex>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -54,6 +55,17 @@ inline constexpr int kMaxFrequencyPoints = 1000000;
 inline constexpr int kMaxRecoveryModes = 10000;
 // Elements of one generated beam (box plus end block).
 inline constexpr long long kMaxGeneratedElements = 1000000;
+// Every number of a case file and of its preload_file is 0 or has a magnitude in [1e-30, 1e30].
+// Far beyond any physical value in SI units (E = 2e11 Pa, kn = 5.6e9 N/m, k3 = 1e20 N/m³ are
+// inside), and small enough that products and squares of a few of them (norms of the loads, the
+// mass matrix's Cholesky factor, ω² M) stay finite doubles: a preload of 1e300 N had made the
+// residual scale infinite, a density of 1e300 the mass matrix "not positive definite".
+inline constexpr double kMaxNumberMagnitude = 1e30;
+inline constexpr double kMinNumberMagnitude = 1e-30;
+// Size of a case file, bytes. yaml-cpp builds the whole tree in memory, several times the size of
+// the text (a 1 GB list took 5.8 GB); a large case (10⁴ listed pairs) is well under 1 MB, and long
+// lists belong in pairs_file / preload_file (read line by line).
+inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 // bodies.<name>.modes: at most kMaxReducedBodyDofs (io/ansys_mapping.h), the size of the largest
 // reduced body.
 
@@ -281,6 +293,11 @@ std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
 // Throws InvalidInput (at `where`) for an unknown path or a value that breaks the key's rule.
 CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,
                               double value, const SourceLocation& where = {});
+
+// The folder of one study value under the output folder: the parameter's last key and the value
+// with 6 significant digits ("preload_150", "youngs_modulus_2e+11"). The parser refuses a study
+// whose values do not all have folders of their own.
+std::string study_folder_name(const std::string& parameter, double value);
 
 // The definition as canonical YAML with every default filled in (for summary.json and logs).
 std::string describe_case(const CaseDefinition& definition);

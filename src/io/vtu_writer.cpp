@@ -1,11 +1,15 @@
 #include "io/vtu_writer.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <ostream>
 #include <set>
+#include <vector>
+
+#include <zlib.h>
 
 #include "core/errors.h"
 #include "io/atomic_file.h"
@@ -71,9 +75,51 @@ const char* vtk_type_name() {
   if constexpr (std::is_same_v<T, std::uint8_t>) return "UInt8";
 }
 
+// Bytes per zlib block of a compressed array (VTK's own default) and the compression level:
+// level 1 compresses a field of doubles nearly as well as the default level 6 (rounding noise in
+// the low bits does not compress at any level) at several times its speed.
+constexpr std::size_t kZlibBlockBytes = 1 << 15;
+constexpr int kZlibLevel = 1;
+
+template <typename T>
+void append_bytes(std::vector<unsigned char>& to, const T& value) {
+  const auto* p = reinterpret_cast<const unsigned char*>(&value);
+  to.insert(to.end(), p, p + sizeof(T));
+}
+
+// VTK's compressed layout of one array: UInt64 header [number of blocks, uncompressed block
+// size, uncompressed size of the last block (0: a full block), compressed size of each block],
+// then the blocks, each compressed by zlib on its own.
+void append_compressed(std::vector<unsigned char>& to, const unsigned char* data,
+                       std::size_t size) {
+  const std::uint64_t blocks = (size + kZlibBlockBytes - 1) / kZlibBlockBytes;
+  const std::uint64_t last = size % kZlibBlockBytes;
+  std::vector<std::uint64_t> sizes;
+  std::vector<unsigned char> compressed;
+  for (std::uint64_t b = 0; b < blocks; ++b) {
+    const std::size_t n = std::min(kZlibBlockBytes, size - b * kZlibBlockBytes);
+    uLongf bound = compressBound(static_cast<uLong>(n));
+    const std::size_t at = compressed.size();
+    compressed.resize(at + bound);
+    const int rc = compress2(compressed.data() + at, &bound, data + b * kZlibBlockBytes,
+                             static_cast<uLong>(n), kZlibLevel);
+    STICKSLIP_VERIFY(rc == Z_OK, "zlib compress2 failed");
+    compressed.resize(at + bound);
+    sizes.push_back(bound);
+  }
+  append_bytes(to, blocks);
+  append_bytes(to, static_cast<std::uint64_t>(kZlibBlockBytes));
+  append_bytes(to, last);
+  for (std::uint64_t c : sizes) append_bytes(to, c);
+  to.insert(to.end(), compressed.begin(), compressed.end());
+}
+
 class ArrayWriter {
  public:
   ArrayWriter(std::ostream& out, VtuEncoding encoding) : out_(out), encoding_(encoding) {}
+
+  // The appended section of kZlibAppended (after the XML; offsets count from its first byte).
+  const std::vector<unsigned char>& appended() const { return appended_; }
 
   template <typename T>
   void write(const std::string& name, int components, const std::vector<T>& values,
@@ -81,6 +127,12 @@ class ArrayWriter {
     out_ << indent << "<DataArray type=\"" << vtk_type_name<T>() << "\"";
     if (!name.empty()) out_ << " Name=\"" << xml_escape(name) << "\"";
     if (components != 1) out_ << " NumberOfComponents=\"" << components << "\"";
+    if (encoding_ == VtuEncoding::kZlibAppended) {
+      out_ << " format=\"appended\" offset=\"" << appended_.size() << "\"/>\n";
+      append_compressed(appended_, reinterpret_cast<const unsigned char*>(values.data()),
+                        values.size() * sizeof(T));
+      return;
+    }
     out_ << " format=\"" << (encoding_ == VtuEncoding::kAscii ? "ascii" : "binary") << "\">\n"
          << indent << "  ";
     if (encoding_ == VtuEncoding::kAscii) {
@@ -105,6 +157,7 @@ class ArrayWriter {
  private:
   std::ostream& out_;
   VtuEncoding encoding_;
+  std::vector<unsigned char> appended_;
 };
 
 void check_fields(const std::vector<VtuField>& fields, int count, const char* kind,
@@ -166,7 +219,9 @@ void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
     out << "<?xml version=\"1.0\"?>\n"
         << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\""
         << (std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian")
-        << "\" header_type=\"UInt64\">\n"
+        << "\" header_type=\"UInt64\""
+        << (encoding == VtuEncoding::kZlibAppended ? " compressor=\"vtkZLibDataCompressor\"" : "")
+        << ">\n"
         << "  <UnstructuredGrid>\n";
     if (!data.field_data.empty()) {
       out << "    <FieldData>\n";
@@ -205,7 +260,43 @@ void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
     for (ElementType t : mesh.element_types)
       types.push_back(static_cast<std::uint8_t>(vtk_cell_type(t)));
     arrays.write("types", 1, types, in);
-    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+    out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
+    if (encoding == VtuEncoding::kZlibAppended) {
+      out << "  <AppendedData encoding=\"raw\">\n   _";
+      const std::vector<unsigned char>& bytes = arrays.appended();
+      out.write(reinterpret_cast<const char*>(bytes.data()),
+                static_cast<std::streamsize>(bytes.size()));
+      out << "\n  </AppendedData>\n";
+    }
+    out << "</VTKFile>\n";
+  });
+}
+
+void write_vtm(const std::string& path, const std::vector<VtmBlock>& blocks) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\">\n"
+        << "  <vtkMultiBlockDataSet>\n";
+    for (size_t i = 0; i < blocks.size(); ++i) {
+      out << "    <DataSet index=\"" << i << "\" name=\"" << xml_escape(blocks[i].name)
+          << "\" file=\"" << xml_escape(blocks[i].file) << "\"/>\n";
+    }
+    out << "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
+  });
+}
+
+void write_pvd(const std::string& path, const std::vector<PvdEntry>& entries) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"Collection\" version=\"0.1\">\n"
+        << "  <Collection>\n";
+    for (const PvdEntry& e : entries) {
+      out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part
+          << "\" name=\"" << xml_escape(e.name) << "\" file=\"" << xml_escape(e.file)
+          << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
   });
 }
 

@@ -4,6 +4,8 @@
 
 #include "cli_test_support.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <cstdlib>
@@ -19,6 +21,8 @@ namespace {
 using namespace stickslip::cli_test;
 
 const fs::path kExamples = fs::path(STICKSLIP_TEST_DATA_DIR) / ".." / ".." / "examples";
+
+fs::path ex03_case_path(const fs::path& copy) { return copy / "03_imported_hbmat" / "case.yaml"; }
 
 std::complex<double> value(const std::map<std::string, std::string>& r) {
   return {std::stod(r.at("real")), std::stod(r.at("imag"))};
@@ -99,6 +103,71 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
   EXPECT_GT(compared, 1000);
   // The matrices went through text with 16 significant digits: agreement to well below 1e-6.
   EXPECT_LT(diff, 1e-6 * scale);
+  // The thesis's route: the loads of each matrix body as an APDL macro on its mapping's node
+  // numbers, for the points asked. Reference: contact_forces.csv (global frame; A = beam1 receives
+  // the negative of the force on B) plus the 50 N excitation of node 11 along z, harmonic 1.
+  EXPECT_EQ(run("export -q " + ex03_case_path(ex03).string() + " --point 0,2 --format apdl",
+                ex03 / "export.log"),
+            0)
+      << slurp(ex03 / "export.log");
+  const fs::path results03 = ex03 / "03_imported_hbmat" / "results";
+  for (int point : {0, 2}) {
+    std::map<int, std::array<std::complex<double>, 3>> expected;  // beam1 node -> (x, y, z)
+    expected[11][2] += 50.0;
+    for (const auto& r : read_csv(results03 / "contact_forces.csv")) {
+      if (std::stoi(r.at("point")) != point || r.at("frame") != "global" ||
+          r.at("harmonic") != "1") {
+        continue;
+      }
+      const int axis = r.at("axis") == "x" ? 0 : r.at("axis") == "y" ? 1 : 2;
+      expected[std::stoi(r.at("node_a"))][axis] -= value(r);
+    }
+    // F,node,FX|FY|FZ,Re,Im lines after HARFRQ (the harmonic-1 load step).
+    std::ifstream mac(results03 / ("loads_p" + std::to_string(point) + "_beam1.mac"));
+    ASSERT_TRUE(mac) << point;
+    std::string line;
+    bool harmonic = false;
+    int compared_forces = 0;
+    double scale = 0, diff = 0;
+    while (std::getline(mac, line)) {
+      if (line.rfind("HARFRQ,", 0) == 0) harmonic = true;
+      if (!harmonic || line.rfind("F,", 0) != 0) continue;
+      std::stringstream ss(line.substr(2));
+      std::string node, label, re, im;
+      std::getline(ss, node, ','), std::getline(ss, label, ','), std::getline(ss, re, ',');
+      std::getline(ss, im, ',');
+      const int axis = label[1] - 'X';
+      const auto it = expected.find(std::stoi(node));
+      ASSERT_NE(it, expected.end()) << line;
+      const std::complex<double> want = it->second[axis];
+      scale = std::max(scale, std::abs(want));
+      diff = std::max(diff, std::abs(want - std::complex<double>(std::stod(re), std::stod(im))));
+      ++compared_forces;
+    }
+    // Every node with a load has its three F commands (a separated pair's node may have none).
+    const auto loaded = std::count_if(expected.begin(), expected.end(), [](const auto& e) {
+      return std::abs(e.second[0]) + std::abs(e.second[1]) + std::abs(e.second[2]) > 0;
+    });
+    EXPECT_EQ(compared_forces, 3 * loaded) << point;
+    // Shortest round-trip decimals on both sides: equal to the last bit but for the sums.
+    EXPECT_LT(diff, 1e-12 * scale) << point;
+    EXPECT_TRUE(fs::exists(results03 / ("loads_p" + std::to_string(point) + "_beam2.mac")));
+  }
+  // A CalculiX deck needs a mesh: refused at the case's bodies line.
+  EXPECT_EQ(run("export -q " + ex03_case_path(ex03).string() + " --point 0 --format calculix",
+                ex03 / "export.log"),
+            2);
+  EXPECT_NE(slurp(ex03 / "export.log").find("a CalculiX deck needs the full model"),
+            std::string::npos)
+      << slurp(ex03 / "export.log");
+  // Bodies given by matrices have no full model: `recover` says so at the case's `bodies` line
+  // (it used to report "recovered 1 point(s)" and write an empty file).
+  const fs::path ex03_case = ex03 / "03_imported_hbmat" / "case.yaml";
+  EXPECT_EQ(run("recover -q " + ex03_case.string() + " --point 0", ex03 / "recover.log"), 2);
+  const std::string recover_log = slurp(ex03 / "recover.log");
+  EXPECT_NE(recover_log.find(ex03_case.string() + ":10: bodies"), std::string::npos) << recover_log;
+  EXPECT_NE(recover_log.find("recover needs a body given by a mesh"), std::string::npos)
+      << recover_log;
 }
 
 }  // namespace

@@ -102,8 +102,9 @@ TEST(RunCli, StuckJointPeaksAtTheStuckNaturalFrequencyAndFullRecoveryMatchesRedu
     EXPECT_LT(std::stod(r.at("max_relative")), 1e-2) << r.at("body");
   }
   EXPECT_TRUE(saw_h1);
-  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_p4_beam1.vtu"));
-  EXPECT_NE(slurp(dir / "out" / "recovery_p4_beam1.vtu").find("von_mises_alternating"),
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_p4.vtm"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery.pvd"));
+  EXPECT_NE(slurp(dir / "out" / "recovery" / "beam1" / "p4.vtu").find("von_mises_alternating"),
             std::string::npos);
   EXPECT_NE(slurp(dir / "out" / "summary.json").find("\"converged_points\": 9"), std::string::npos);
 }
@@ -149,8 +150,9 @@ TEST(RunCli, RecoveringEveryPointChecksEachAndWritesTheEnvelopeOverTheSweep) {
     }
   }
   EXPECT_EQ(rows, 9 * 2 * 2);  // points x bodies x harmonics (0 and 1)
-  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_envelope_beam1.vtu"));
-  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_envelope_beam2.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery" / "beam1" / "envelope.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery" / "beam2" / "envelope.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "recovery_envelope.vtm"));
 }
 
 TEST(RunCli, BadCaseStopsWithFileLineAndRule) {

@@ -157,13 +157,14 @@ TEST_F(StagesCli, SolveWritesRunsFilesAndRecoverFromThemEqualsRunsRecovery) {
       EXPECT_LT(v, 1e-2) << k;
     }
   }
-  for (const char* f : {"recovery_p", "recovery_envelope"}) {
+  for (const char* f : {"p", "envelope"}) {
     bool found = false;
-    for (const auto& e : fs::directory_iterator(b)) {
+    for (const auto& e : fs::directory_iterator(b / "recovery" / "beam1")) {
       found |= e.path().filename().string().rfind(f, 0) == 0;
     }
-    EXPECT_EQ(found, std::string(f) == "recovery_p") << f;  // one point: no envelope
+    EXPECT_EQ(found, std::string(f) == "p") << f;  // one point: no envelope
   }
+  EXPECT_FALSE(fs::exists(b / "recovery_envelope.vtm"));
 }
 
 TEST_F(StagesCli, SolveReusesFreshReducedMatricesAndMatchesRun) {
@@ -288,7 +289,8 @@ TEST_F(StagesCli, RecoverOnePointAndExportItsDecksAsRunWritesThem) {
       run("recover -q " + case_.string() + " -o " + dir.string() + " --point 2", dir / "log.txt"),
       0)
       << slurp(dir / "log.txt");
-  EXPECT_TRUE(fs::exists(dir / "recovery_p2_beam1.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "recovery" / "beam1" / "p2.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "recovery_p2.vtm"));
   for (const auto& r : read_csv(dir / "recovery_check.csv")) EXPECT_EQ(r.at("point"), "2");
   for (const char* format : {"apdl", "calculix"}) {
     ASSERT_EQ(
@@ -403,11 +405,70 @@ TEST(StagesCliSingle, MeshWritesTheBodiesWithTheirSetsThatReadBack) {
   }
 }
 
+// Stage files belong to a case by its contents, not by the paths it was reached through: the
+// same case given as a relative path from its folder, as an absolute path from elsewhere, and
+// after the whole project folder was moved keeps its reduced matrices and its solve files; a
+// changed mesh file still makes them stale.
+TEST(StagesCliSingle, StageFilesSurviveAnotherPathToTheCaseAndAMovedProject) {
+  const fs::path dir = fresh_dir("moved");
+  const fs::path project = dir / "project";
+  const fs::path c = write_case(project, small_case());
+  ASSERT_EQ(run("mesh -q " + c.string() + " -o " + project.string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  std::string text = small_case(
+      "  joint: {generate: two_beam, arrangement: butt, element: C3D8I, box: [10, 5, 4], "
+      "end_block: [2, 5, 2]}",
+      "  m1: {file: mesh/beam1.inp}\n  m2: {file: mesh/beam2.inp}");
+  text = replaced(text, "beam1: {mesh: joint, element_set: BEAM1,", "beam1: {mesh: m1,");
+  text = replaced(text, "beam2: {mesh: joint, element_set: BEAM2,", "beam2: {mesh: m2,");
+  std::ofstream(project / "files.yaml") << text;
+  // From the project folder, with relative paths.
+  const std::string in_project = "cd '" + project.string() + "' && " + kProgram;
+  ASSERT_EQ(shell(in_project + " reduce -q files.yaml -o out", dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  ASSERT_EQ(shell(in_project + " solve files.yaml -o out", dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("reduced matrices from"), std::string::npos)
+      << slurp(dir / "log.txt");
+  // From elsewhere, with absolute paths (was refused as "a different case").
+  EXPECT_EQ(run("recover -q " + (project / "files.yaml").string() + " -o " +
+                    (project / "out").string(),
+                dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  // The project moved: reduce's and solve's files are still the case's.
+  const fs::path moved = dir / "elsewhere" / "moved project";
+  fs::create_directories(moved.parent_path());
+  fs::rename(project, moved);
+  ASSERT_EQ(run("solve '" + (moved / "files.yaml").string() + "' -o '" + (moved / "out").string() +
+                    "'",
+                dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("reduced matrices from"), std::string::npos)
+      << slurp(dir / "log.txt");
+  EXPECT_EQ(run("recover -q '" + (moved / "files.yaml").string() + "' -o '" +
+                    (moved / "out").string() + "'",
+                dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  // A changed mesh (one more node, unused) is a different case: the solve files are refused.
+  std::ofstream(moved / "mesh" / "beam1.inp", std::ios::app) << "*NODE\n999999, 9.0, 9.0, 9.0\n";
+  EXPECT_EQ(run("recover -q '" + (moved / "files.yaml").string() + "' -o '" +
+                    (moved / "out").string() + "'",
+                dir / "log.txt"),
+            2)
+      << slurp(dir / "log.txt");
+  EXPECT_NE(slurp(dir / "log.txt").find("different case"), std::string::npos)
+      << slurp(dir / "log.txt");
+}
+
 TEST(StagesCliSingle, CaseModesAreCraigBamptonUpperBoundsOfTheFullStuckModes) {
   const fs::path dir = fresh_dir("case_modes");
   // The thesis's coarse joint; the full-model reference is `modes --coarse` (full FE assembly
   // with contact springs, sparse eigensolver), with the same kt, kn per pair.
   std::string text = small_case("box: [10, 5, 4], end_block: [2, 5, 2]", "coarse: true");
+  text = replaced(text, "nodes: [200, 550]", "nodes: [200]");  // the coarse beams have 240 nodes
   text = replaced(text, "[FORCE1], modes: 20", "[FORCE1], modes: 80");
   text = replaced(text, "[FORCE2], modes: 20", "[FORCE2], modes: 80");
   const fs::path c = write_case(dir, text);

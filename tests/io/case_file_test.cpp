@@ -850,6 +850,14 @@ TEST(CaseFileErrors, NamesCannotBreakDottedPaths) {
                  "names may not contain '.'");
 }
 
+TEST(CaseFileErrors, NamesCannotLeaveTheOutputFolder) {
+  // Body and contact names become folder and file names of the results (recovery/<body>/).
+  expect_invalid(edited("  - name: joint", "  - name: ../etc"), 10, "contacts.../etc.name",
+                 "names may not contain");
+  expect_invalid(edited("  - name: joint", "  - name: /tmp/x"), 10, "contacts./tmp/x.name",
+                 "names may not contain '.', '[', ']' or '/'");
+}
+
 TEST(CaseFileErrors, DeeplyNestedInputIsAnError) {
   // yaml-cpp's depth guard (or the type check) stops it; never a crash.
   const std::string deep = std::string(5000, '[') + std::string(5000, ']');

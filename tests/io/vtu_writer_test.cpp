@@ -27,10 +27,27 @@ std::string temp_path(const std::string& name) {
 // decodes every DataArray (ASCII, or base64 with a UInt64 byte-count header as VTK reads it).
 // Output, one line per array: "<section>\t<name>\t<type>\t<components>\t<count>\tv1 v2 ...".
 constexpr const char* kPythonReader = R"PY(
-import base64, struct, sys
+import base64, struct, sys, zlib
 import xml.etree.ElementTree as ET
-root = ET.parse(sys.argv[1]).getroot()
+data = open(sys.argv[1], 'rb').read()
+cut = data.find(b'<AppendedData')
+blob = b''
+if cut >= 0:
+    assert b'encoding="raw"' in data[cut:cut + 40]
+    blob = data[data.index(b'_', cut) + 1:]
+    data = data[:cut] + b'</VTKFile>'
+root = ET.fromstring(data)
 assert root.tag == 'VTKFile' and root.get('type') == 'UnstructuredGrid', root.tag
+def appended(offset):  # VTK's zlib layout: UInt64 header [blocks, size, last, sizes...], blocks
+    blocks, size, last = struct.unpack_from('<3Q', blob, offset)
+    sizes = struct.unpack_from('<%dQ' % blocks, blob, offset + 24)
+    at, raw = offset + 24 + 8 * blocks, b''
+    for b, c in enumerate(sizes):
+        chunk = zlib.decompress(blob[at:at + c])
+        assert len(chunk) == (last if b == blocks - 1 and last else size), (len(chunk), b)
+        raw += chunk
+        at += c
+    return raw
 assert root.get('byte_order') == 'LittleEndian' and root.get('header_type') == 'UInt64'
 fmt = {'Float64': 'd', 'Int64': 'q', 'Int32': 'i', 'UInt8': 'B'}
 grid = root.find('UnstructuredGrid')
@@ -40,7 +57,11 @@ out.write('piece %s %s\n' % (piece.get('NumberOfPoints'), piece.get('NumberOfCel
 def dump(section, arrays):
     for a in arrays:
         t = a.get('type'); text = (a.text or '').strip()
-        if a.get('format') == 'binary':
+        if a.get('format') == 'appended':
+            assert root.get('compressor') == 'vtkZLibDataCompressor'
+            raw = appended(int(a.get('offset')))
+            values = struct.unpack('<%d%s' % (len(raw) // struct.calcsize(fmt[t]), fmt[t]), raw)
+        elif a.get('format') == 'binary':
             raw = base64.b64decode(text)
             (nbytes,) = struct.unpack('<Q', raw[:8])
             assert nbytes == len(raw) - 8, (nbytes, len(raw))
@@ -236,6 +257,17 @@ TEST(VtuWriter, Base64FileParsesAndHoldsTheMeshAndFields) {
   const VtuData d = sample_data(m);
   const std::string path = temp_path("base64.vtu");
   write_vtu(path, m, d, VtuEncoding::kBase64);
+  check_file(path, m, d);
+  std::filesystem::remove(path);
+}
+
+TEST(VtuWriter, ZlibAppendedFileParsesAndHoldsTheMeshAndFields) {
+  const Mesh m = one_of_each();
+  VtuData d = sample_data(m);
+  // A field of more than one 32 KiB block, to exercise the block header.
+  d.point_data.push_back({"large", Eigen::MatrixXd::Random(2000, m.num_nodes())});
+  const std::string path = temp_path("zlib.vtu");
+  write_vtu(path, m, d, VtuEncoding::kZlibAppended);
   check_file(path, m, d);
   std::filesystem::remove(path);
 }
