@@ -29,6 +29,7 @@
 #include "io/harwell_boeing.h"
 #include "io/inp_reader.h"
 #include "io/matrix_market.h"
+#include "io/msh_lines.h"
 
 namespace stickslip::fuzz {
 
@@ -109,6 +110,20 @@ inline void feed_case_csv(std::string_view bytes, const Context&) {
   (void)read_preloads_csv(path);
 }
 
+// Our scan of ASCII Gmsh files for node and element lines and duplicate tags (the mesh itself is
+// read by libgmsh, not fuzzed here).
+inline void feed_msh_lines(std::string_view bytes, const Context&) {
+  const std::string path = bytes_to_temp_file(bytes);
+  struct RemoveAtExit {
+    const std::string& path;
+    ~RemoveAtExit() {
+      std::error_code ec;
+      std::filesystem::remove(path, ec);
+    }
+  } remove_at_exit{path};
+  (void)scan_msh_lines(path);
+}
+
 struct Target {
   const char* name;  // fuzz/corpus/<name>, tests/data/fuzz_regressions/<name>, fuzz_<name>
   void (*feed)(std::string_view bytes, const Context& context);
@@ -123,6 +138,7 @@ inline const std::vector<Target>& targets() {
       {"ansys_mapping", feed_ansys_mapping},
       {"case_file", feed_case_file},
       {"case_csv", feed_case_csv},
+      {"msh_lines", feed_msh_lines},
   };
   return all;
 }

@@ -94,15 +94,15 @@ std::string mesh_description(const MeshDefinition& m) {
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
-  // The files by their contents, not their paths (a moved project keeps its reductions).
+  // The file by its contents, not its path (a moved project keeps its reductions), and the
+  // contents of the files it includes, in the order read.
   std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format,
                                  m.hexahedron8, m.hexahedron20, file_fingerprint_hex(m.file));
-  if (m.format == "inp") {  // the bytes of the files it includes too
+  if (m.format == "inp") {
     const std::vector<std::string> files = inp_files(m.file);
     for (size_t i = 1; i < files.size(); ++i) {  // unreadable: read_inp names the line
       const bool readable = std::ifstream(files[i]).good();
-      text += fmt::format(" include {} bytes {}", i,
-                          readable ? file_fingerprint_hex(files[i]) : "unreadable");
+      text += fmt::format(" include bytes {}", readable ? file_fingerprint_hex(files[i]) : "none");
     }
   }
   return text;
@@ -543,8 +543,8 @@ void check_recovery_nodes(const CaseDefinition& def, const std::vector<CaseBody>
   if (by_id.empty()) return;
   for (size_t i = 0; i < def.recovery.nodes.size(); ++i) {
     const int id = def.recovery.nodes[i];
-    const bool found =
-        std::any_of(by_id.begin(), by_id.end(), [&](const auto& ids) { return ids.count(id) > 0; });
+    const bool found = std::any_of(by_id.begin(), by_id.end(),
+                                   [&](const auto& ids) { return ids.count(id) > 0; });
     if (!found) {
       throw InvalidInput(def.where(fmt::format("recovery.nodes[{}]", i)),
                          fmt::format("node {} is not a node of any body given by a mesh (the "
@@ -634,7 +634,8 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     const std::string key = fmt::format("output.frf[{}]", i);
     const auto it = body_index.find(r.body);
     if (it == body_index.end()) throw InvalidInput(def.where(key), "unknown body " + r.body);
-    const auto nodes = resolve_nodes(def, key, out.bodies[it->second], NodeSelection{{}, {r.node}});
+    const auto nodes =
+        resolve_nodes(def, key, out.bodies[it->second], NodeSelection{{}, {r.node}});
     add_master(it->second, nodes[0], key);
   }
   check_recovery_nodes(def, out.bodies);
@@ -740,11 +741,11 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
             const auto asked = resolved.bodies[b].master_keys.find(id);
             const std::string key =
                 asked == resolved.bodies[b].master_keys.end() ? "bodies." + name : asked->second;
-            throw InvalidInput(
-                def.where(key),
-                fmt::format("node {} direction {} is not a DOF of the reduced "
-                            "matrices of body {} (its mapping: {})",
-                            id, "xyz"[dir], name, def.bodies.at(name).reduced.mapping));
+            throw InvalidInput(def.where(key),
+                               fmt::format("node {} direction {} is not a DOF of the reduced "
+                                           "matrices of body {} (its mapping: {})",
+                                           id, "xyz"[dir], name,
+                                           def.bodies.at(name).reduced.mapping));
           }
         }
       }

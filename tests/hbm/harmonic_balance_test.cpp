@@ -956,5 +956,62 @@ TEST(HarmonicBalance, SweepWithHeavyLiftOffConvergesAtEveryPoint) {
   EXPECT_GT(max_separation, 0.3);
 }
 
+// Issue 22: a free chain of three unit masses (springs k12, k23; a rigid-body mode) held only by a
+// linear spring k_g from mass 0 to the ground, a static load F on mass 2 and a small harmonic one.
+// Closed form statics: x0 = F/k_g, x1 = x0 + F/k12, x2 = x1 + F/k23 (each spring carries F).
+// Harmonic 1: the dense solve of (K + k_g e0 e0ᵀ − Ω²M + iΩC) x = F1 written here. Both static
+// couplings, dense and structured (GMRES) Jacobians. Leaving the rigid mode out of G_0 (as before)
+// gave the free chain's inertia-relief deformation and no dependence on k_g.
+TEST(HarmonicBalance, BodyHeldOnlyByASpringHasTheExactStaticAndHarmonicResponse) {
+  const double k12 = 1000, k23 = 2000, kg = 500, F = 10, alpha = 2.0;
+  Eigen::Matrix3d K;
+  K << k12, -k12, 0, -k12, k12 + k23, -k23, 0, -k23, k23;
+  const Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  const LinearModel model = linear_model_from_matrices(K, M, alpha, 0.0);
+  ASSERT_LT(model.omega2(0), 1e-9 * model.omega2(2));  // the rigid-body mode is there
+  ContactPair ground{.dofs_a = {0},
+                     .dofs_b = {},
+                     .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                     .element = std::make_shared<CubicSpring>(CubicSpringParameters{kg, 0.0})};
+  Excitation e;
+  e.harmonics[0] = Eigen::VectorXcd::Zero(3);
+  e.harmonics[0](2) = F;
+  e.harmonics[1] = Eigen::VectorXcd::Zero(3);
+  e.harmonics[1](2) = 0.1;
+  const Eigen::Vector3d statics(F / kg, F / kg + F / k12, F / kg + F / k12 + F / k23);
+  constexpr double kRoundOff = 1e-9;
+  for (const StaticCoupling coupling : {StaticCoupling::kUncoupled, StaticCoupling::kCoupled}) {
+    for (const HbmLinearSolver solver : {HbmLinearSolver::kDense, HbmLinearSolver::kStructured}) {
+      HarmonicBalanceOptions opt;
+      opt.static_coupling = coupling;
+      opt.linear_solver = solver;
+      opt.time_samples = 16;
+      const HarmonicBalanceSystem sys(model, {ground}, e, opt);
+      EXPECT_TRUE(sys.holds_rigid_modes());
+      FrequencyResponseOptions o;
+      o.omegas = {3.0, 40.0};
+      o.sweep.newton = tight_newton();
+      const FrequencyResponse r = frequency_response(sys, o);
+      ASSERT_TRUE(r.completed) << r.message;
+      for (const FrequencyPoint& pt : r.points) {
+        EXPECT_LE((pt.master.col(0).real() - statics).norm(), kRoundOff * statics.norm())
+            << "coupled " << (coupling == StaticCoupling::kCoupled) << ", structured "
+            << (solver == HbmLinearSolver::kStructured) << ", Ω " << pt.omega;
+        Eigen::Matrix3cd D = (K - pt.omega * pt.omega * M).cast<std::complex<double>>();
+        D(0, 0) += kg;
+        D += std::complex<double>(0, pt.omega * alpha) * M.cast<std::complex<double>>();
+        const Eigen::Vector3cd x1 = D.lu().solve(e.harmonics[1]);
+        EXPECT_LE((pt.master.col(1) - x1).norm(), kRoundOff * x1.norm()) << pt.omega;
+      }
+    }
+  }
+  // A static load on a rigid motion nothing holds has no equilibrium: refused.
+  ContactPair internal{.dofs_a = {0},
+                       .dofs_b = {1},
+                       .frame = Eigen::MatrixXd::Constant(1, 1, 1.0),
+                       .element = std::make_shared<CubicSpring>(CubicSpringParameters{kg, 0.0})};
+  EXPECT_THROW(HarmonicBalanceSystem(model, {internal}, e, HarmonicBalanceOptions{}), InvalidInput);
+}
+
 }  // namespace
 }  // namespace stickslip
