@@ -1,5 +1,6 @@
 // `stickslip solve CASE -o DIR`: the harmonic balance of the case (cli/pipeline.h) and its CSV
 // and JSON outputs (docs/output-files.md), reusing reduce's matrices when they belong to the case.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -64,6 +65,54 @@ std::string local_axis(const PreparedModel& model, int pair, int row) {
   return model.pairs[pair].frame.rows() == 3 ? kLocalAxes[row] : "u";
 }
 
+// summary.json's static_check (docs/output-files.md): with static: uncoupled, how many points
+// the check of frequency_response.h flagged and the pairs with the largest mismatch over the
+// sweep (at most kWorstPairs, flagged pairs only); with static: coupled, nothing is checked.
+std::string static_check_json(const CaseDefinition& def, const PreparedModel& model,
+                              const SolvedCase& solved, const std::vector<int>& pair_in_contact) {
+  constexpr size_t kWorstPairs = 5;
+  const bool uncoupled = !solved.system->unknown_harmonics().has_static();
+  const FrequencyResponse& fr = solved.response;
+  int flagged = 0;
+  struct Worst {
+    double mismatch = 0, separation = 0;
+    int point = -1;
+  };
+  std::vector<Worst> worst(model.pairs.size());
+  for (size_t i = 0; i < fr.points.size(); ++i) {
+    const FrequencyPoint& p = fr.points[i];
+    flagged += p.static_warning ? 1 : 0;
+    for (size_t q = 0; q < p.pairs.size() && uncoupled; ++q) {
+      const PairResponse& r = p.pairs[q];
+      const bool bad = r.static_mismatch > kStaticMismatchThreshold ||
+                       r.cycle.separation_fraction > 0;
+      if (bad && (worst[q].point < 0 || r.static_mismatch > worst[q].mismatch)) {
+        worst[q] = {r.static_mismatch, r.cycle.separation_fraction, static_cast<int>(i)};
+      }
+    }
+  }
+  std::vector<size_t> order;
+  for (size_t q = 0; q < worst.size(); ++q) {
+    if (worst[q].point >= 0) order.push_back(q);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return worst[a].mismatch > worst[b].mismatch; });
+  if (order.size() > kWorstPairs) order.resize(kWorstPairs);
+  std::string out = fmt::format(
+      "{{\"static\": \"{}\", \"threshold\": {}, \"flagged_points\": {}, \"worst_pairs\": [",
+      uncoupled ? "uncoupled" : "coupled", kStaticMismatchThreshold, flagged);
+  for (size_t n = 0; n < order.size(); ++n) {
+    const size_t q = order[n];
+    const PreparedPair& info = model.pair_info[q];
+    out += fmt::format(
+        "{}{{\"contact\": \"{}\", \"pair\": {}, \"node_a\": {}, \"node_b\": {}, "
+        "\"point\": {}, \"mismatch\": {:.3e}, \"separation\": {:.3f}}}",
+        n ? ", " : "", json_escape(def.contacts[info.contact].name), pair_in_contact[q],
+        info.node_a_id, info.node_b_id, worst[q].point, worst[q].mismatch, worst[q].separation);
+  }
+  return out + "]}";
+}
+
 }  // namespace
 
 void write_solve_results(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
@@ -73,12 +122,13 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
   const std::vector<int>& harmonics = fr.harmonics;
 
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative\n";
+    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative,"
+           "static_mismatch,static_warning\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
-      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e}\n", i, rad_s_to_hz(p.omega),
+      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
-                 p.residual_norm / p.residual_scale);
+                 p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0);
     }
   });
 
@@ -188,6 +238,8 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
     fmt::print(out, "  \"points\": {},\n  \"converged_points\": {},\n  \"completed\": {},\n",
                fr.points.size(), converged, fr.completed ? "true" : "false");
     fmt::print(out, "  \"message\": \"{}\",\n", json_escape(fr.message));
+    out << "  \"static_check\": " << static_check_json(def, model, solved, pair_in_contact)
+        << ",\n";
     out << "  \"bodies\": [";
     for (size_t b = 0; b < model.bodies.size(); ++b) {
       const PreparedBody& body = model.bodies[b];
@@ -212,6 +264,24 @@ int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressF
   for (const FrequencyPoint& p : solved.response.points) failed += p.converged ? 0 : 1;
   progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
                        solved.response.points.size(), failed, solved.seconds_solve, dir.string()));
+  int flagged = 0, separating = 0;
+  for (const FrequencyPoint& p : solved.response.points) {
+    flagged += p.static_warning ? 1 : 0;
+    bool open = false;
+    for (const PairResponse& r : p.pairs) open = open || r.cycle.separation_fraction > 0;
+    separating += p.static_warning && open ? 1 : 0;
+  }
+  if (flagged > 0) {  // a warning, printed even with --quiet
+    std::fprintf(stderr,
+                 "stickslip: warning: at %d of %zu points the frozen static state of `static: "
+                 "uncoupled` is wrong (%d with contacts that separate, the others with a "
+                 "cycle-mean contact force more than %g %% away from the static one: slip with "
+                 "an offset); the mean contact state changes with the vibration there: use "
+                 "`analysis.static: coupled` (points.csv static_warning, summary.json "
+                 "static_check in %s)\n",
+                 flagged, solved.response.points.size(), separating,
+                 100 * kStaticMismatchThreshold, dir.string().c_str());
+  }
   return failed;
 }
 
