@@ -96,10 +96,9 @@ Body spring_lattice(int nx, int ny, int nz, const std::vector<std::array<int, 3>
 // corners and one node midway (9 boundary DOFs, 288 interior).
 Body default_lattice() { return spring_lattice(12, 3, 3, {{11, 0, 0}, {11, 2, 2}, {6, 1, 1}}); }
 
-// A hex8 (C3D8) cantilever 0.25 x 0.05 x 0.03 m, steel, ex x ey x ez elements, clamped at x = 0;
-// masters: the nodes of the tip face x = 0.25.
-Body hex8_cantilever(int ex, int ey, int ez) {
-  const double lx = 0.25, ly = 0.05, lz = 0.03;
+// A box lx x ly x lz of ex x ey x ez C3D8 elements; node (i, j, k) has index
+// i + (ex + 1) (j + (ey + 1) k) and id index + 1.
+Mesh hex8_box(int ex, int ey, int ez, double lx, double ly, double lz) {
   Mesh mesh;
   auto id = [&](int i, int j, int k) { return i + (ex + 1) * (j + (ey + 1) * k); };
   for (int k = 0; k <= ez; ++k)
@@ -115,6 +114,15 @@ Body hex8_cantilever(int ex, int ey, int ez) {
             id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
         mesh.add_element(eid++, ElementType::kC3D8, nodes);
       }
+  return mesh;
+}
+
+// A hex8 (C3D8) cantilever 0.25 x 0.05 x 0.03 m, steel, ex x ey x ez elements, clamped at x = 0;
+// masters: the nodes of the tip face x = 0.25.
+Body hex8_cantilever(int ex, int ey, int ez) {
+  const double lx = 0.25, ly = 0.05, lz = 0.03;
+  const Mesh mesh = hex8_box(ex, ey, ez, lx, ly, lz);
+  auto id = [&](int i, int j, int k) { return i + (ex + 1) * (j + (ey + 1) * k); };
   Body body;
   const IsotropicMaterial steel{2e11, 0.3, 7800.0};
   assemble_stiffness_mass(mesh, steel, AssemblyOptions{}, &body.K, &body.M);
@@ -546,21 +554,8 @@ Eigen::VectorXd spring_held_eigenvalues(const CraigBamptonResult& r, double spri
 // A steel hex8 bar lx x ly x lz with ex x ey x ez elements and no clamp; the boundary is the face
 // x = 0 (held by springs in the test).
 Body free_hex8_bar(int ex, int ey, int ez, double lx, double ly, double lz) {
-  Mesh mesh;
+  const Mesh mesh = hex8_box(ex, ey, ez, lx, ly, lz);
   auto id = [&](int i, int j, int k) { return i + (ex + 1) * (j + (ey + 1) * k); };
-  for (int k = 0; k <= ez; ++k)
-    for (int j = 0; j <= ey; ++j)
-      for (int i = 0; i <= ex; ++i)
-        mesh.add_node(id(i, j, k) + 1, Eigen::Vector3d(lx * i / ex, ly * j / ey, lz * k / ez));
-  int eid = 1;
-  for (int k = 0; k < ez; ++k)
-    for (int j = 0; j < ey; ++j)
-      for (int i = 0; i < ex; ++i) {
-        const int nodes[8] = {
-            id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
-            id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
-        mesh.add_element(eid++, ElementType::kC3D8, nodes);
-      }
   Body body;
   const IsotropicMaterial steel{2.1e11, 0.3, 7850.0};
   assemble_stiffness_mass(mesh, steel, AssemblyOptions{}, &body.K, &body.M);
