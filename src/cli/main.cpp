@@ -118,9 +118,10 @@ int main(int argc, char** argv) {
   CLI::App* recover_cmd =
       add_stage(app, "recover", "Full-model recovery of solved points, from the solve files in DIR",
                 recover.stage);
-  recover_cmd->add_option("--point", recover.point,
-                          "peak, all or a point number of points.csv (default: the case's "
-                          "recovery.points)");
+  recover_cmd->add_option(
+      "--point", recover.point,
+      "peak, all, a point number of points.csv or a comma-separated list (default: the case's "
+      "recovery.points)");
 
   ExportCommand export_;
   CLI::App* export_cmd = add_stage(

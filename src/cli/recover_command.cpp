@@ -168,23 +168,10 @@ int run_recover(const RecoverCommand& command) {
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
     SolveResults results = read_stage_solve(run, base, out_dir);
-    // An explicit point number is checked before the (possibly long) model preparation.
-    int explicit_point = -1;
+    // Point numbers are checked before the (possibly long) model preparation.
+    std::vector<int> listed;
     if (!command.point.empty() && command.point != "peak" && command.point != "all") {
-      const auto& pts = results.response.points;
-      char* end = nullptr;
-      const long n = std::strtol(command.point.c_str(), &end, 10);
-      if (*end != '\0' || n < 0 || n >= static_cast<long>(pts.size())) {
-        throw InvalidInput(
-            {"", 0, "--point"},
-            fmt::format("'{}' is not peak, all or a point of {} (0..{})", command.point,
-                        (run.dir / "points.csv").string(), pts.size() - 1));
-      }
-      if (!pts[n].converged) {
-        throw InvalidInput({(run.dir / "points.csv").string(), 0, "--point"},
-                           fmt::format("point {} did not converge", n));
-      }
-      explicit_point = static_cast<int>(n);
+      listed = numbered_points(command.point, results.response, (run.dir / "points.csv").string());
     }
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/true, progress,
@@ -192,8 +179,7 @@ int run_recover(const RecoverCommand& command) {
     check_solve_matches_model(results, model, def, run, hint);
     rebuild_master_response(results, model, run, hint);
     FrequencyResponse& response = results.response;
-    const std::vector<int> points = explicit_point >= 0 ? std::vector<int>{explicit_point}
-                                                        : recovery_points(def, model, response);
+    const std::vector<int> points = listed.empty() ? recovery_points(def, model, response) : listed;
     if (points.empty()) {
       progress("nothing to recover (recovery.points: " + def.recovery.points + ")");
       continue;

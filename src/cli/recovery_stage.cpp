@@ -5,9 +5,9 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
@@ -95,10 +95,10 @@ void write_vtk_collections(const std::filesystem::path& dir, const FrequencyResp
     for (const RecoveredVtu& f : files) {
       if (f.point != p) continue;
       blocks.push_back({f.body, f.file});
-      const int part = static_cast<int>(std::find(bodies.begin(), bodies.end(), f.body) -
-                                        bodies.begin());
-      entries.push_back({by_frequency ? rad_s_to_hz(response.points[p].omega) : p, part, f.body,
-                         f.file});
+      const int part =
+          static_cast<int>(std::find(bodies.begin(), bodies.end(), f.body) - bodies.begin());
+      entries.push_back(
+          {by_frequency ? rad_s_to_hz(response.points[p].omega) : p, part, f.body, f.file});
     }
     if (!blocks.empty()) write_vtm((dir / fmt::format("recovery_p{}.vtm", p)).string(), blocks);
   }
@@ -146,19 +146,9 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
   return out;
 }
 
-std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& def,
-                                    const PreparedModel& model, const FrequencyResponse& response,
-                                    const std::string& points_csv) {
+std::vector<int> numbered_points(const std::string& spec, const FrequencyResponse& response,
+                                 const std::string& points_csv) {
   const auto& points = response.points;
-  if (spec == "peak" || spec == "all") {
-    CaseDefinition d = def;
-    d.recovery.points = spec;
-    std::vector<int> out = recovery_points(d, model, response);
-    if (out.empty()) {
-      throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
-    }
-    return out;
-  }
   std::vector<int> out;
   std::stringstream list(spec);
   std::string item;
@@ -179,6 +169,19 @@ std::vector<int> points_from_option(const std::string& spec, const CaseDefinitio
     }
   }
   if (out.empty()) throw InvalidInput({"", 0, "--point"}, "no point given");
+  return out;
+}
+
+std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& def,
+                                    const PreparedModel& model, const FrequencyResponse& response,
+                                    const std::string& points_csv) {
+  if (spec != "peak" && spec != "all") return numbered_points(spec, response, points_csv);
+  CaseDefinition d = def;
+  d.recovery.points = spec;
+  std::vector<int> out = recovery_points(d, model, response);
+  if (out.empty()) {
+    throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
+  }
   return out;
 }
 
@@ -229,9 +232,9 @@ Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& 
 }
 
 std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
-                                                     const PreparedBody& body,
-                                                     const std::vector<int>& harmonics,
-                                                     const FrequencyPoint& p) {
+                                                      const PreparedBody& body,
+                                                      const std::vector<int>& harmonics,
+                                                      const FrequencyPoint& p) {
   const Eigen::MatrixXcd reduced = master_loads(model, body, harmonics, p);
   std::map<int, int> node_of_id;  // mapping node number -> node index (ascending numbers)
   for (const ReducedDof& d : body.reduced.dofs) {
@@ -400,8 +403,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int d = 0; d < 3; ++d) {
           for (int h = 0; h < nh; ++h) {
             const std::complex<double> v = x(dof_of(node, d), h);
-            nodes_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, id,
-                                     kAxes[d], harmonics[h], v.real(), v.imag());
+            nodes_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, id, kAxes[d],
+                                     harmonics[h], v.real(), v.imag());
           }
         }
       }

@@ -38,6 +38,8 @@ std::vector<int> recovery_points(const CaseDefinition& definition, const Prepare
 // The points named by a --point option: "peak", "all" (every converged point), a point number
 // or a comma-separated list of them (each must exist and have converged; InvalidInput naming
 // --point and points_csv otherwise).
+std::vector<int> numbered_points(const std::string& spec, const FrequencyResponse& response,
+                                 const std::string& points_csv);  // numbers only (no model needed)
 std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& definition,
                                     const PreparedModel& model, const FrequencyResponse& response,
                                     const std::string& points_csv);
@@ -57,9 +59,9 @@ Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& 
 // master nodes (no coordinates, no elements; node ids of the mapping, ascending) and the loads in
 // that mesh's DOF numbering (3 num_nodes x harmonics). For the APDL macro of the thesis's route.
 std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
-                                                     const PreparedBody& body,
-                                                     const std::vector<int>& harmonics,
-                                                     const FrequencyPoint& point);
+                                                      const PreparedBody& body,
+                                                      const std::vector<int>& harmonics,
+                                                      const FrequencyPoint& point);
 
 // The APDL macro loads_p<point>_<body>.mac / the CalculiX deck recovery_p<point>_<body>.inp of
 // one body at one point, in dir; returns the path written.
