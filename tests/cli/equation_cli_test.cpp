@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
+#include "../ccx_dat.h"
 
 #include <cmath>
 #include <fstream>
@@ -92,18 +93,7 @@ std::vector<double> ccx_eigenvalues(const fs::path& dir) {
   std::vector<double> lambda;
   if (shell("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i job", dir / "ccx.log") != 0)
     return lambda;
-  std::ifstream dat(dir / "job.dat");
-  std::string line;
-  bool in_table = false;
-  while (std::getline(dat, line)) {
-    if (line.find("E I G E N V A L U E") != std::string::npos) in_table = true;
-    if (line.find("P A R T I C I P") != std::string::npos) break;
-    std::istringstream ss(line);
-    int mode;
-    double ev, w, f, im;
-    if (in_table && ss >> mode >> ev >> w >> f >> im) lambda.push_back(ev);
-  }
-  return lambda;
+  return stickslip::ccx_dat::eigenvalues(slurp(dir / "job.dat"));
 }
 
 TEST(EquationCli, HangingNodesTiedByEquationsGiveCalculixFrequencies) {

@@ -20,6 +20,7 @@
 #include "fe/element.h"
 #include "fe/loads.h"
 #include "fe_test_util.h"
+#include "../ccx_dat.h"
 
 namespace stickslip {
 namespace {
@@ -89,18 +90,9 @@ std::vector<double> run_ccx_frequency(const Mesh& mesh, const std::vector<int>& 
   }
   std::vector<double> lambda;
   if (!run_ccx_job(dir)) return lambda;
-  std::ifstream dat(dir / "job.dat");
-  std::string line;
-  bool in_table = false;
-  while (std::getline(dat, line)) {
-    if (line.find("E I G E N V A L U E") != std::string::npos) in_table = true;
-    if (line.find("P A R T I C I P") != std::string::npos) break;
-    std::istringstream ss(line);
-    int mode;
-    double ev, w, f, im;
-    if (in_table && ss >> mode >> ev >> w >> f >> im) lambda.push_back(ev);
-  }
-  return lambda;
+  std::ostringstream dat;
+  dat << std::ifstream(dir / "job.dat").rdbuf();
+  return ccx_dat::eigenvalues(dat.str());
 }
 
 Eigen::VectorXd run_ccx(const Mesh& mesh, const std::vector<int>& clamped,

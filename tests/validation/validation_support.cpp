@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "linalg/sparse_ops.h"
+#include "../ccx_dat.h"
 
 namespace stickslip::validation {
 
@@ -215,26 +216,6 @@ std::string read_text(const std::filesystem::path& path) {
   return s.str();
 }
 
-// The eigenvalue table of the .dat file: rows "mode, eigenvalue, ω, f, Im ω" after the header.
-std::vector<double> parse_dat_eigenvalues(const std::string& text) {
-  std::vector<double> values;
-  const size_t header = text.find("E I G E N V A L U E   O U T P U T");
-  if (header == std::string::npos) return values;
-  std::istringstream in(text.substr(header));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (line.find("P A R T I C I P A T I O N") != std::string::npos) break;
-    std::istringstream row(line);
-    int mode = 0;
-    double eigenvalue = 0, omega = 0, frequency = 0, imaginary = 0;
-    if (row >> mode >> eigenvalue >> omega >> frequency >> imaginary) {
-      if (mode != static_cast<int>(values.size()) + 1) break;
-      values.push_back(eigenvalue);
-    }
-  }
-  return values;
-}
 
 // The .eig file of *FREQUENCY, STORAGE=YES starts with int flags (cyclic symmetry, Hermitian,
 // and, depending on the ccx version, one more), the number of eigenvalues nev (int) and the nev
@@ -313,7 +294,7 @@ CalculixEigenvalues run_calculix_frequency(const std::string& deck, const std::s
   auto files = run_calculix(deck, job, {"dat", "eig"});
   CalculixEigenvalues result;
   result.log = files["log"];
-  result.from_dat = parse_dat_eigenvalues(files["dat"]);
+  result.from_dat = ccx_dat::eigenvalues(files["dat"]);
   result.from_eig = parse_eig_eigenvalues(files["eig"], result.from_dat);
   if (result.from_dat.empty()) {
     throw std::runtime_error("ccx printed no eigenvalues:\n" + result.log);

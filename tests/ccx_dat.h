@@ -1,0 +1,33 @@
+// Reading CalculiX's own output in tests: the eigenvalue table of a *FREQUENCY step in ccx's .dat
+// file (rows "mode, eigenvalue, ω, f, Im ω" after "E I G E N V A L U E   O U T P U T", up to the
+// participation factors). Header-only: shared by the fe, cli and validation tests.
+#pragma once
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace stickslip::ccx_dat {
+
+// The eigenvalues ω² (rad²/s²) of the first eigenvalue table in `text`, mode 1 upwards.
+inline std::vector<double> eigenvalues(const std::string& text) {
+  std::vector<double> values;
+  const size_t header = text.find("E I G E N V A L U E   O U T P U T");
+  if (header == std::string::npos) return values;
+  std::istringstream in(text.substr(header));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    if (line.find("P A R T I C I P A T I O N") != std::string::npos) break;
+    std::istringstream row(line);
+    int mode = 0;
+    double eigenvalue = 0, omega = 0, frequency = 0, imaginary = 0;
+    if (row >> mode >> eigenvalue >> omega >> frequency >> imaginary) {
+      if (mode != static_cast<int>(values.size()) + 1) break;
+      values.push_back(eigenvalue);
+    }
+  }
+  return values;
+}
+
+}  // namespace stickslip::ccx_dat
