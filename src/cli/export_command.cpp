@@ -31,14 +31,20 @@ int run_export(const ExportCommand& command) {
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
     SolveResults results = read_stage_solve(run, base, out_dir);
+    const std::string points_csv = (run.dir / "points.csv").string();
+    const bool numbered = command.points != "peak" && command.points != "all";
+    std::vector<int> points;  // point numbers are checked before the model preparation
+    if (numbered) points = numbered_points(command.points, results.response, points_csv);
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/false,
                             progress, /*load_basis_if_present=*/false, &cache);
     const std::string hint = stage_hint("solve", base, out_dir);
     check_solve_matches_model(results, model, def, run, hint);
-    rebuild_master_response(results, model, run, hint);  // for the peak
-    const std::vector<int> points = points_from_option(
-        command.points, def, model, results.response, (run.dir / "points.csv").string());
+    if (!numbered) {
+      // The peak is measured on the master response, rebuilt from the contact forces.
+      if (command.points == "peak") rebuild_master_response(results, model, run, hint);
+      points = points_from_option(command.points, def, model, results.response, points_csv);
+    }
     const std::vector<int>& harmonics = results.response.harmonics;
     int written = 0;
     for (const int point : points) {
