@@ -138,13 +138,27 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
                                const CaseDefinition& definition, const StageRun& run,
                                const std::string& hint);
 
-// The line ending one analysis of run and solve ("<n> points (<m> not converged) in <s> s;
-// results in DIR") through `progress`; returns m.
-int report_solved(const SolvedCase& solved, const std::filesystem::path& dir,
-                  const ProgressFn& progress);
+// What run and solve report at their end: frequency points that did not converge, and analyses
+// that stopped before the end of their frequency range (a continuation that could not go on:
+// its points all converged, but the range is not covered).
+struct SolveOutcome {
+  int failed_points = 0;
+  int incomplete_analyses = 0;
+  SolveOutcome& operator+=(const SolveOutcome& o) {
+    failed_points += o.failed_points;
+    incomplete_analyses += o.incomplete_analyses;
+    return *this;
+  }
+};
+
+// The lines ending one analysis of run and solve ("<n> points (<m> not converged) in <s> s;
+// results in DIR") through `progress`, and on stderr (also with --quiet) where the analysis
+// stopped short of its range and why.
+SolveOutcome report_solved(const SolvedCase& solved, const std::filesystem::path& dir,
+                           const ProgressFn& progress);
 // The end of run and solve: "done in <seconds> s", then exit code 0, or 1 with a line on stderr
-// when `failed_points` > 0.
-int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress);
+// when points did not converge or an analysis stopped short of its range.
+int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress);
 
 // Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
 // and summary.json (docs/output-files.md) atomically.

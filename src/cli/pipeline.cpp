@@ -957,9 +957,19 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
           fmt::format("window reaches below 0 Hz (mode {} at {:.6g} Hz)", f.around_mode, centre));
     }
   }
-  if (def.analysis.method == "continuation") return {start, stop};
+  if (def.analysis.method == "continuation") {
+    if (f.downward) return {stop, start};
+    return {start, stop};
+  }
+  // `sweep: down` steps from stop by −step_hz: the same step, the other end first (another
+  // branch where the response folds).
   std::vector<double> grid;
   const int n = static_cast<int>(std::floor((stop - start) / f.step_hz + 1e-9));
+  if (f.downward) {
+    for (int i = 0; i <= n; ++i) grid.push_back(stop - i * f.step_hz);
+    if (grid.back() - start > 1e-9 * stop) grid.push_back(start);
+    return grid;
+  }
   for (int i = 0; i <= n; ++i) grid.push_back(start + i * f.step_hz);
   if (stop - grid.back() > 1e-9 * stop) grid.push_back(stop);
   return grid;
@@ -1035,7 +1045,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     const FrequencyDefinition& f = an.frequency;
     o.arclength.lambda_start = hz_to_rad_s(solved.frequencies_hz.front());
     o.arclength.lambda_end = hz_to_rad_s(solved.frequencies_hz.back());
-    const double range = o.arclength.lambda_end - o.arclength.lambda_start;
+    const double range = std::abs(o.arclength.lambda_end - o.arclength.lambda_start);
     o.arclength.initial_step = hz_to_rad_s(f.step_hz);
     o.arclength.min_step = f.min_step_hz > 0 ? hz_to_rad_s(f.min_step_hz) : range * 1e-7;
     o.arclength.max_step = f.max_step_hz > 0 ? hz_to_rad_s(f.max_step_hz)

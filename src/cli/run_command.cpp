@@ -35,7 +35,7 @@ int run_case(const StageCommand& command) {
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
-  int failed_points = 0;
+  SolveOutcome outcome;
   std::vector<PlotSeries> overlay;
   PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
@@ -65,14 +65,14 @@ int run_case(const StageCommand& command) {
       overlay.insert(overlay.end(), frf.begin(), frf.end());
       interruption_done("plots in " + where);
     }
-    failed_points += report_solved(solved, run.dir, progress);
+    outcome += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
     interruption_doing("plotting the study overlay in " + out_dir.string());
     plot_study(out_dir, base.title, base.study.parameter, overlay, &plots);
   }
   const int solved_code = solve_exit_code(
-      std::chrono::duration<double>(Clock::now() - t0).count(), failed_points, progress);
+      std::chrono::duration<double>(Clock::now() - t0).count(), outcome, progress);
   const int plots_code = plots_exit_code(plots, out_dir);
   return solved_code != 0 ? solved_code : plots_code;
 }

@@ -259,7 +259,8 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
   });
 }
 
-int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressFn& progress) {
+SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
+                           const ProgressFn& progress) {
   int failed = 0;
   for (const FrequencyPoint& p : solved.response.points) failed += p.converged ? 0 : 1;
   progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
@@ -282,17 +283,40 @@ int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressF
                  flagged, solved.response.points.size(), separating,
                  100 * kStaticMismatchThreshold, dir.string().c_str());
   }
-  return failed;
+  SolveOutcome outcome{.failed_points = failed};
+  // A stepped sweep is incomplete exactly when points failed (said above and at the end); a
+  // continuation can stop with every point converged and the range not covered.
+  if (!solved.response.completed && failed == 0) {
+    outcome.incomplete_analyses = 1;
+    const double first = solved.frequencies_hz.front(), last = solved.frequencies_hz.back();
+    double reached = first;
+    for (const FrequencyPoint& p : solved.response.points) {
+      const double hz = p.omega / (2 * kPi);
+      if (std::abs(hz - first) > std::abs(reached - first)) reached = hz;
+    }
+    std::fprintf(stderr,
+                 "stickslip: the analysis stopped at %.6g Hz, %.0f %% of the way from %.6g to "
+                 "%.6g Hz (%s; results in %s): %s\n",
+                 reached, 100 * std::abs(reached - first) / std::abs(last - first), first, last,
+                 solved.response.points.empty() ? "no points" : "the points before are written",
+                 dir.string().c_str(), solved.response.message.c_str());
+  }
+  return outcome;
 }
 
-int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress) {
+int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress) {
   progress(fmt::format("done in {:.1f} s", seconds));
-  if (failed_points > 0) {
+  if (outcome.failed_points > 0) {
     std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
-                 failed_points);
-    return 1;
+                 outcome.failed_points);
   }
-  return 0;
+  if (outcome.incomplete_analyses > 0) {
+    std::fprintf(stderr,
+                 "stickslip: %d analyses stopped before the end of their frequency range (see "
+                 "summary.json \"message\")\n",
+                 outcome.incomplete_analyses);
+  }
+  return outcome.failed_points > 0 || outcome.incomplete_analyses > 0 ? 1 : 0;
 }
 
 int run_solve(const StageCommand& command) {
@@ -303,7 +327,7 @@ int run_solve(const StageCommand& command) {
   const auto progress = stderr_progress(quiet);
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
-  int failed_points = 0;
+  SolveOutcome outcome;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     if (!run.folder.empty()) progress("study: " + run.folder);
@@ -317,9 +341,9 @@ int run_solve(const StageCommand& command) {
     write_solve_results(run.dir, run.definition, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
     interruption_done("solve files in " + run.dir.string());
-    failed_points += report_solved(solved, run.dir, progress);
+    outcome += report_solved(solved, run.dir, progress);
   }
-  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
+  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), outcome,
                          progress);
 }
 

@@ -1046,7 +1046,7 @@ void parse_analysis(Parser& p, const MapView& top) {
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
             {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
-             "max_step_hz"});
+             "max_step_hz", "sweep"});
   FrequencyDefinition& fr = a.frequency;
   auto positive = [&](const char* key, double* dst) {
     if (!f.has(key)) return;
@@ -1071,6 +1071,9 @@ void parse_analysis(Parser& p, const MapView& top) {
             "the frequency range is empty or inverted: stop_hz = " + format_number(fr.stop_hz) +
                 " must be > start_hz = " + format_number(fr.start_hz));
   }
+  std::string sweep = "up";
+  f.choice("sweep", &sweep, {"up", "down"});
+  fr.downward = sweep == "down";
   f.require("step_hz");
   fr.step_hz = p.number(f.value("step_hz"), f.full("step_hz"), f.line("step_hz"));
   p.check(fr.step_hz > 0, f.full("step_hz"), f.line("step_hz"),
@@ -1769,6 +1772,7 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << "half_width_hz" << YAML::Value << num(a.frequency.half_width_hz);
   }
   e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
+  e << YAML::Key << "sweep" << YAML::Value << (a.frequency.downward ? "down" : "up");
   if (a.method == "continuation") {
     e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
     e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);

@@ -198,6 +198,7 @@ struct FrequencyDefinition {
   double step_hz = 0.0;                  // stepped: the step; continuation: the initial step
   double min_step_hz = 0.0;              // continuation; 0 = automatic
   double max_step_hz = 0.0;              // continuation; 0 = automatic
+  bool downward = false;                 // `sweep: down`: from the high end to the low end
 };
 
 struct AnalysisDefinition {
