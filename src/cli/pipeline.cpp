@@ -905,6 +905,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.harmonic_list = an.harmonics;
   model.hbm.harmonics = an.max_harmonic();
   model.hbm.time_samples = an.time_samples;
+  model.hbm.aft = an.aft == "sampled" ? AftMethod::kSampled : AftMethod::kEvent;
   model.hbm.static_coupling =
       an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
@@ -1002,6 +1003,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, ProgressReporter* reporter) {
   const auto t0 = Clock::now();
   SolvedCase solved;
+  solved.warn_aft_fallback = def.analysis.aft == "event";
   check_memory(model, def);
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
                                                           model.excitation, model.hbm);

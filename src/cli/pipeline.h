@@ -201,6 +201,7 @@ struct SolvedCase {
   FrequencyResponse response;
   std::vector<double> frequencies_hz;  // the requested grid (stepped) or range (continuation)
   double seconds_solve = 0.0;
+  bool warn_aft_fallback = false;  // `analysis.aft: event` given: warn where it fell back
 };
 
 // `progress` (may be null) receives one line per stage. `reporter` (may be null) is started with

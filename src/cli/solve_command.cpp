@@ -272,6 +272,22 @@ SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
     for (const PairResponse& r : p.pairs) open = open || r.cycle.separation_fraction > 0;
     separating += p.static_warning && open ? 1 : 0;
   }
+  int inexact = 0;  // points where the event AFT fell back to the sampled one for some pair
+  for (const FrequencyPoint& p : solved.response.points) {
+    bool fallback = false;
+    for (const PairResponse& r : p.pairs) fallback = fallback || r.cycle.aft_fallback;
+    inexact += fallback ? 1 : 0;
+  }
+  if (inexact > 0 && solved.warn_aft_fallback) {
+    std::fprintf(stderr,
+                 "stickslip: warning: `analysis.aft: event` is exact only for contacts whose "
+                 "tangential motion stays on one line; at %d of %zu points some pairs moved in "
+                 "the tangent plane and their forces come from the sampled AFT with time_samples "
+                 "= %d (error at the stick/slip and lift-off instants; raise time_samples to "
+                 "check)\n",
+                 inexact, solved.response.points.size(),
+                 solved.system->options().time_samples);
+  }
   if (flagged > 0) {  // a warning, printed even with --quiet
     std::fprintf(stderr,
                  "stickslip: warning: at %d of %zu points the frozen static state of `static: "

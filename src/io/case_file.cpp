@@ -1039,7 +1039,7 @@ void parse_excitation(Parser& p, const MapView& top) {
 void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
-            {"frequency", "method", "harmonics", "time_samples", "static", "tolerance",
+            {"frequency", "method", "harmonics", "time_samples", "aft", "static", "tolerance",
              "max_iterations", "max_points", "initial_guess", "predictor"});
   AnalysisDefinition& a = p.out().analysis;
   m.choice("method", &a.method, {"stepped", "continuation"});
@@ -1132,6 +1132,7 @@ void parse_analysis(Parser& p, const MapView& top) {
               std::to_string(kTimeSamplesFloor) + ", " + std::to_string(kTimeSamplesPerHarmonic) +
               "(2H+1))) = " + std::to_string(most) + " for highest harmonic H = " +
               std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
+  m.choice("aft", &a.aft, {"event", "sampled"});
   m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
@@ -1782,6 +1783,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "harmonics" << YAML::Value;
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
+  if (!a.aft.empty()) e << YAML::Key << "aft" << YAML::Value << a.aft;
   e << YAML::Key << "static" << YAML::Value << a.static_coupling;
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;

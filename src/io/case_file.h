@@ -207,6 +207,8 @@ struct AnalysisDefinition {
   std::vector<int> harmonics{1};   // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                    // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;           // N per period, ≥ 2(2 H_max + 1)
+  std::string aft;                 // event | sampled (hbm/aft.h AftMethod); empty: not given
+                                   // (event, without the fall-back warning)
   std::string static_coupling = "uncoupled";  // key `static`: uncoupled | coupled
   double tolerance = 1.0e-8;                  // Newton, relative residual (> 0)
   int max_iterations = 30;                    // Newton iterations per point (≥ 1)
