@@ -22,6 +22,7 @@
 #include "core/types.h"
 #include "fe/assembly.h"
 #include "io/ansys_mapping.h"
+#include "io/cdb_reader.h"
 #include "io/gmsh_mesh.h"
 #include "io/inp_reader.h"
 #include "io/matrix_market.h"
@@ -73,7 +74,7 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
       return mesh;
     }
     std::vector<std::string> warnings;
-    Mesh mesh = read_inp(m.file, &warnings);
+    Mesh mesh = m.format == "cdb" ? read_cdb(m.file, &warnings) : read_inp(m.file, &warnings);
     for (const std::string& w : warnings) stderr_warning(w);
     return mesh;
   } catch (const InvalidInput& e) {

@@ -108,6 +108,11 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
     }
   }
   Mesh deck_mesh = mesh;
+  // ccx has no B-bar brick: C3D8B is written as C3D8 (full integration), said in the deck.
+  const bool bbar = std::count(mesh.element_types.begin(), mesh.element_types.end(),
+                               ElementType::kC3D8B) > 0;
+  std::replace(deck_mesh.element_types.begin(), deck_mesh.element_types.end(),
+               ElementType::kC3D8B, ElementType::kC3D8);
   std::vector<int> all_nodes(static_cast<size_t>(mesh.num_nodes()));
   std::iota(all_nodes.begin(), all_nodes.end(), 0);
   std::vector<int> all_elements(static_cast<size_t>(mesh.num_elements()));
@@ -123,6 +128,10 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
       << shortest_decimal(options.frequency_hz) << " Hz\n"
       << "** CLOAD LOAD CASE=1: Re X_k = a_k, LOAD CASE=2: Im X_k = -b_k "
          "(x(t) = Re(X_k exp(i k Omega t)))\n";
+  if (bbar) {
+    out << "** C3D8B (B-bar, ANSYS SOLID185) elements are written as C3D8: CalculiX has no B-bar "
+           "brick, so its stiffness differs (most for nu near 0.5)\n";
+  }
   write_inp(out, deck_mesh);
   out << "*MATERIAL, NAME=SS_MATERIAL\n*ELASTIC\n"
       << decimal_in_width(options.youngs_modulus, kFieldWidth) << ", " << decimal_in_width(options.poisson_ratio, kFieldWidth)

@@ -32,7 +32,8 @@
 // A node gets CLOAD lines for its three directions if any component is non-zero in that
 // harmonic. Numbers are written in shortest round-trip decimal form. Node and element numbers are
 // the mesh's external ids. Element types are those of the mesh (C3D8 for stickslip's
-// kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass).
+// kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass),
+// except C3D8B (B-bar), which ccx lacks: written as C3D8, with a comment line saying so.
 // Inputs: loads 3 num_nodes x nh, column j = harmonics[j], harmonic 0 real. Bad input throws
 // InvalidInput naming the field and rule (also if the mesh already has a set named SS_*).
 #pragma once

@@ -629,19 +629,20 @@ void parse_meshes(Parser& p, const MapView& top) {
             m.forbid(key, "with 'file' (it is for 'generate: two_beam')");
           m.file("file", &d.file);
           if (m.has("format")) {
-            m.choice("format", &d.format, {"inp", "msh"});
+            m.choice("format", &d.format, {"inp", "msh", "cdb"});
           } else {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
                            [](unsigned char c) { return std::tolower(c); });
-            p.check(ext == ".inp" || ext == ".msh", m.full("file"), m.line("file"),
+            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"),
+                    m.line("file"),
                     "cannot tell the format from the extension '" + ext +
-                        "': name it .inp or .msh, or add 'format: inp | msh'");
+                        "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
             d.format = ext.substr(1);
           }
           if (d.format != "msh") {
             for (const char* key : {"hexahedron8", "hexahedron20"})
-              m.forbid(key, "for a .inp file (its element types are in the file)");
+              m.forbid(key, "for a ." + d.format + " file (its element types are in the file)");
           }
           m.choice("hexahedron8", &d.hexahedron8, {"C3D8", "C3D8I"});
           m.choice("hexahedron20", &d.hexahedron20, {"C3D20", "C3D20R"});

@@ -93,8 +93,8 @@ struct MeshDefinition {
   Source source = Source::kGenerate;
   std::string generate = "two_beam";   // kGenerate: the generator (only two_beam)
   TwoBeamDefinition two_beam;          // kGenerate
-  std::string file;                    // kFile: resolved path of a .inp or .msh file
-  std::string format;                  // kFile: inp | msh (from the extension unless given)
+  std::string file;                    // kFile: resolved path of a .inp, .msh or .cdb file
+  std::string format;                  // kFile: inp | msh | cdb (from the extension unless given)
   std::string hexahedron8 = "C3D8I";   // msh: element of 8-node hexahedra (C3D8 | C3D8I)
   std::string hexahedron20 = "C3D20";  // msh: element of 20-node hexahedra (C3D20 | C3D20R)
 };

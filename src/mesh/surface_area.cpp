@@ -37,6 +37,7 @@ std::vector<std::vector<int>> local_faces(ElementType type) {
   const bool quadratic =
       type == ElementType::kC3D20 || type == ElementType::kC3D20R || type == ElementType::kC3D10;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
+                   type == ElementType::kC3D8B ||
                    type == ElementType::kC3D20 || type == ElementType::kC3D20R;
   const auto add = [&](const int* corners, int n) {
     std::vector<int> f(corners, corners + n);
