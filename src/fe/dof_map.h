@@ -28,6 +28,30 @@
 
 namespace stickslip {
 
+// A support of one node (node index): its displacement along each of `directions` (global axes,
+// non-zero; normalised here) is zero: a symmetry plane (its normal), a roller, a 3-2-1 support, a
+// direction of a local frame. `origin` names where it was asked for ("file:line"), for messages.
+struct NodeSupport {
+  int node = 0;
+  std::vector<Eigen::Vector3d> directions;
+  std::string origin;
+};
+
+// The supports as DOF constraints. Per node the directions of all its supports are merged and
+// reduced to an independent set (a direction in the span of the node's others adds nothing; three
+// independent ones hold the node in x, y and z), written in reduced row-echelon form over the
+// node's x, y, z with the largest pivot first: a row that is a global axis (other entries below
+// kSupportAxisTolerance, relative) clamps that DOF; every other row is an equation
+// u_p + Σ c_d u_d = 0 over the node's own DOFs whose dependent DOF p (the pivot) appears in no
+// other equation of the node. Node indices outside [0, num_nodes) and zero directions:
+// InvalidInput naming the origin.
+struct SupportConstraints {
+  std::vector<int> clamped;                 // DOFs, sorted
+  std::vector<LinearConstraint> equations;  // origin: the support's
+};
+inline constexpr double kSupportAxisTolerance = 1e-12;
+SupportConstraints support_constraints(int num_nodes, std::span<const NodeSupport> supports);
+
 class DofMap {
  public:
   DofMap() = default;
@@ -40,6 +64,12 @@ class DofMap {
   static DofMap from_nodes(int num_nodes, std::span<const int> nodes,
                            std::array<bool, 3> directions = {true, true, true},
                            std::span<const LinearConstraint> equations = {});
+
+  // Clamped nodes (x, y, z), supports (support_constraints) and equations (Mesh::equations), in
+  // one map: the supports' clamped DOFs join the clamp, their equations follow `equations`.
+  static DofMap from_supports(int num_nodes, std::span<const int> clamped_nodes,
+                              std::span<const NodeSupport> supports,
+                              std::span<const LinearConstraint> equations = {});
 
   int num_dofs() const { return static_cast<int>(free_index_.size()); }
   int num_free() const { return static_cast<int>(full_dof_.size()); }
