@@ -272,7 +272,14 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.poisson_ratio = body.material.poisson_ratio;
   o.density = body.material.density;
   for (int node = 0; node < body.mesh.num_nodes(); ++node) {
-    if (body.constraints.is_clamped(dof_of(node, 0))) o.clamped_nodes.push_back(node);
+    const auto clamped = [&](int d) { return body.constraints.is_clamped(dof_of(node, d)); };
+    if (clamped(0) && clamped(1) && clamped(2)) {
+      o.clamped_nodes.push_back(node);
+    } else {
+      for (int d = 0; d < 3; ++d) {
+        if (clamped(d)) o.clamped_dofs.push_back(dof_of(node, d));
+      }
+    }
   }
   o.alpha = def.damping.alpha;
   o.beta = def.damping.beta;
@@ -280,7 +287,14 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.harmonics = harmonics;
   o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
   const std::string path = (dir / fmt::format("recovery_p{}_{}.inp", point, body.name)).string();
-  write_calculix_deck(path, body.mesh, F, o);
+  if (body.constraints.has_dependents()) {
+    // *EQUATION and supports in local frames, as the resolved equations of the body's DofMap.
+    Mesh mesh = body.mesh;
+    mesh.equations = body.constraints.resolved_equations();
+    write_calculix_deck(path, mesh, F, o);
+  } else {
+    write_calculix_deck(path, body.mesh, F, o);
+  }
   return path;
 }
 

@@ -201,6 +201,23 @@ DofMap DofMap::from_supports(int num_nodes, std::span<const int> clamped_nodes,
   return DofMap(kDofsPerNode * num_nodes, dofs, all);
 }
 
+std::vector<LinearConstraint> DofMap::resolved_equations() const {
+  std::vector<LinearConstraint> out;
+  for (int s = 0; s < num_dofs(); ++s) {
+    if (dependent_row_[s] < 0) continue;
+    LinearConstraint c;
+    c.dofs.push_back(s);
+    c.coefficients.push_back(1.0);
+    for (const auto& [f, a] : rows_[dependent_row_[s]]) {
+      c.dofs.push_back(full_dof_[f]);
+      c.coefficients.push_back(-a);
+    }
+    c.origin = origins_[dependent_row_[s]];
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
 DofMap DofMap::from_nodes(int num_nodes, std::span<const int> nodes,
                           std::array<bool, 3> directions,
                           std::span<const LinearConstraint> equations) {

@@ -83,6 +83,10 @@ class DofMap {
   bool has_dependents() const { return !rows_.empty(); }
   // The origin ("file:line") of the equation that made `dof` dependent (is_dependent(dof)).
   const std::string& dependent_origin(int dof) const { return origins_[dependent_row_[dof]]; }
+  // Every dependent DOF's resolved equation u_s − Σ_j a_sj u_full_dof(j) = 0 (free DOFs only on
+  // the right; origin: the equation's): with the clamped DOFs, the same constraints as the
+  // equations given, in a form any FE code takes (*EQUATION).
+  std::vector<LinearConstraint> resolved_equations() const;
   // Full DOF of a free index.
   int full_dof(int free) const { return full_dof_[free]; }
   const std::vector<int>& free_dofs() const { return full_dof_; }
