@@ -103,10 +103,20 @@ damping: {alpha: 5.0}
 analysis:
   frequency: {start_hz: 300.0, stop_hz: 400.0, step_hz: 100.0}
   harmonics: 1
-recovery: {points: none}
+recovery: {points: [300.0], fields: [displacement]}
 output: {vtu: false, plots: false}
 )";
   return s.str();
+}
+
+// Static (harmonic 0) reactions of point 0 per node id, global axes (reactions.csv).
+std::map<int, std::array<double, 3>> static_reactions(const fs::path& results) {
+  std::map<int, std::array<double, 3>> out;
+  for (const auto& row : read_csv(results / "reactions.csv")) {
+    if (row.at("point") != "0" || row.at("harmonic") != "0") continue;
+    out[std::stoi(row.at("node"))][row.at("dof")[0] - 'x'] = std::stod(row.at("real"));
+  }
+  return out;
 }
 
 // (harmonic, dof) -> complex response of `node` at point 0, global axes.
@@ -174,6 +184,43 @@ TEST(SupportsCli, HalfBarOnItsSymmetryPlaneGivesTheFullBarAlsoInALocalFrame) {
           << "rotated, harmonic " << h << " dof " << d;
     }
   }
+
+  // Reactions (reactions.csv), static: the full bar's clamp balances the loads, 4 N on each of
+  // the 6 loaded nodes, and the springs' forces −k u_z on them (k = 100 N/mm); the half bar's
+  // clamp and plane carry half of it, the plane only along its normal, and nothing in y overall.
+  double spring_uz = 0.0;
+  for (int j : {0, 4})
+    for (int k = 0; k <= kNz; ++k)
+      spring_uz += response(full_out, full.node(kNx, j, k)).at({0, 2}).real();
+  const double full_z = -(6 * 4.0 - 100.0 * spring_uz);
+  const double z_tolerance = 1e-9 * 24.0;
+  const auto sum = [](const std::map<int, std::array<double, 3>>& r, int d) {
+    double s = 0;
+    for (const auto& [node, v] : r) s += v[d];
+    return s;
+  };
+  const auto full_r = static_reactions(full_out);
+  const auto half_r = static_reactions(half_out);
+  const auto rotated_r = static_reactions(rotated_out);
+  ASSERT_EQ(full_r.size(), 15u);            // the base: 1 x 5 x 3 nodes
+  ASSERT_EQ(half_r.size(), 9u + 27u - 3u);  // base 3 x 3, plane 9 x 3, 3 on both
+  ASSERT_EQ(rotated_r.size(), half_r.size());
+  EXPECT_NEAR(sum(full_r, 2), full_z, z_tolerance);
+  EXPECT_NEAR(sum(full_r, 1), 0.0, z_tolerance);
+  EXPECT_NEAR(sum(half_r, 2), full_z / 2, z_tolerance);
+  EXPECT_NEAR(sum(half_r, 1), 0.0, z_tolerance);
+  // The plane's reactions act along its normal only (x and t2 components zero), off the base.
+  const double c = std::cos(rotated.angle), sn = std::sin(rotated.angle);
+  for (int i = 1; i <= kNx; ++i)
+    for (int k = 0; k <= kNz; ++k) {
+      const auto& r = half_r.at(half.node(i, half.ny, k));
+      EXPECT_NEAR(r[0], 0.0, z_tolerance);
+      EXPECT_NEAR(r[2], 0.0, z_tolerance);
+      const auto& q = rotated_r.at(rotated.node(i, rotated.ny, k));
+      EXPECT_NEAR(q[0], 0.0, z_tolerance);
+      EXPECT_NEAR(-sn * q[1] + c * q[2], 0.0, z_tolerance);  // along t = R e_z
+      EXPECT_NEAR(c * q[1] + sn * q[2], r[1], z_tolerance);  // along n = R e_y: the same force
+    }
   fs::remove_all(dir);
 }
 
