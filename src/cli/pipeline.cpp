@@ -423,17 +423,17 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
 }
 
 void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const BodyDefinition& bd,
-                      const std::vector<int>& clamp, const std::vector<int>& masters,
+                      const CaseBody& resolved, const std::vector<int>& masters,
                       PreparedBody& body) {
   const std::string key = "bodies." + name;
   const auto t0 = Clock::now();
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
   try {
-    body.constraints =
-        DofMap::from_nodes(body.mesh.num_nodes(), clamp, {true, true, true}, body.mesh.equations);
+    body.constraints = body_constraints(resolved, body.mesh);
   } catch (const InvalidInput& e) {
-    throw InvalidInput(def.where(key + ".clamp"), "body " + name + ": " + e.message());
+    throw InvalidInput(def.where(key + (resolved.supports.empty() ? ".clamp" : ".supports")),
+                       "body " + name + ": " + e.message());
   }
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
@@ -446,15 +446,18 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
         throw InvalidInput(
             def.where(key),
             fmt::format("node {} of body {} is a master (contact, forced or listed) node, but its "
-                        "direction {} is the dependent (first) DOF of the equation at {}: write "
-                        "that equation with another DOF first",
+                        "direction {} is the dependent (first) DOF of the equation or support at "
+                        "{}: write that equation with another DOF first (a master node cannot "
+                        "have a support in a local frame)",
                         body.mesh.node_ids[n], name, "xyz"[dir],
                         body.constraints.dependent_origin(dof_of(n, dir))));
       }
       if (body.constraints.is_constrained(dof_of(n, dir))) {
-        throw InvalidInput(def.where(key + ".clamp"),
-                           "node " + std::to_string(body.mesh.node_ids[n]) + " of body " + name +
-                               " is both clamped and a master (contact, forced or listed) node");
+        throw InvalidInput(
+            def.where(key + (resolved.supports.empty() ? ".clamp" : ".supports")),
+            fmt::format("node {} of body {} is both clamped or supported (direction {}) and a "
+                        "master (contact, forced or listed) node",
+                        body.mesh.node_ids[n], name, "xyz"[dir]));
       }
       boundary.push_back(dof_of(n, dir));
     }
@@ -492,6 +495,10 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
 
 }  // namespace
 
+DofMap body_constraints(const CaseBody& body, const Mesh& mesh) {
+  return DofMap::from_supports(mesh.num_nodes(), body.clamp, body.supports, mesh.equations);
+}
+
 int PreparedBody::global_dof(int node_id, int direction) const {
   const auto it = master_dof.find({node_id, direction});
   return it == master_dof.end() ? -1 : it->second;
@@ -525,6 +532,11 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
                         body.material.poisson_ratio, body.material.density);
     text += "clamp";
     for (int n : body.clamp) text += fmt::format(" {}", body.node_id(n));
+    for (const NodeSupport& support : body.supports) {
+      text += fmt::format("\nsupport {}", body.node_id(support.node));
+      for (const Eigen::Vector3d& d : support.directions)
+        text += fmt::format(" {:.17g} {:.17g} {:.17g}", d.x(), d.y(), d.z());
+    }
     text += "\nmasters";
     for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
@@ -646,8 +658,27 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     std::sort(m.begin(), m.end());
     m.erase(std::unique(m.begin(), m.end()), m.end());
     body.masters = std::move(m);
-    if (body.from_mesh)
-      body.clamp = resolve_nodes(def, "bodies." + name + ".clamp", body, bd.clamp);
+    if (!body.from_mesh) continue;
+    body.clamp = resolve_nodes(def, "bodies." + name + ".clamp", body, bd.clamp);
+    for (size_t i = 0; i < bd.supports.size(); ++i) {
+      const SupportDefinition& sd = bd.supports[i];
+      const std::string key = fmt::format("bodies.{}.supports[{}]", name, i);
+      const SourceLocation where = def.where(key);
+      const std::string origin = fmt::format("{}:{}", where.file, where.line);
+      std::vector<Eigen::Vector3d> directions;
+      const Eigen::Matrix3d R =
+          sd.local_frame ? (sd.t1 == std::array<double, 3>{0, 0, 0}
+                                ? frame_from_normal(Eigen::Vector3d(sd.normal.data()))
+                                : frame_from_normal(Eigen::Vector3d(sd.normal.data()),
+                                                    Eigen::Vector3d(sd.t1.data())))
+                         : Eigen::Matrix3d::Identity();
+      for (const std::string& d : sd.directions) {
+        const int row = (d == "x" || d == "t1") ? 0 : (d == "y" || d == "t2") ? 1 : 2;
+        directions.push_back(R.row(row).transpose());
+      }
+      for (int n : resolve_nodes(def, key + ".nodes", body, sd.nodes))
+        body.supports.push_back({n, directions, origin});
+    }
   }
   return out;
 }
@@ -713,7 +744,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       } else {
         say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                         m.size(), bd.modes));
-        reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
+        reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
         cached_fingerprint.clear();  // no stale pair if the copy below throws
         cached.constraints = body.constraints;
         cached.K = body.K;
@@ -725,7 +756,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     } else if (body.from_mesh) {
       say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                       m.size(), bd.modes));
-      reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
+      reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
     }
     body.offset = model.num_dofs;
     for (int j = 0; j < body.reduced.size(); ++j) {

@@ -63,12 +63,17 @@ struct CaseBody {
   Mesh mesh;                   // from_mesh: the body's part of its mesh, with its sets
   IsotropicMaterial material;  // from_mesh
   std::vector<int> clamp;      // from_mesh: clamped node indices
+  std::vector<NodeSupport> supports;  // from_mesh: bodies.B.supports, per node (global axes)
   std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
   // The dotted case key that first asked for each master (a contact pair, an excitation entry,
   // bodies.B.masters, an output.frf entry), for messages about that node.
   std::map<int, std::string> master_keys;
   int node_id(int node) const { return from_mesh ? mesh.node_ids[node] : node; }
 };
+// The constraints of a mesh body on `mesh` (its mesh, which may have been moved out of `body`):
+// its clamp, supports and the mesh's equations (DofMap).
+DofMap body_constraints(const CaseBody& body, const Mesh& mesh);
+
 struct CaseContact {
   int body_a = 0;                               // index in CaseBodies::bodies
   int body_b = -1;                              // -1 = ground

@@ -100,6 +100,7 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
   validate(options);
   check_indices(options.clamped_nodes, mesh.num_nodes(), "CalculixDeckOptions::clamped_nodes");
   check_indices(options.output_nodes, mesh.num_nodes(), "CalculixDeckOptions::output_nodes");
+  check_indices(options.clamped_dofs, 3 * mesh.num_nodes(), "CalculixDeckOptions::clamped_dofs");
   check_loads(mesh, loads, options.harmonics);
   for (const char* name : {"SS_NALL", "SS_EALL", "SS_FIXED", "SS_OUT"}) {
     if (mesh.node_sets.count(name) != 0 || mesh.element_sets.count(name) != 0) {
@@ -139,6 +140,13 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
       << decimal_in_width(options.density, kFieldWidth) << '\n'
       << "*SOLID SECTION, ELSET=SS_EALL, MATERIAL=SS_MATERIAL\n";
   if (!options.clamped_nodes.empty()) out << "*BOUNDARY\nSS_FIXED, 1, 3\n";
+  if (!options.clamped_dofs.empty()) {
+    out << "*BOUNDARY\n";
+    for (int dof : options.clamped_dofs) {
+      const int d = dof % 3 + 1;
+      out << mesh.node_ids[dof / 3] << ", " << d << ", " << d << '\n';
+    }
+  }
 
   const auto& H = options.harmonics;
   const bool dynamic = std::any_of(H.begin(), H.end(), [](int k) { return k > 0; });

@@ -651,6 +651,62 @@ void parse_meshes(Parser& p, const MapView& top) {
       });
 }
 
+// bodies.B.supports: a list of {nodes, directions, normal, t1}.
+std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
+  const YAML::Node& list = body.value("supports");
+  p.sequence(list, body.full("supports"), body.line("supports"));
+  p.check(list.size() > 0, body.full("supports"), body.line("supports"),
+          "expected at least one support");
+  std::vector<SupportDefinition> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = body.full("supports") + "[" + std::to_string(i) + "]";
+    MapView m(p, list[i], path, line_of(list[i]) > 0 ? line_of(list[i]) : body.line("supports"),
+              {"nodes", "directions", "normal", "t1"});
+    p.record(path, m.line());
+    SupportDefinition d;
+    m.require("nodes");
+    m.require("directions", "x, y, z, or with 'normal' t1, t2, n");
+    d.nodes = node_selection(p, m.value("nodes"), m.full("nodes"), m.line("nodes"));
+    d.local_frame = m.has("normal");
+    if (d.local_frame) {
+      d.normal = p.direction(m.value("normal"), m.full("normal"), m.line("normal"));
+      if (m.has("t1")) {
+        d.t1 = p.direction(m.value("t1"), m.full("t1"), m.line("t1"));
+        const double c = d.t1[0] * d.normal[0] + d.t1[1] * d.normal[1] + d.t1[2] * d.normal[2];
+        p.check(std::abs(c) < 1 - 1e-6, m.full("t1"), m.line("t1"),
+                "must not be parallel to the normal");
+      }
+    } else {
+      m.forbid("t1", "without 'normal' (t1 is a hint for the local frame of 'normal')");
+    }
+    const std::vector<std::string> names =
+        d.local_frame ? std::vector<std::string>{"t1", "t2", "n"}
+                      : std::vector<std::string>{"x", "y", "z"};
+    const YAML::Node& v = m.value("directions");
+    std::vector<YAML::Node> items;
+    if (v.IsSequence()) {
+      for (const YAML::Node& item : v) items.push_back(item);
+    } else {
+      items.push_back(v);
+    }
+    p.check(!items.empty(), m.full("directions"), m.line("directions"),
+            "expected at least one direction");
+    for (const YAML::Node& item : items) {
+      const std::string name = p.text(item, m.full("directions"), m.line("directions"));
+      p.check(std::find(names.begin(), names.end(), name) != names.end(), m.full("directions"),
+              m.line("directions"),
+              "unknown direction '" + name + "': expected " + join(names, ", ") +
+                  (d.local_frame ? " (the rows of the frame of 'normal')"
+                                 : " (global axes; t1, t2, n need 'normal')"));
+      p.check(std::find(d.directions.begin(), d.directions.end(), name) == d.directions.end(),
+              m.full("directions"), m.line("directions"), "direction '" + name + "' given twice");
+      d.directions.push_back(name);
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
 void parse_bodies(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "bodies",
@@ -658,13 +714,14 @@ void parse_bodies(Parser& p, const MapView& top) {
         p.check(name != "ground", path, line,
                 "'ground' is reserved (the fixed ground of contacts)");
         MapView m(p, node, path, line,
-                  {"mesh", "element_set", "material", "clamp", "masters", "modes",
+                  {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes",
                    "modal_damping_ratio", "reduced"});
         BodyDefinition d;
         m.number("modal_damping_ratio", &d.modal_damping_ratio);
         if (m.has("reduced")) {
           d.source = BodyDefinition::Source::kReduced;
-          for (const char* key : {"mesh", "element_set", "material", "clamp", "masters", "modes"})
+          for (const char* key :
+               {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
                     {"stiffness", "mass", "mapping", "format"});
@@ -711,6 +768,7 @@ void parse_bodies(Parser& p, const MapView& top) {
           m.text("element_set", &d.element_set);
           if (m.has("clamp"))
             d.clamp = node_selection(p, m.value("clamp"), m.full("clamp"), m.line("clamp"));
+          if (m.has("supports")) d.supports = parse_supports(p, m);
           if (m.has("masters"))
             d.masters = node_selection(p, m.value("masters"), m.full("masters"), m.line("masters"));
           m.integer("modes", &d.modes, 0, kMaxReducedBodyDofs,
@@ -1695,6 +1753,22 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "material" << YAML::Value << b.material;
       e << YAML::Key << "clamp" << YAML::Value;
       selection(b.clamp);
+      if (!b.supports.empty()) {
+        e << YAML::Key << "supports" << YAML::Value << YAML::BeginSeq;
+        for (const SupportDefinition& sd : b.supports) {
+          e << YAML::BeginMap << YAML::Key << "nodes" << YAML::Value;
+          selection(sd.nodes);
+          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << sd.directions;
+          if (sd.local_frame) {
+            e << YAML::Key << "normal" << YAML::Value << YAML::Flow
+              << std::vector<double>(sd.normal.begin(), sd.normal.end());
+            e << YAML::Key << "t1" << YAML::Value << YAML::Flow
+              << std::vector<double>(sd.t1.begin(), sd.t1.end());
+          }
+          e << YAML::EndMap;
+        }
+        e << YAML::EndSeq;
+      }
       e << YAML::Key << "masters" << YAML::Value;
       selection(b.masters);
       e << YAML::Key << "modes" << YAML::Value << b.modes;

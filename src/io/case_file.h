@@ -106,6 +106,17 @@ struct NodeSelection {
   bool empty() const { return sets.empty() && ids.empty(); }
 };
 
+// A support (bodies.B.supports[i]): the displacement of each node along each direction is zero.
+// Directions are global axes x, y, z, or, with a local frame (`normal`, optional `t1` hint, the
+// contact frames' rule: core/frame.h), its rows t1, t2, n.
+struct SupportDefinition {
+  NodeSelection nodes;                  // required
+  std::vector<std::string> directions;  // required, no name twice: x | y | z, or t1 | t2 | n
+  bool local_frame = false;             // `normal` given
+  std::array<double, 3> normal{0, 0, 0};
+  std::array<double, 3> t1{0, 0, 0};    // 0 = automatic
+};
+
 struct ReducedMatricesDefinition {
   std::string stiffness;                  // resolved path (required)
   std::string mass;                       // resolved path (required)
@@ -121,6 +132,7 @@ struct BodyDefinition {
   std::string element_set;  // elements of the body; empty = the whole mesh
   std::string material;     // name in CaseDefinition::materials (required)
   NodeSelection clamp;      // nodes fixed in x, y, z
+  std::vector<SupportDefinition> supports;  // nodes held in some directions
   NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction
   int modes = 60;           // fixed-interface modes kept (≥ 0)
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
