@@ -972,7 +972,8 @@ Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefin
   return eig.eigenvalues.cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
 }
 
-std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
+std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const CaseDefinition& def,
+                                            SweepWindow* window) {
   const FrequencyDefinition& f = def.analysis.frequency;
   double start = f.start_hz, stop = f.stop_hz;
   if (f.kind == FrequencyDefinition::Kind::kAroundMode) {
@@ -989,6 +990,9 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
           def.where("analysis.frequency.half_width_hz"),
           fmt::format("window reaches below 0 Hz (mode {} at {:.6g} Hz)", f.around_mode, centre));
     }
+    if (window) *window = {start, stop, f.around_mode, centre};
+  } else if (window) {
+    *window = {start, stop, 0, 0.0};
   }
   if (def.analysis.method == "continuation") {
     if (f.downward) return {stop, start};
@@ -1031,6 +1035,15 @@ void check_memory(const PreparedModel& model, const CaseDefinition& def) {
 
 }  // namespace
 
+std::string describe_window(const SweepWindow& w) {
+  std::string text = fmt::format("sweep window {:.6g} to {:.6g} Hz", w.start_hz, w.stop_hz);
+  if (w.stuck_mode > 0) {
+    text += fmt::format(" around stuck mode {} at {:.6g} Hz (all contacts stuck)", w.stuck_mode,
+                        w.stuck_mode_hz);
+  }
+  return text;
+}
+
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, ProgressReporter* reporter) {
   const auto t0 = Clock::now();
@@ -1049,7 +1062,8 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     progress("modal damping matrix: one complex LU per frequency and harmonic (slower) because " +
              solved.system->damping_matrix_note());
   }
-  solved.frequencies_hz = analysis_frequencies_hz(model, def);
+  solved.frequencies_hz = analysis_frequencies_hz(model, def, &solved.window);
+  if (progress) progress(describe_window(solved.window));
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;
   o.initial_guess =

@@ -197,14 +197,27 @@ ElementPtr make_linear_springs(const Eigen::VectorXd& k);
 // (stuck_stiffness_matrix and model.M).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 
-// The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation.
+// The frequency window of the analysis, Hz: as given (start_hz/stop_hz), or around_mode's stuck
+// mode ± half_width_hz (stuck_frequencies_hz).
+struct SweepWindow {
+  double start_hz = 0.0, stop_hz = 0.0;
+  int stuck_mode = 0;          // around_mode (1-based); 0 when the window was given in Hz
+  double stuck_mode_hz = 0.0;  // that mode's frequency
+};
+// The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation; `window`
+// (may be null) receives the window they cover.
 std::vector<double> analysis_frequencies_hz(const PreparedModel& model,
-                                            const CaseDefinition& definition);
+                                            const CaseDefinition& definition,
+                                            SweepWindow* window = nullptr);
 
+// "sweep window 185.2 to 189.2 Hz around stuck mode 4 at 187.2 Hz (all contacts stuck)", for
+// the log.
+std::string describe_window(const SweepWindow& window);
 struct SolvedCase {
   std::unique_ptr<HarmonicBalanceSystem> system;
   FrequencyResponse response;
   std::vector<double> frequencies_hz;  // the requested grid (stepped) or range (continuation)
+  SweepWindow window;
   double seconds_solve = 0.0;
   bool warn_aft_fallback = false;  // `analysis.aft: event` given: warn where it fell back
 };

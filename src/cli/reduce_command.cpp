@@ -33,7 +33,7 @@ std::vector<StageRun> stage_runs(const CaseDefinition& base, const fs::path& out
       const std::string folder = study_folder_name(base.study.parameter, v);
       runs.push_back({folder,
                       with_parameter(base, base.study.parameter, v, base.where("study.parameter")),
-                      out_dir / folder});
+                      out_dir / folder, v});
     }
   } else {
     runs.push_back({"", base, out_dir});
@@ -123,6 +123,9 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
   d.output.calculix_deck = defaults.calculix_deck;
   d.output.quiet = defaults.quiet;
   d.title.clear();
+  // One analysis of a study depends on its own value only (already set in `definition`): the
+  // study's other values do not enter, so its folder matches the `inputs` of its summary.json.
+  d.study = StudyDefinition{};
   // Input files count by their contents, never by their paths: the same case read as
   // `case.yaml`, as `$PWD/case.yaml`, from another working directory or after the project folder
   // was moved has the same fingerprint (the paths are blanked here and the contents hashed below;

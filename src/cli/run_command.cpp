@@ -21,6 +21,7 @@
 #include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
+#include "cli/summary_file.h"
 #include "io/case_file.h"
 
 namespace stickslip {
@@ -48,14 +49,18 @@ int run_case(const StageCommand& command) {
     const PreparedModel model = prepare_model(def, progress, {}, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     interruption_doing("writing the solve files in " + where);
-    write_solve_results(run.dir, def, model, solved,
+    write_solve_results(run, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
     interruption_done("solve files in " + where);
     interruption_doing("recovering in " + where);
+    const auto t_recovery = Clock::now();
     std::vector<PlotSeries> full_frf;
     run_recovery(run.dir, def, model, solved.response, recovery_points(def, model, solved.response),
                  progress, &full_frf);
     interruption_done("recovery files in " + where);
+    SummaryTimings timings;
+    const auto t_plots = Clock::now();
+    timings.recovery_s = std::chrono::duration<double>(t_plots - t_recovery).count();
     if (def.output.plots) {
       interruption_doing("plotting in " + where);
       const SolveResults results = read_solve_results(run.dir, "stickslip run");
@@ -65,6 +70,11 @@ int run_case(const StageCommand& command) {
       overlay.insert(overlay.end(), frf.begin(), frf.end());
       interruption_done("plots in " + where);
     }
+    timings.plots_s = std::chrono::duration<double>(Clock::now() - t_plots).count();
+    timings.total_s = std::chrono::duration<double>(Clock::now() - t_run).count();
+    interruption_doing("completing summary.json in " + where);
+    complete_summary(run.dir, timings);
+    interruption_done("summary.json in " + where);
     outcome += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {

@@ -1684,6 +1684,25 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
   return c;
 }
 
+CaseDefinition with_absolute_paths(const CaseDefinition& definition) {
+  CaseDefinition c = definition;
+  const auto absolute = [](std::string& path) {
+    if (!path.empty()) path = std::filesystem::absolute(path).lexically_normal().string();
+  };
+  for (auto& [name, m] : c.meshes) absolute(m.file);
+  for (auto& [name, b] : c.bodies) {
+    absolute(b.reduced.stiffness);
+    absolute(b.reduced.mass);
+    absolute(b.reduced.mapping);
+  }
+  for (ContactDefinition& d : c.contacts) {
+    absolute(d.pairs_file);
+    absolute(d.preload_file);
+  }
+  absolute(c.output.directory);
+  return c;
+}
+
 std::string describe_case(const CaseDefinition& c) {
   YAML::Emitter e;
   // Numbers in their shortest round-trip form (yaml-cpp would print 17 digits).
@@ -1769,8 +1788,10 @@ std::string describe_case(const CaseDefinition& c) {
         }
         e << YAML::EndSeq;
       }
-      e << YAML::Key << "masters" << YAML::Value;
-      selection(b.masters);
+      if (!b.masters.empty()) {  // empty: not given (the contact and forced nodes)
+        e << YAML::Key << "masters" << YAML::Value;
+        selection(b.masters);
+      }
       e << YAML::Key << "modes" << YAML::Value << b.modes;
     } else {
       e << YAML::Key << "reduced" << YAML::Value << YAML::BeginMap;
@@ -1788,24 +1809,30 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::BeginMap;
     e << YAML::Key << "name" << YAML::Value << d.name;
     e << YAML::Key << "law" << YAML::Value << d.law;
-    e << YAML::Key << "bodies" << YAML::Value;
-    vec(std::vector<std::string>{d.body_a, d.body_b});
-    if (!d.nodes_a.empty()) {
-      e << YAML::Key << "between" << YAML::Value << YAML::BeginSeq;
+    if (!d.nodes_a.empty()) {  // `between` names the bodies (one body: to the ground)
+      e << YAML::Key << "between" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      e << YAML::Key << d.body_a << YAML::Value;
       selection(d.nodes_a);
-      selection(d.nodes_b);
-      e << YAML::EndSeq;
+      if (d.body_b != "ground") {
+        e << YAML::Key << d.body_b << YAML::Value;
+        selection(d.nodes_b);
+      }
+      e << YAML::EndMap;
       e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
-    } else if (!d.pairs_file.empty()) {
-      e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
     } else {
-      e << YAML::Key << "pairs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-      for (const auto& pr : d.pairs) vec(pr);
-      e << YAML::EndSeq;
+      e << YAML::Key << "bodies" << YAML::Value;
+      vec(std::vector<std::string>{d.body_a, d.body_b});
+      if (!d.pairs_file.empty()) {
+        e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
+      } else {
+        e << YAML::Key << "pairs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+        for (const auto& pr : d.pairs) vec(pr);
+        e << YAML::EndSeq;
+      }
     }
     e << YAML::Key << (uses_frame(d) ? "normal" : "direction") << YAML::Value;
     vec(uses_frame(d) ? d.normal : d.direction);
-    if (uses_frame(d)) {
+    if (uses_frame(d) && d.t1 != std::array<double, 3>{0, 0, 0}) {  // zero: not given
       e << YAML::Key << "t1" << YAML::Value;
       vec(d.t1);
     }
@@ -1813,12 +1840,16 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
       << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
-    for (const std::string& key : parameter_keys(d))
+    // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
+    const bool gap = (d.law == "friction" || d.law == "gap") && d.gap != 0;
+    for (const std::string& key : parameter_keys(d)) {
+      if (key == "preload" && (gap || !d.preload_file.empty())) continue;
       e << YAML::Key << key << YAML::Value << num(*contact_parameter(params, key));
+    }
     if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
-    e << YAML::Key << "gap" << YAML::Value << num(d.gap);
+    if (gap) e << YAML::Key << "gap" << YAML::Value << num(d.gap);
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
@@ -1826,12 +1857,25 @@ std::string describe_case(const CaseDefinition& c) {
   for (const ExcitationDefinition& x : c.excitation) {
     e << YAML::Flow << YAML::BeginMap;
     e << YAML::Key << "body" << YAML::Value << x.body;
-    e << YAML::Key << "nodes" << YAML::Value;
-    selection(x.nodes);
+    if (x.nodes.sets.empty()) {
+      e << YAML::Key << "node" << YAML::Value;
+      vec(x.nodes.ids);
+    } else {
+      e << YAML::Key << "node_set" << YAML::Value;
+      vec(x.nodes.sets);
+    }
     e << YAML::Key << "harmonic" << YAML::Value << x.harmonic;
-    e << YAML::Key << "force" << YAML::Value << YAML::BeginSeq;
-    for (const auto& f : x.force) vec(std::array<double, 2>{f.real(), f.imag()});
-    e << YAML::EndSeq << YAML::EndMap;
+    if (x.by_direction) {  // as given, so that a study of its amplitude still applies
+      e << YAML::Key << "direction" << YAML::Value;
+      vec(x.direction);
+      e << YAML::Key << "amplitude" << YAML::Value << num(x.amplitude);
+      e << YAML::Key << "phase_deg" << YAML::Value << num(x.phase_deg);
+    } else {
+      e << YAML::Key << "force" << YAML::Value << YAML::BeginSeq;
+      for (const auto& f : x.force) vec(std::array<double, 2>{f.real(), f.imag()});
+      e << YAML::EndSeq;
+    }
+    e << YAML::EndMap;
   }
   e << YAML::EndSeq;
   e << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -1850,8 +1894,11 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
   e << YAML::Key << "sweep" << YAML::Value << (a.frequency.downward ? "down" : "up");
   if (a.method == "continuation") {
-    e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
-    e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
+    // 0: not given (the continuation derives them from step_hz)
+    if (a.frequency.min_step_hz > 0)
+      e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
+    if (a.frequency.max_step_hz > 0)
+      e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
   e << YAML::Key << "method" << YAML::Value << a.method;

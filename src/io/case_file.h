@@ -314,7 +314,13 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
 // whose values do not all have folders of their own.
 std::string study_folder_name(const std::string& parameter, double value);
 
-// The definition as canonical YAML with every default filled in (for summary.json and logs).
+// The definition as canonical YAML with every default filled in (for summary.json and logs). It
+// is a case file that read_case_file accepts and that describes itself with the same text
+// (relative file paths in it are read against the folder of the file it is saved in: see
+// with_absolute_paths).
 std::string describe_case(const CaseDefinition& definition);
+// The definition with its file paths (meshes, matrices, mappings, pairs and preload files, the
+// output folder) made absolute against the current working directory and normalised.
+CaseDefinition with_absolute_paths(const CaseDefinition& definition);
 
 }  // namespace stickslip

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <functional>
@@ -154,21 +155,20 @@ std::set<std::string> files_under(const fs::path& dir) {
   return out;
 }
 
-// summary.json without the lines that differ between two runs of one case: timings, the case
-// file's path and the inputs (which name the output folder).
+// summary.json without the values that differ between two runs of one case: timings, the case
+// file's path, the output folder and the inputs (which name the output folder), and the files
+// written (an interrupted run wrote fewer: each one it lists must be there).
 std::string comparable(const fs::path& p) {
   const std::string text = slurp(p);
   if (p.filename() != "summary.json") return text;
-  std::istringstream in(text);
-  std::string out, line;
-  while (std::getline(in, line)) {
-    bool varies = false;
-    for (const char* key : {"\"timings\"", "\"case_file\"", "\"inputs\"", "seconds_reduction"}) {
-      varies = varies || line.find(key) != std::string::npos;
-    }
-    if (!varies) out += line + "\n";
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(text);
+  for (const auto& file : summary["files"]) {
+    EXPECT_TRUE(fs::exists(p.parent_path() / file.get<std::string>())) << file << " is listed";
   }
-  return out;
+  for (const char* key : {"timings", "case_file", "inputs", "output_directory", "files"})
+    summary.erase(key);
+  for (auto& body : summary["bodies"]) body.erase("seconds_reduction");
+  return summary.dump(1);
 }
 
 // Every file under `dir` is one a clean run writes (in `clean`), with the same content; no
