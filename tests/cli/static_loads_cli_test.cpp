@@ -264,4 +264,23 @@ TEST(StaticLoadsCli, ATorqueTheFrictionCannotHoldMakesTheStaticStateSlip) {
   }
 }
 
+// A pressure on an inner cross-section (faces shared by two elements) is refused before any
+// solve, at the entry's line, naming the body and the elements.
+TEST(StaticLoadsCli, APressureOnInnerFacesIsAnInputError) {
+  const fs::path dir = fresh_dir("static_loads_inner");
+  {
+    std::ofstream(dir / "bars.inp") << two_bars_inp();
+  }
+  std::string text = pressed_bars_case("");
+  const std::string load = "total_force: [-4500, 0, 0]";
+  text.replace(text.find(load), load.size(), "pressure: 1.0e6");
+  const fs::path c = write_case(dir, "inner", text);
+  EXPECT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 2);
+  const std::string log = slurp(dir / "run.log");
+  EXPECT_NE(log.find("inner.yaml:18: static_loads[0]: body bar2: the pressure's nodes hold a face "
+                     "shared by elements"),
+            std::string::npos)
+      << log;
+}
+
 }  // namespace
