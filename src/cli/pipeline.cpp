@@ -637,6 +637,18 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     out.excitation_nodes.push_back(resolve_nodes(def, key, out.bodies[b], ed.nodes));
     for (int n : out.excitation_nodes.back()) add_master(b, n, key);
   }
+  for (size_t i = 0; i < def.static_loads.size(); ++i) {
+    const StaticLoadDefinition& ld = def.static_loads[i];
+    const int b = body_index.at(ld.body);
+    const std::string key = fmt::format("static_loads[{}]", i);
+    std::vector<int> nodes = resolve_nodes(def, key, out.bodies[b], ld.nodes);
+    if (ld.kind != StaticLoadDefinition::Kind::kForce) {
+      std::sort(nodes.begin(), nodes.end());
+      nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    }
+    for (int n : nodes) add_master(b, n, key);
+    out.static_load_nodes.push_back(std::move(nodes));
+  }
   for (const auto& [name, bd] : def.bodies) {
     const int b = body_index.at(name);
     const std::string key = "bodies." + name + ".masters";
@@ -680,6 +692,31 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
         body.supports.push_back({n, directions, origin});
     }
   }
+  return out;
+}
+
+std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vector<int>& nodes,
+                                                const StaticLoadDefinition& load) {
+  const Eigen::Vector3d f(load.force[0], load.force[1], load.force[2]);
+  switch (load.kind) {
+    case StaticLoadDefinition::Kind::kForce:
+      return std::vector<Eigen::Vector3d>(nodes.size(), f);
+    case StaticLoadDefinition::Kind::kPressure:
+      return pressure_nodal_forces(mesh, nodes, load.pressure);
+    case StaticLoadDefinition::Kind::kTotalForce:
+      break;
+  }
+  // Consistent nodal areas ∫ N_i dA: the work-equivalent loads of a uniform traction.
+  const std::vector<double> areas = nodal_areas(mesh, nodes, NodalAreaRule::kConsistent);
+  double total = 0.0;
+  for (double a : areas) total += a;
+  if (!(total > 0.0)) {
+    throw InvalidInput(
+        "total_force: its nodes hold no element face to split the force over (select whole "
+        "faces, mid-edge nodes included for quadratic elements, or use 'force' per node)");
+  }
+  std::vector<Eigen::Vector3d> out;
+  for (double a : areas) out.push_back(f * (a / total));
   return out;
 }
 
@@ -899,6 +936,27 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     for (int n : nodes) {
       for (int dir = 0; dir < 3; ++dir)
         it->second(body.global_dof(node_id_of(body, n), dir)) += f[dir];
+    }
+  }
+
+  // Static loads (harmonic 0) on their master nodes: the reduced model sees them exactly, and the
+  // recovery applies them to the full bodies with the static contact forces (the mean stress).
+  for (size_t i = 0; i < def.static_loads.size(); ++i) {
+    const StaticLoadDefinition& ld = def.static_loads[i];
+    const PreparedBody& body = model.bodies[body_index.at(ld.body)];
+    const std::vector<int>& nodes = resolved.static_load_nodes[i];
+    const std::string key = fmt::format("static_loads[{}]", i);
+    std::vector<Eigen::Vector3d> forces;
+    try {
+      forces = static_load_forces(body.mesh, nodes, ld);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(def.where(key), fmt::format("body {}: {}", ld.body, e.message()));
+    }
+    auto [it, inserted] =
+        model.excitation.harmonics.try_emplace(0, Eigen::VectorXcd::Zero(model.num_dofs));
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      for (int dir = 0; dir < 3; ++dir)
+        it->second(body.global_dof(node_id_of(body, nodes[k]), dir)) += forces[k](dir);
     }
   }
 

@@ -83,6 +83,9 @@ struct CaseBodies {
   std::vector<CaseBody> bodies;                    // CaseDefinition::bodies order
   std::vector<CaseContact> contacts;               // CaseDefinition::contacts order
   std::vector<std::vector<int>> excitation_nodes;  // per excitation entry: as CaseBody::masters
+  // Per static_loads entry: its nodes (indices in the body's mesh; each once for total_force and
+  // pressure), all master nodes of the body.
+  std::vector<std::vector<int>> static_load_nodes;
 };
 struct ModelCache;
 // `cache` (may be null): meshes whose fingerprint (mesh_fingerprint) is in it are not loaded again;
@@ -192,6 +195,14 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model);
 // The element of a 3D linear contact: independent linear springs on the m = k.size() local rows,
 // f_d = k_d u_d (N/m, N); elastic (stick fraction 1, no dissipation, one period).
 ElementPtr make_linear_springs(const Eigen::VectorXd& k);
+
+// The nodal forces (N, global axes) of one static_loads entry on `nodes` (indices in `mesh`, as
+// CaseBodies::static_load_nodes): `force` on each node; `total_force` split in proportion to the
+// consistent nodal areas ∫ N_i dA of the nodes' faces (a uniform traction); `pressure` through
+// pressure_nodal_forces (mesh/surface_area.h). InvalidInput (without a location) when the nodes
+// hold no face for total_force or pressure.
+std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vector<int>& nodes,
+                                                const StaticLoadDefinition& load);
 
 // Natural frequencies (Hz, ascending) of the assembled reduced model with every contact stuck
 // (stuck_stiffness_matrix and model.M).

@@ -980,8 +980,16 @@ void parse_contacts(Parser& p, const MapView& top) {
     const std::vector<std::string> required =
         d.law == "linear" ? parameter_keys(d) : law_required().at(d.law);
     for (const std::string& key : required) params.require(key);
-    for (const std::string& key : parameter_keys(d))
+    for (const std::string& key : parameter_keys(d)) {
+      if (key == "preload" && params.has(key) && params.value(key).IsScalar() &&
+          params.value(key).Scalar() == "computed") {
+        p.check(d.law == "friction" || d.law == "gap", params.full(key), params.line(key),
+                "law " + d.law + " cannot compute its preload (laws friction and gap only)");
+        d.preload_computed = true;  // from the static contact problem under static_loads
+        continue;
+      }
       params.number(key, contact_parameter(d.parameters, key));
+    }
     params.choice("split", &d.split, {"equal", "area"});
 
     // Preload: uniform, per pair from a file, or a gap instead.
@@ -1092,6 +1100,69 @@ void parse_excitation(Parser& p, const MapView& top) {
       }
     }
     p.out().excitation.push_back(d);
+  }
+}
+
+void parse_static_loads(Parser& p, const MapView& top) {
+  if (!top.has("static_loads")) return;
+  const YAML::Node& list = top.value("static_loads");
+  p.sequence(list, "static_loads", top.line("static_loads"));
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "static_loads[" + std::to_string(i) + "]";
+    MapView m(p, list[i], path, line_of(list[i]),
+              {"body", "node_set", "node", "force", "total_force", "pressure"});
+    p.record(path, m.line());
+    StaticLoadDefinition d;
+    m.require("body");
+    m.text("body", &d.body);
+    check_body(p, d.body, m.full("body"), m.line("body"), false);
+    const BodyDefinition& body = p.out().bodies.at(d.body);
+    p.check(body.source == BodyDefinition::Source::kMesh, m.full("body"), m.line("body"),
+            "body '" + d.body +
+                "' is given by reduced matrices: static loads act on bodies given by a mesh "
+                "(their full model is recovered with them)");
+    m.exclusive("node_set", "node");
+    if (!m.has("node")) m.require("node_set", "or 'node'");
+    if (m.has("node")) {
+      const YAML::Node& v = m.value("node");
+      if (v.IsSequence()) {
+        p.check(v.size() > 0, m.full("node"), m.line("node"), "expected at least one node id");
+        for (const YAML::Node& id : v)
+          d.nodes.ids.push_back(p.integer(id, m.full("node"), m.line("node")));
+      } else {
+        d.nodes.ids.push_back(p.integer(v, m.full("node"), m.line("node")));
+      }
+      for (int id : d.nodes.ids)
+        p.check(id > 0, m.full("node"), m.line("node"), "node ids are positive");
+    } else {
+      const YAML::Node& v = m.value("node_set");
+      if (v.IsSequence()) {
+        for (const YAML::Node& s : v)
+          d.nodes.sets.push_back(p.text(s, m.full("node_set"), m.line("node_set")));
+      } else {
+        d.nodes.sets.push_back(p.text(v, m.full("node_set"), m.line("node_set")));
+      }
+    }
+    const int kinds = int{m.has("force")} + int{m.has("total_force")} + int{m.has("pressure")};
+    p.check(kinds == 1, path, m.line(),
+            kinds == 0 ? "expected one of 'force: [fx, fy, fz]' (N on each node), "
+                         "'total_force: [fx, fy, fz]' (N, split by area) or 'pressure' (Pa)"
+                       : "give only one of 'force', 'total_force' and 'pressure'");
+    if (m.has("pressure")) {
+      d.kind = StaticLoadDefinition::Kind::kPressure;
+      m.number("pressure", &d.pressure);
+      p.check(d.pressure != 0.0, m.full("pressure"), m.line("pressure"), "must not be 0");
+    } else {
+      const std::string key = m.has("force") ? "force" : "total_force";
+      d.kind = key == "force" ? StaticLoadDefinition::Kind::kForce
+                              : StaticLoadDefinition::Kind::kTotalForce;
+      const YAML::Node& f = m.value(key);
+      p.sequence(f, m.full(key), m.line(key));
+      p.check(f.size() == 3, m.full(key), m.line(key), "expected [fx, fy, fz] (N)");
+      for (size_t c = 0; c < 3; ++c)
+        d.force[c] = p.checked_number(f[c], m.full(key), key, m.line(key));
+    }
+    p.out().static_loads.push_back(d);
   }
 }
 
@@ -1338,6 +1409,17 @@ void cross_check(Parser& p) {
                 " is not solved: analysis.harmonics has 1.." +
                 std::to_string(c.analysis.max_harmonic()) + " (use 0 for a static force)");
   }
+  for (const ContactDefinition& d : c.contacts) {
+    if (!d.preload_computed) continue;
+    const std::string path = "contacts." + d.name + "." +
+                             (d.parameters_given == ContactDefinition::Parameters::kPerPair
+                                  ? "per_pair"
+                                  : "total") +
+                             ".preload";
+    p.check(!c.static_loads.empty(), path, c.where(path).line,
+            "a computed preload needs 'static_loads' (the loads that press the contact); "
+            "none are given");
+  }
   if (!c.recovery.nodes.empty()) {
     const bool any_mesh_body = std::any_of(c.bodies.begin(), c.bodies.end(), [](const auto& b) {
       return b.second.source == BodyDefinition::Source::kMesh;
@@ -1486,7 +1568,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
     throw InvalidInput(SourceLocation{name_for_messages, 0, ""}, "the case file is empty");
   MapView top(p, root, "", 1,
               {"stickslip", "title", "materials", "meshes", "bodies", "contacts", "excitation",
-               "damping", "analysis", "study", "recovery", "output"});
+               "static_loads", "damping", "analysis", "study", "recovery", "output"});
   top.require("stickslip", "the format version: stickslip: 1");
   top.integer("stickslip", &out.version, 1);
   p.check(out.version == kCaseFormatVersion, "stickslip", top.line("stickslip"),
@@ -1500,6 +1582,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   p.check(!out.bodies.empty(), "bodies", top.line("bodies"), "expected at least one body");
   parse_contacts(p, top);
   parse_excitation(p, top);
+  parse_static_loads(p, top);
   if (top.has("damping")) {
     MapView d(p, top.value("damping"), "damping", top.line("damping"), {"alpha", "beta"});
     d.number("alpha", &out.damping.alpha);
@@ -1649,6 +1732,8 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
         fail("'" + key + "' is not a parameter of law " + it->law);
       if (key == "preload" && !it->preload_file.empty())
         fail("contact '" + it->name + "' takes its preload from preload_file");
+      if (key == "preload" && it->preload_computed)
+        fail("contact '" + it->name + "' computes its preload from static_loads");
       if (key == "preload" && c.locations.count("contacts." + it->name + ".gap"))
         fail("contact '" + it->name + "' gives a gap; give either a preload or a gap");
       field = contact_parameter(it->parameters, key);
@@ -1843,8 +1928,13 @@ std::string describe_case(const CaseDefinition& c) {
     // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
     const bool gap = (d.law == "friction" || d.law == "gap") && d.gap != 0;
     for (const std::string& key : parameter_keys(d)) {
-      if (key == "preload" && (gap || !d.preload_file.empty())) continue;
-      e << YAML::Key << key << YAML::Value << num(*contact_parameter(params, key));
+      if (key == "preload" && !d.preload_computed && (gap || !d.preload_file.empty())) continue;
+      e << YAML::Key << key << YAML::Value;
+      if (key == "preload" && d.preload_computed) {
+        e << "computed";
+      } else {
+        e << num(*contact_parameter(params, key));
+      }
     }
     if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
     e << YAML::EndMap;
@@ -1878,6 +1968,25 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
+  if (!c.static_loads.empty()) {
+    e << YAML::Key << "static_loads" << YAML::Value << YAML::BeginSeq;
+    for (const StaticLoadDefinition& l : c.static_loads) {
+      e << YAML::Flow << YAML::BeginMap;
+      e << YAML::Key << "body" << YAML::Value << l.body;
+      e << YAML::Key << "nodes" << YAML::Value;
+      selection(l.nodes);
+      if (l.kind == StaticLoadDefinition::Kind::kPressure) {
+        e << YAML::Key << "pressure" << YAML::Value << num(l.pressure);
+      } else {
+        e << YAML::Key
+          << (l.kind == StaticLoadDefinition::Kind::kForce ? "force" : "total_force")
+          << YAML::Value;
+        vec(l.force);
+      }
+      e << YAML::EndMap;
+    }
+    e << YAML::EndSeq;
+  }
   e << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap;
   e << YAML::Key << "alpha" << YAML::Value << num(c.damping.alpha);
   e << YAML::Key << "beta" << YAML::Value << num(c.damping.beta) << YAML::EndMap;

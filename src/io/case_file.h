@@ -180,6 +180,10 @@ struct ContactDefinition {
   std::vector<std::pair<int, double>>
       preloads;      // (node id on A, N0 in N), "contacts.C.preloads[i]"
   double gap = 0.0;  // g0, m (≥ 0): initial gap instead of a preload
+  // `preload: computed` (friction and gap laws): no typed N0 (parameters.preload = 0, and no
+  // balancing load); the pairs' static state comes from the static contact problem under
+  // `static_loads` (docs/case-file.md, "static_loads").
+  bool preload_computed = false;
 };
 
 struct ExcitationDefinition {
@@ -194,6 +198,24 @@ struct ExcitationDefinition {
   // Complex amplitude of the force vector on each node, N: f(t) = Re(F e^{ikΩt}), so
   // amplitude A and phase φ give A cos(kΩt + φ) along the direction (DESIGN.md convention).
   std::array<std::complex<double>, 3> force{};
+};
+
+// A static (harmonic-0) load on a body given by a mesh, applied to the full body and to its reduced
+// model (the loaded nodes become master nodes, so harmonic 0 is exact: Craig–Bampton's static
+// constraint modes). Exactly one of the three kinds:
+//   kForce:      `force` on EACH selected node (N, global axes);
+//   kTotalForce: `force` is the total, split over the selected nodes in proportion to their
+//                consistent nodal areas ∫ N_i dA on the faces of the selection (a uniform traction
+//                over that surface; mesh/surface_area.h);
+//   kPressure:   `pressure` p (Pa, > 0 pushes into the body) on the faces of the selection, each
+//                node receiving −p ∫ N_i n dA, n the face's outward normal.
+struct StaticLoadDefinition {
+  enum class Kind { kForce, kTotalForce, kPressure };
+  std::string body;     // required; a body given by a mesh
+  NodeSelection nodes;  // node_set or node(s)
+  Kind kind = Kind::kForce;
+  std::array<double, 3> force{0, 0, 0};  // N (kForce, kTotalForce)
+  double pressure = 0.0;                 // Pa (kPressure)
 };
 
 struct DampingDefinition {
@@ -272,6 +294,7 @@ struct CaseDefinition {
   std::map<std::string, BodyDefinition> bodies;
   std::vector<ContactDefinition> contacts;  // in file order
   std::vector<ExcitationDefinition> excitation;
+  std::vector<StaticLoadDefinition> static_loads;  // "static_loads[i]"
   DampingDefinition damping;
   AnalysisDefinition analysis;
   StudyDefinition study;

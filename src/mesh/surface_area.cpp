@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "core/errors.h"
 
 namespace stickslip {
 namespace {
@@ -168,6 +171,80 @@ const std::vector<FacePoint>& face_rule(int n) {
     return r;
   }();
   return n == 4 || n == 8 ? quad : tri;
+}
+
+namespace {
+
+// ∫ N_i n dA over one face, n = ∂x/∂ξ × ∂x/∂η / |…| as the face's node order gives it (3 x n).
+Eigen::Matrix3Xd integrate_face_normal(const Mesh& mesh, const ElementFace& face) {
+  const int n = static_cast<int>(face.nodes.size());
+  Eigen::Matrix3Xd X(3, n);
+  for (int a = 0; a < n; ++a) X.col(a) = mesh.coordinates.col(face.nodes[a]);
+  Eigen::Matrix3Xd r = Eigen::Matrix3Xd::Zero(3, n);
+  Eigen::VectorXd N;
+  Eigen::Matrix2Xd dN;
+  for (const FacePoint& p : face_rule(n)) {
+    face_shape(n, p.xi, p.eta, N, dN);
+    const Eigen::Vector3d gx = X * dN.row(0).transpose(), gy = X * dN.row(1).transpose();
+    const Eigen::Vector3d ndA = gx.cross(gy) * p.w;  // unit normal times dA
+    r += ndA * N.transpose();
+  }
+  return r;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> pressure_nodal_forces(const Mesh& mesh, std::span<const int> nodes,
+                                                   double pressure) {
+  // Every face of every element within the set, to find faces shared by two elements.
+  const std::unordered_set<int> in(nodes.begin(), nodes.end());
+  std::map<std::vector<int>, std::vector<int>> elements_of_face;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const std::span<const int> element = mesh.element_nodes(e);
+    for (const std::vector<int>& local : local_faces(mesh.element_types[e])) {
+      std::vector<int> key;
+      for (int l : local) key.push_back(element[static_cast<size_t>(l)]);
+      if (!std::all_of(key.begin(), key.end(), [&](int v) { return in.count(v) > 0; })) continue;
+      std::sort(key.begin(), key.end());
+      elements_of_face[key].push_back(e);
+    }
+  }
+  for (const auto& [key, elements] : elements_of_face) {
+    if (elements.size() > 1) {
+      throw InvalidInput("the pressure's nodes hold a face shared by elements " +
+                         std::to_string(mesh.element_ids[elements[0]]) + " and " +
+                         std::to_string(mesh.element_ids[elements[1]]) +
+                         " (inside the body): a pressure acts on the body's boundary faces only");
+    }
+  }
+  const std::vector<ElementFace> faces = faces_within(mesh, nodes);
+  if (faces.empty()) {
+    throw InvalidInput("the pressure's nodes hold no element face (select whole faces, mid-edge "
+                       "nodes included for quadratic elements)");
+  }
+  std::unordered_map<int, Eigen::Vector3d> by_node;
+  for (const ElementFace& face : faces) {
+    Eigen::Matrix3Xd nN = integrate_face_normal(mesh, face);
+    // Orientation: out of the element, away from its centroid.
+    const std::span<const int> element = mesh.element_nodes(face.element);
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), face_centre = Eigen::Vector3d::Zero();
+    for (int v : element) centre += mesh.coordinates.col(v);
+    centre /= static_cast<double>(element.size());
+    for (int v : face.nodes) face_centre += mesh.coordinates.col(v);
+    face_centre /= static_cast<double>(face.nodes.size());
+    if (nN.rowwise().sum().dot(face_centre - centre) < 0) nN = -nN;
+    for (size_t k = 0; k < face.nodes.size(); ++k) {
+      auto [it, inserted] = by_node.try_emplace(face.nodes[k], Eigen::Vector3d::Zero());
+      it->second -= pressure * nN.col(static_cast<Eigen::Index>(k));
+    }
+  }
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(nodes.size());
+  for (int node : nodes) {
+    const auto it = by_node.find(node);
+    out.push_back(it == by_node.end() ? Eigen::Vector3d::Zero() : it->second);
+  }
+  return out;
 }
 
 std::vector<ElementFace> faces_within(const Mesh& mesh, std::span<const int> nodes) {

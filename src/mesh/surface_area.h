@@ -71,4 +71,16 @@ double face_area(const Mesh& mesh, const ElementFace& face);
 std::vector<double> nodal_areas(const Mesh& mesh, std::span<const int> nodes,
                                 NodalAreaRule rule = NodalAreaRule::kAutomatic);
 
+// Consistent nodal forces (N) of a uniform pressure p (Pa; p > 0 pushes into the body) on the
+// surface of `nodes`: F_i = −p ∫ N_i n dA over the faces that contain node i, n the unit normal of
+// each face pointing out of its element (away from the element's centroid), integrated with the
+// same rules as the areas (exact on flat faces). result[k] belongs to nodes[k] (zero for a node on
+// no face). On quadratic faces these are the work-equivalent loads (corner forces of an 8-node
+// face point outwards: −A/12 of the face's load), not the positive weights of nodal_areas.
+// Σ_i F_i = −p Σ_faces ∫ n dA (−p A n on a flat surface). Throws InvalidInput when the set holds no
+// face, or a face shared by two elements (inside the body, where a pressure acts on nothing),
+// naming that face's element ids.
+std::vector<Eigen::Vector3d> pressure_nodal_forces(const Mesh& mesh, std::span<const int> nodes,
+                                                   double pressure);
+
 }  // namespace stickslip
