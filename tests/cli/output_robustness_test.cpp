@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "cli_test_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::cli_test {
 namespace {
@@ -205,7 +206,7 @@ const fs::path& clean_run() {
 class OutputRobustness : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+    STICKSLIP_REQUIRE_TOOL(have_gnuplot(), "gnuplot");
     dir_ = fresh_dir(std::string("robust_") +
                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
     file_ = write_case(dir_, "case", tiny_case());
