@@ -443,7 +443,9 @@ TEST_F(OutputRobustness, RerunAfterSigkillRemovesTheTemporariesAndEqualsACleanRu
     EXPECT_EQ(c.wait(), 128 + SIGKILL);
     // An orphaned gnuplot keeps the lock of its folder until it ends: wait for it.
     for (pid_t k : kids) ASSERT_TRUE(wait_until([&] { return !alive_not_zombie(k); }));
-    if (!kids.empty()) EXPECT_TRUE(has_temporaries(out)) << "the kill left gnuplot's folder";
+    if (!kids.empty()) {
+      EXPECT_TRUE(has_temporaries(out)) << "the kill left gnuplot's folder";
+    }
     Child rerun = start_run(file_, out, dir_ / "rerun.log");
     EXPECT_EQ(rerun.wait(), 0) << slurp(dir_ / "rerun.log");
     EXPECT_TRUE(fs::exists(out / live)) << "a live process's file is kept";

@@ -169,9 +169,15 @@ TEST(Mortar, PointsWhoseFacesStickOutOfBAreReportedPartial) {
       EXPECT_LT(p.coverage, 1.0 - 1e-6) << x;
       EXPECT_TRUE(listed) << x;
     }
-    if (std::abs(x - 1.0 / 3) < 1e-9) EXPECT_NEAR(p.coverage, 0.875, 1e-12);
-    if (std::abs(x - 2.0 / 3) < 1e-9) EXPECT_NEAR(p.coverage, 0.125, 1e-12);
-    if (x > 0.9) EXPECT_EQ(p.coverage, 0.0);
+    if (std::abs(x - 1.0 / 3) < 1e-9) {
+      EXPECT_NEAR(p.coverage, 0.875, 1e-12);
+    }
+    if (std::abs(x - 2.0 / 3) < 1e-9) {
+      EXPECT_NEAR(p.coverage, 0.125, 1e-12);
+    }
+    if (x > 0.9) {
+      EXPECT_EQ(p.coverage, 0.0);
+    }
   }
 }
 
