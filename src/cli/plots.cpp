@@ -290,11 +290,42 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
   return out;
 }
 
+namespace {
+
+// Phase of the first dynamic harmonic of each output.frf DOF (degrees, x(t) = Re X e^{iΩt}: the
+// phase relative to a force of phase 0), unwrapped along the sweep so that a resonance shows as one
+// continuous drop of 180° rather than a jump at ±180°.
+std::vector<PlotSeries> frf_phase_series(const SolveResults& results) {
+  static const char* kAxes[3] = {"x", "y", "z"};
+  std::vector<PlotSeries> out;
+  const FrequencyResponse& fr = results.response;
+  const int h = fr.harmonics.size() > 1 ? 1 : 0;
+  for (const ResponseDofDefinition& r : results.frf) {
+    const auto it = results.master.find(MasterDofKey{r.body, r.node, r.direction});
+    if (it == results.master.end()) continue;
+    PlotSeries s;
+    s.label = fmt::format("{} node {} {}", r.body, r.node, kAxes[r.direction]);
+    for (size_t i = 0; i < fr.points.size(); ++i) {
+      if (!fr.points[i].converged) continue;
+      double deg = std::arg(it->second(static_cast<Eigen::Index>(i), h)) * 180.0 / kPi;
+      if (!s.y.empty()) deg += 360.0 * std::round((s.y.back() - deg) / 360.0);
+      s.x.push_back(rad_s_to_hz(fr.points[i].omega));
+      s.y.push_back(deg);
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace
+
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
                         const std::vector<PlotSeries>& frf, PlotLog* log) {
   const std::string title = results.title.empty() ? "stickslip" : results.title;
   if (!frf.empty()) {
     plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", frf, log);
+    plot_curves(dir, "frf_phase", title, "frequency (Hz)", "phase of harmonic 1 (deg)",
+                frf_phase_series(results), log);
   }
   // Contact state along the sweep: mean fractions over all pairs.
   PlotSeries stick{"stick", {}, {}}, slip{"slip", {}, {}}, separation{"separation", {}, {}};

@@ -60,7 +60,8 @@ bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
 // labelled "<prefix><body> node <id> <axis>".
 std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix);
 
-// The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json),
+// The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json) and
+// frf_phase (their phase, unwrapped along the sweep),
 // contact_state (mean stick / slip / separation fractions over the pairs along the sweep) and
 // hysteresis (first local axis of the histories.csv pairs at the most dissipative point).
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,

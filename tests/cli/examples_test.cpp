@@ -49,6 +49,14 @@ TEST(Examples, JenkinsOscillatorIsTheStuckLinearOscillatorBelowTheStickLimit) {
   }
   EXPECT_TRUE(found);
   for (const auto& r : read_csv(out / "points.csv")) EXPECT_EQ(r.at("converged"), "1");
+  // The phase plot's first point: arg of the same closed form, in degrees.
+  std::ifstream phase(out / "frf_phase.dat");
+  std::string line;
+  ASSERT_TRUE(std::getline(phase, line) && line.rfind("# ", 0) == 0) << line;
+  double f = 0, deg = 0;
+  ASSERT_TRUE(phase >> f >> deg);
+  EXPECT_NEAR(f, 120.0, 1e-9);
+  EXPECT_NEAR(deg, std::arg(x_stuck) * 180 / M_PI, 1e-6);
 }
 
 TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImportMatches) {
