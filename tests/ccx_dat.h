@@ -3,6 +3,7 @@
 // participation factors). Header-only: shared by the fe, cli and validation tests.
 #pragma once
 
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,6 +26,30 @@ inline std::vector<double> eigenvalues(const std::string& text) {
     if (row >> mode >> eigenvalue >> omega >> frequency >> imaginary) {
       if (mode != static_cast<int>(values.size()) + 1) break;
       values.push_back(eigenvalue);
+    }
+  }
+  return values;
+}
+
+// The eigenvalues of a cyclic-symmetry *FREQUENCY step (*SELECT CYCLIC SYMMETRY MODES): every
+// eigenvalue table of `text`, rows "nodal diameter, mode, eigenvalue, ω, f, Im ω", by nodal
+// diameter in table order. ccx solves each nodal diameter in its real form of twice the size, so
+// every eigenvalue appears twice.
+inline std::map<int, std::vector<double>> cyclic_eigenvalues(const std::string& text) {
+  std::map<int, std::vector<double>> values;
+  const std::string title = "E I G E N V A L U E   O U T P U T";
+  for (size_t at = text.find(title); at != std::string::npos; at = text.find(title, at + 1)) {
+    std::istringstream in(text.substr(at));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      if (line.find("P A R T I C I P A T I O N") != std::string::npos) break;
+      std::istringstream row(line);
+      int diameter = 0, mode = 0;
+      double eigenvalue = 0, omega = 0, frequency = 0, imaginary = 0;
+      if (row >> diameter >> mode >> eigenvalue >> omega >> frequency >> imaginary) {
+        values[diameter].push_back(eigenvalue);
+      }
     }
   }
   return values;

@@ -1,14 +1,23 @@
-// Cyclic symmetry (fe/cyclic.h) against the whole ring, built here as one ordinary mesh: the
+// Cyclic symmetry (fe/cyclic.h) against CalculiX's cyclic symmetry on the same sector, and against
+// the whole ring, built here as one ordinary mesh: the
 // frequencies of all nodal diameters of one sector, each 0 < h < N/2 counted twice, are the ring's
 // frequencies; a sector mode repeated around the ring with its phase is a mode of the ring
 // (residual of the ring's own K and M); bad boundaries name their nodes.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
+#include "../ccx_dat.h"
+#include "../required_tool.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
 #include "fe/cyclic.h"
@@ -193,6 +202,72 @@ TEST(Cyclic, ASectorModeRepeatedWithItsPhaseIsAModeOfTheRing) {
     scale += std::norm(KU(d));
   }
   EXPECT_LT(std::sqrt(residual), 1e-9 * std::sqrt(scale));
+}
+
+// CalculiX's own cyclic symmetry (*TIE, CYCLIC SYMMETRY + *CYCLIC SYMMETRY MODEL, *SELECT CYCLIC
+// SYMMETRY MODES) on the same sector: the lowest frequencies of each nodal diameter. ccx refuses a
+// clamped node on the dependent side, so the clamped inner nodes of the high boundary are left out
+// of its tie (they are clamped either way).
+TEST(Cyclic, EachNodalDiameterMatchesCalculixOnTheSameSector) {
+  const bool have_ccx = std::system("command -v ccx > /dev/null 2>&1") == 0;
+  STICKSLIP_REQUIRE_TOOL(have_ccx, "ccx (CalculiX)");
+  const int N = 6, per_sector = 2;
+  const Sector s = sector(N, per_sector);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("stickslip_cyclic_ccx_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream deck(dir / "sector.inp");
+    deck.precision(17);
+    const Mesh& m = s.a.mesh;
+    deck << "*NODE\n";
+    for (int n = 0; n < m.num_nodes(); ++n) {
+      deck << m.node_ids[n] << ", " << m.coordinates(0, n) << ", " << m.coordinates(1, n) << ", "
+           << m.coordinates(2, n) << "\n";
+    }
+    deck << "*ELEMENT, TYPE=C3D8, ELSET=ALL\n";
+    for (int e = 0; e < m.num_elements(); ++e) {
+      deck << m.element_ids[e];
+      for (int n : m.element_nodes(e)) deck << ", " << m.node_ids[n];
+      deck << "\n";
+    }
+    deck << "*NSET, NSET=INNER\n";
+    for (size_t d = 0; d < s.clamped.size(); d += 3) deck << m.node_ids[s.clamped[d] / 3] << "\n";
+    deck << "*SURFACE, NAME=LOW, TYPE=NODE\n";
+    for (const auto& [lo, hi] : s.pairs) deck << m.node_ids[lo] << "\n";
+    deck << "*SURFACE, NAME=HIGH, TYPE=NODE\n";
+    for (const auto& [lo, hi] : s.pairs) {
+      if (!std::binary_search(s.clamped.begin(), s.clamped.end(), 3 * hi)) deck << m.node_ids[hi] << "\n";
+    }
+    deck << "*MATERIAL, NAME=STEEL\n*ELASTIC\n" << kSteel.youngs_modulus << ", " << kSteel.poisson_ratio
+         << "\n*DENSITY\n" << kSteel.density << "\n*SOLID SECTION, ELSET=ALL, MATERIAL=STEEL\n"
+         << "*TIE, NAME=CYC, CYCLIC SYMMETRY\nHIGH, LOW\n"
+         << "*CYCLIC SYMMETRY MODEL, N=" << N << ", TIE=CYC\n0., 0., 0., 0., 0., 1.\n"
+         << "*BOUNDARY\nINNER, 1, 3\n*STEP\n*FREQUENCY\n6\n"
+         << "*SELECT CYCLIC SYMMETRY MODES, NMIN=0, NMAX=" << N / 2 << "\n*END STEP\n";
+  }
+  const std::string command =
+      "cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i sector > ccx.log 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ifstream in(dir / "sector.dat");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::map<int, std::vector<double>> ccx = ccx_dat::cyclic_eigenvalues(text.str());
+  ASSERT_EQ(ccx.size(), static_cast<size_t>(N / 2 + 1)) << text.str();
+  for (const auto& [h, values] : ccx) {
+    SCOPED_TRACE("nodal diameter " + std::to_string(h));
+    const CyclicSectorProblem p = cyclic_sector_problem(s.K, s.M, s.pairs, s.clamped, s.symmetry, h);
+    const ModalResult r = dense_modes(p.K, p.M);
+    std::vector<double> ours;
+    for (Eigen::Index j = 0; j < r.eigenvalues.size(); j += p.doubled ? 2 : 1) ours.push_back(r.eigenvalues(j));
+    // ccx: each eigenvalue twice; 7 significant digits printed.
+    ASSERT_GE(values.size(), 6u);
+    for (size_t j = 0; j < 3; ++j) {
+      EXPECT_NEAR(values[2 * j], values[2 * j + 1], 1e-6 * values[2 * j]);
+      EXPECT_NEAR(ours[j], values[2 * j], 2e-6 * values[2 * j]) << "mode " << j;
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Cyclic, BoundariesThatDoNotMatchNameTheirNodes) {
