@@ -84,8 +84,7 @@ std::string static_check_json(const CaseDefinition& def, const PreparedModel& mo
     flagged += p.static_warning ? 1 : 0;
     for (size_t q = 0; q < p.pairs.size() && uncoupled; ++q) {
       const PairResponse& r = p.pairs[q];
-      const bool bad = r.static_mismatch > kStaticMismatchThreshold ||
-                       r.cycle.separation_fraction > 0;
+      const bool bad = r.static_mismatch > kStaticMismatchThreshold || separates_in_part(r.cycle);
       if (bad && (worst[q].point < 0 || r.static_mismatch > worst[q].mismatch)) {
         worst[q] = {r.static_mismatch, r.cycle.separation_fraction, static_cast<int>(i)};
       }
@@ -268,7 +267,7 @@ int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressF
   for (const FrequencyPoint& p : solved.response.points) {
     flagged += p.static_warning ? 1 : 0;
     bool open = false;
-    for (const PairResponse& r : p.pairs) open = open || r.cycle.separation_fraction > 0;
+    for (const PairResponse& r : p.pairs) open = open || separates_in_part(r.cycle);
     separating += p.static_warning && open ? 1 : 0;
   }
   if (flagged > 0) {  // a warning, printed even with --quiet
