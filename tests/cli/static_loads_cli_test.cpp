@@ -310,4 +310,26 @@ TEST(StaticLoadsCli, PairsTheStaticStateLeavesOpenAreNotFlaggedByTheUncoupledChe
   EXPECT_EQ(slurp(dir / "run.log").find("warning:"), std::string::npos) << slurp(dir / "run.log");
 }
 
+// A study of the pressing force (the computed preload's counterpart of the thesis's preload
+// factor): each folder's joint force is the hand calculation's for its force (linear in F).
+TEST(StaticLoadsCli, AStudyOfThePressingForceScalesTheComputedPreload) {
+  const fs::path dir = fresh_dir("static_loads_study");
+  {
+    std::ofstream(dir / "bars.inp") << two_bars_inp();
+  }
+  const fs::path c = write_case(
+      dir, "study",
+      pressed_bars_case("") +
+          "study:\n  parameter: static_loads[0].total_force\n  values: [4500, 900]\n");
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  const Hand hand = hand_calculation();
+  for (const double F : {4500.0, 900.0}) {
+    const fs::path folder = dir / "out" / ("total_force_" + std::to_string(int(F)));
+    double total = 0.0;
+    for (const auto& [pair, f] : static_pair_forces(folder)) total += f.at("n");
+    EXPECT_NEAR(total, hand.N * F / kForce, 1e-8 * hand.N) << folder;
+  }
+}
+
 }  // namespace
