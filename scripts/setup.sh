@@ -5,11 +5,11 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libspectra-dev libgmsh-dev
-  libyaml-cpp-dev libcli11-dev libfmt-dev
+  libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   calculix-ccx gnuplot-nox
   libopenblas0-pthread time
-  python3-numpy python3-scipy python3-matplotlib python3-vtk9 zlib1g-dev
+  python3-numpy python3-scipy python3-matplotlib python3-vtk9 python3-pandas zlib1g-dev
 )
 missing=()
 for p in "${packages[@]}"; do

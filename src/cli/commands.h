@@ -92,6 +92,7 @@ struct StageRun {
   std::string folder;  // empty without a study
   CaseDefinition definition;
   std::filesystem::path dir;  // output folder of this analysis
+  double value = 0.0;         // with a study: the studied parameter's value
 };
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const std::filesystem::path& out_dir);
 // The output folder (output_dir, or the case's output.directory), created and checked writable
@@ -103,7 +104,8 @@ std::string stage_hint(const std::string& stage, const CaseDefinition& base,
                        const std::filesystem::path& out_dir);
 
 // Fingerprint of everything the harmonic balance depends on (the case without its recovery and
-// output-format settings, plus the bytes of the mesh and matrix files it reads). Written to
+// output-format settings and without the study block, whose value `definition` holds, plus the
+// bytes of the mesh and matrix files it reads). Written to
 // summary.json by the solve; recover and export refuse solve files with another fingerprint.
 std::string solve_fingerprint(const CaseDefinition& definition);
 
@@ -138,18 +140,43 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
                                const CaseDefinition& definition, const StageRun& run,
                                const std::string& hint);
 
-// The line ending one analysis of run and solve ("<n> points (<m> not converged) in <s> s;
-// results in DIR") through `progress`; returns m.
-int report_solved(const SolvedCase& solved, const std::filesystem::path& dir,
-                  const ProgressFn& progress);
+// What run and solve report at their end: frequency points that did not converge, and analyses
+// that stopped before the end of their frequency range (a continuation that could not go on:
+// its points all converged, but the range is not covered).
+struct SolveOutcome {
+  int failed_points = 0;
+  int incomplete_analyses = 0;
+  SolveOutcome& operator+=(const SolveOutcome& o) {
+    failed_points += o.failed_points;
+    incomplete_analyses += o.incomplete_analyses;
+    return *this;
+  }
+};
+
+// The lines ending one analysis of run and solve ("<n> points (<m> not converged) in <s> s;
+// results in DIR") through `progress`, and on stderr (also with --quiet) where the analysis
+// stopped short of its range and why.
+SolveOutcome report_solved(const SolvedCase& solved, const std::filesystem::path& dir,
+                           const ProgressFn& progress);
 // The end of run and solve: "done in <seconds> s", then exit code 0, or 1 with a line on stderr
-// when `failed_points` > 0.
-int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress);
+// when points did not converge or an analysis stopped short of its range.
+int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress);
 
 // Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
-// and summary.json (docs/output-files.md) atomically.
-void write_solve_results(const std::filesystem::path& dir, const CaseDefinition& definition,
-                         const PreparedModel& model, const SolvedCase& solved,
+// and summary.json (docs/output-files.md) atomically into run.dir.
+void write_solve_results(const StageRun& run, const PreparedModel& model, const SolvedCase& solved,
                          double seconds_total);
+
+// Per output.frf DOF of the case, the largest amplitude of its first dynamic harmonic over the
+// converged points (as the FRF plot shows it), m, and where it is; at_edge when that point is the
+// first or the last converged point of the sweep (the peak may lie outside the window).
+struct FrfPeak {
+  ResponseDofDefinition dof;
+  int point = -1;  // -1: no converged point, or not a master DOF
+  double frequency_hz = 0.0, amplitude_m = 0.0;
+  bool at_edge = false;
+};
+std::vector<FrfPeak> frf_peaks(const CaseDefinition& definition, const PreparedModel& model,
+                               const FrequencyResponse& response);
 
 }  // namespace stickslip

@@ -22,6 +22,7 @@
 #include "core/types.h"
 #include "fe/assembly.h"
 #include "io/ansys_mapping.h"
+#include "io/cdb_reader.h"
 #include "io/gmsh_mesh.h"
 #include "io/inp_reader.h"
 #include "io/matrix_market.h"
@@ -73,7 +74,7 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
       return mesh;
     }
     std::vector<std::string> warnings;
-    Mesh mesh = read_inp(m.file, &warnings);
+    Mesh mesh = m.format == "cdb" ? read_cdb(m.file, &warnings) : read_inp(m.file, &warnings);
     for (const std::string& w : warnings) stderr_warning(w);
     return mesh;
   } catch (const InvalidInput& e) {
@@ -422,17 +423,17 @@ ReducedBody read_matrix_market_body(const ReducedMatricesDefinition& r) {
 }
 
 void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const BodyDefinition& bd,
-                      const std::vector<int>& clamp, const std::vector<int>& masters,
+                      const CaseBody& resolved, const std::vector<int>& masters,
                       PreparedBody& body) {
   const std::string key = "bodies." + name;
   const auto t0 = Clock::now();
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
   try {
-    body.constraints =
-        DofMap::from_nodes(body.mesh.num_nodes(), clamp, {true, true, true}, body.mesh.equations);
+    body.constraints = body_constraints(resolved, body.mesh);
   } catch (const InvalidInput& e) {
-    throw InvalidInput(def.where(key + ".clamp"), "body " + name + ": " + e.message());
+    throw InvalidInput(def.where(key + (resolved.supports.empty() ? ".clamp" : ".supports")),
+                       "body " + name + ": " + e.message());
   }
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
@@ -445,15 +446,18 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
         throw InvalidInput(
             def.where(key),
             fmt::format("node {} of body {} is a master (contact, forced or listed) node, but its "
-                        "direction {} is the dependent (first) DOF of the equation at {}: write "
-                        "that equation with another DOF first",
+                        "direction {} is the dependent (first) DOF of the equation or support at "
+                        "{}: write that equation with another DOF first (a master node cannot "
+                        "have a support in a local frame)",
                         body.mesh.node_ids[n], name, "xyz"[dir],
                         body.constraints.dependent_origin(dof_of(n, dir))));
       }
       if (body.constraints.is_constrained(dof_of(n, dir))) {
-        throw InvalidInput(def.where(key + ".clamp"),
-                           "node " + std::to_string(body.mesh.node_ids[n]) + " of body " + name +
-                               " is both clamped and a master (contact, forced or listed) node");
+        throw InvalidInput(
+            def.where(key + (resolved.supports.empty() ? ".clamp" : ".supports")),
+            fmt::format("node {} of body {} is both clamped or supported (direction {}) and a "
+                        "master (contact, forced or listed) node",
+                        body.mesh.node_ids[n], name, "xyz"[dir]));
       }
       boundary.push_back(dof_of(n, dir));
     }
@@ -491,6 +495,10 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
 
 }  // namespace
 
+DofMap body_constraints(const CaseBody& body, const Mesh& mesh) {
+  return DofMap::from_supports(mesh.num_nodes(), body.clamp, body.supports, mesh.equations);
+}
+
 int PreparedBody::global_dof(int node_id, int direction) const {
   const auto it = master_dof.find({node_id, direction});
   return it == master_dof.end() ? -1 : it->second;
@@ -524,6 +532,11 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
                         body.material.poisson_ratio, body.material.density);
     text += "clamp";
     for (int n : body.clamp) text += fmt::format(" {}", body.node_id(n));
+    for (const NodeSupport& support : body.supports) {
+      text += fmt::format("\nsupport {}", body.node_id(support.node));
+      for (const Eigen::Vector3d& d : support.directions)
+        text += fmt::format(" {:.17g} {:.17g} {:.17g}", d.x(), d.y(), d.z());
+    }
     text += "\nmasters";
     for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
@@ -657,8 +670,27 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
     std::sort(m.begin(), m.end());
     m.erase(std::unique(m.begin(), m.end()), m.end());
     body.masters = std::move(m);
-    if (body.from_mesh)
-      body.clamp = resolve_nodes(def, "bodies." + name + ".clamp", body, bd.clamp);
+    if (!body.from_mesh) continue;
+    body.clamp = resolve_nodes(def, "bodies." + name + ".clamp", body, bd.clamp);
+    for (size_t i = 0; i < bd.supports.size(); ++i) {
+      const SupportDefinition& sd = bd.supports[i];
+      const std::string key = fmt::format("bodies.{}.supports[{}]", name, i);
+      const SourceLocation where = def.where(key);
+      const std::string origin = fmt::format("{}:{}", where.file, where.line);
+      std::vector<Eigen::Vector3d> directions;
+      const Eigen::Matrix3d R =
+          sd.local_frame ? (sd.t1 == std::array<double, 3>{0, 0, 0}
+                                ? frame_from_normal(Eigen::Vector3d(sd.normal.data()))
+                                : frame_from_normal(Eigen::Vector3d(sd.normal.data()),
+                                                    Eigen::Vector3d(sd.t1.data())))
+                         : Eigen::Matrix3d::Identity();
+      for (const std::string& d : sd.directions) {
+        const int row = (d == "x" || d == "t1") ? 0 : (d == "y" || d == "t2") ? 1 : 2;
+        directions.push_back(R.row(row).transpose());
+      }
+      for (int n : resolve_nodes(def, key + ".nodes", body, sd.nodes))
+        body.supports.push_back({n, directions, origin});
+    }
   }
   return out;
 }
@@ -749,7 +781,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       } else {
         say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                         m.size(), bd.modes));
-        reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
+        reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
         cached_fingerprint.clear();  // no stale pair if the copy below throws
         cached.constraints = body.constraints;
         cached.K = body.K;
@@ -761,7 +793,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     } else if (body.from_mesh) {
       say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                       m.size(), bd.modes));
-      reduce_mesh_body(def, name, bd, resolved.bodies[b].clamp, m, body);
+      reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
     }
     body.offset = model.num_dofs;
     for (int j = 0; j < body.reduced.size(); ++j) {
@@ -963,6 +995,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.harmonic_list = an.harmonics;
   model.hbm.harmonics = an.max_harmonic();
   model.hbm.time_samples = an.time_samples;
+  model.hbm.aft = an.aft == "sampled" ? AftMethod::kSampled : AftMethod::kEvent;
   model.hbm.static_coupling =
       an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
@@ -997,7 +1030,8 @@ Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefin
   return eig.eigenvalues.cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
 }
 
-std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const CaseDefinition& def) {
+std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const CaseDefinition& def,
+                                            SweepWindow* window) {
   const FrequencyDefinition& f = def.analysis.frequency;
   double start = f.start_hz, stop = f.stop_hz;
   if (f.kind == FrequencyDefinition::Kind::kAroundMode) {
@@ -1014,10 +1048,23 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
           def.where("analysis.frequency.half_width_hz"),
           fmt::format("window reaches below 0 Hz (mode {} at {:.6g} Hz)", f.around_mode, centre));
     }
+    if (window) *window = {start, stop, f.around_mode, centre};
+  } else if (window) {
+    *window = {start, stop, 0, 0.0};
   }
-  if (def.analysis.method == "continuation") return {start, stop};
+  if (def.analysis.method == "continuation") {
+    if (f.downward) return {stop, start};
+    return {start, stop};
+  }
+  // `sweep: down` steps from stop by −step_hz: the same step, the other end first (another
+  // branch where the response folds).
   std::vector<double> grid;
   const int n = static_cast<int>(std::floor((stop - start) / f.step_hz + 1e-9));
+  if (f.downward) {
+    for (int i = 0; i <= n; ++i) grid.push_back(stop - i * f.step_hz);
+    if (grid.back() - start > 1e-9 * stop) grid.push_back(start);
+    return grid;
+  }
   for (int i = 0; i <= n; ++i) grid.push_back(start + i * f.step_hz);
   if (stop - grid.back() > 1e-9 * stop) grid.push_back(stop);
   return grid;
@@ -1046,10 +1093,20 @@ void check_memory(const PreparedModel& model, const CaseDefinition& def) {
 
 }  // namespace
 
+std::string describe_window(const SweepWindow& w) {
+  std::string text = fmt::format("sweep window {:.6g} to {:.6g} Hz", w.start_hz, w.stop_hz);
+  if (w.stuck_mode > 0) {
+    text += fmt::format(" around stuck mode {} at {:.6g} Hz (all contacts stuck)", w.stuck_mode,
+                        w.stuck_mode_hz);
+  }
+  return text;
+}
+
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, ProgressReporter* reporter) {
   const auto t0 = Clock::now();
   SolvedCase solved;
+  solved.warn_aft_fallback = def.analysis.aft == "event";
   check_memory(model, def);
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
                                                           model.excitation, model.hbm);
@@ -1063,7 +1120,8 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     progress("modal damping matrix: one complex LU per frequency and harmonic (slower) because " +
              solved.system->damping_matrix_note());
   }
-  solved.frequencies_hz = analysis_frequencies_hz(model, def);
+  solved.frequencies_hz = analysis_frequencies_hz(model, def, &solved.window);
+  if (progress) progress(describe_window(solved.window));
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;
   o.initial_guess =
@@ -1093,7 +1151,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     const FrequencyDefinition& f = an.frequency;
     o.arclength.lambda_start = hz_to_rad_s(solved.frequencies_hz.front());
     o.arclength.lambda_end = hz_to_rad_s(solved.frequencies_hz.back());
-    const double range = o.arclength.lambda_end - o.arclength.lambda_start;
+    const double range = std::abs(o.arclength.lambda_end - o.arclength.lambda_start);
     o.arclength.initial_step = hz_to_rad_s(f.step_hz);
     o.arclength.min_step = f.min_step_hz > 0 ? hz_to_rad_s(f.min_step_hz) : range * 1e-7;
     o.arclength.max_step = f.max_step_hz > 0 ? hz_to_rad_s(f.max_step_hz)

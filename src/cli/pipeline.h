@@ -63,12 +63,17 @@ struct CaseBody {
   Mesh mesh;                   // from_mesh: the body's part of its mesh, with its sets
   IsotropicMaterial material;  // from_mesh
   std::vector<int> clamp;      // from_mesh: clamped node indices
+  std::vector<NodeSupport> supports;  // from_mesh: bodies.B.supports, per node (global axes)
   std::vector<int> masters;    // sorted node indices (mesh) or ids (matrices)
   // The dotted case key that first asked for each master (a contact pair, an excitation entry,
   // bodies.B.masters, an output.frf entry), for messages about that node.
   std::map<int, std::string> master_keys;
   int node_id(int node) const { return from_mesh ? mesh.node_ids[node] : node; }
 };
+// The constraints of a mesh body on `mesh` (its mesh, which may have been moved out of `body`):
+// its clamp, supports and the mesh's equations (DofMap).
+DofMap body_constraints(const CaseBody& body, const Mesh& mesh);
+
 struct CaseContact {
   int body_a = 0;                               // index in CaseBodies::bodies
   int body_b = -1;                              // -1 = ground
@@ -203,15 +208,29 @@ std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vec
 // (stuck_stiffness_matrix and model.M).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 
-// The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation.
+// The frequency window of the analysis, Hz: as given (start_hz/stop_hz), or around_mode's stuck
+// mode ± half_width_hz (stuck_frequencies_hz).
+struct SweepWindow {
+  double start_hz = 0.0, stop_hz = 0.0;
+  int stuck_mode = 0;          // around_mode (1-based); 0 when the window was given in Hz
+  double stuck_mode_hz = 0.0;  // that mode's frequency
+};
+// The analysis frequencies (Hz) of a stepped sweep, or [start, stop] for continuation; `window`
+// (may be null) receives the window they cover.
 std::vector<double> analysis_frequencies_hz(const PreparedModel& model,
-                                            const CaseDefinition& definition);
+                                            const CaseDefinition& definition,
+                                            SweepWindow* window = nullptr);
 
+// "sweep window 185.2 to 189.2 Hz around stuck mode 4 at 187.2 Hz (all contacts stuck)", for
+// the log.
+std::string describe_window(const SweepWindow& window);
 struct SolvedCase {
   std::unique_ptr<HarmonicBalanceSystem> system;
   FrequencyResponse response;
   std::vector<double> frequencies_hz;  // the requested grid (stepped) or range (continuation)
+  SweepWindow window;
   double seconds_solve = 0.0;
+  bool warn_aft_fallback = false;  // `analysis.aft: event` given: warn where it fell back
 };
 
 // `progress` (may be null) receives one line per stage. `reporter` (may be null) is started with

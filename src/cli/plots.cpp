@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -52,15 +53,43 @@ std::string gp_string(const std::string& s) {
 struct PlotSpec {
   std::string stem, title, xlabel, ylabel;
   std::vector<PlotSeries> series;
+  // The script draws x · x_scale and y · y_scale (the .dat keeps SI values).
+  double x_scale = 1.0, y_scale = 1.0;
 };
+
+// A length axis ("... (m)") in the unit that suits its largest value: m from 0.1 m, mm from
+// 0.1 mm, µm from 0.1 µm, else nm; the label's "(m)" becomes that unit and the returned factor
+// multiplies the data. Other axes are left alone (factor 1).
+double length_axis(std::string& label, double largest) {
+  const std::string metre = "(m)";
+  if (label.size() < metre.size() || label.compare(label.size() - metre.size(), metre.size(), metre) != 0)
+    return 1.0;
+  struct Unit {
+    const char* name;
+    double factor;
+  };
+  static constexpr Unit kUnits[] = {{"m", 1.0}, {"mm", 1e3}, {"\xc2\xb5m", 1e6}, {"nm", 1e9}};
+  Unit unit = kUnits[3];
+  for (const Unit& u : kUnits) {
+    if (largest * u.factor >= 0.1) {
+      unit = u;
+      break;
+    }
+  }
+  const std::string name = unit.name;
+  label.replace(label.size() - metre.size(), metre.size(), "(" + name + ")");
+  return unit.factor;
+}
 
 // The gnuplot script of a plot reading `data` and drawing `png` and `svg` (our own file names).
 std::string plot_script(const PlotSpec& p, const std::string& data, const std::string& png,
                         const std::string& svg) {
   std::string plot = "plot ";
   for (size_t i = 0; i < p.series.size(); ++i) {
-    plot += fmt::format("{}{} index {} using 1:2 with {} title {}", i ? ", " : "", gp_string(data),
-                        i, p.series[i].style, gp_string(p.series[i].label));
+    const std::string x = p.x_scale == 1.0 ? "1" : fmt::format("($1*{:g})", p.x_scale);
+    const std::string y = p.y_scale == 1.0 ? "2" : fmt::format("($2*{:g})", p.y_scale);
+    plot += fmt::format("{}{} index {} using {}:{} with {} title {}", i ? ", " : "",
+                        gp_string(data), i, x, y, p.series[i].style, gp_string(p.series[i].label));
   }
   return fmt::format(
       "set title {}\nset xlabel {}\nset ylabel {}\nset grid\nset key outside\n"
@@ -199,7 +228,15 @@ int plots_exit_code(const PlotLog& log, const fs::path& redraw_dir) {
 bool plot_curves(const fs::path& dir, const std::string& stem, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
                  const std::vector<PlotSeries>& series, PlotLog* log) {
-  return plot_spec(dir, PlotSpec{stem, title, xlabel, ylabel, series}, log);
+  PlotSpec spec{stem, title, xlabel, ylabel, series};
+  double x_max = 0, y_max = 0;
+  for (const PlotSeries& c : series) {
+    for (double v : c.x) x_max = std::max(x_max, std::abs(v));
+    for (double v : c.y) y_max = std::max(y_max, std::abs(v));
+  }
+  spec.x_scale = length_axis(spec.xlabel, x_max);
+  spec.y_scale = length_axis(spec.ylabel, y_max);
+  return plot_spec(dir, spec, log);
 }
 
 void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotLog* log) {

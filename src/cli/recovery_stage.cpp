@@ -272,7 +272,14 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.poisson_ratio = body.material.poisson_ratio;
   o.density = body.material.density;
   for (int node = 0; node < body.mesh.num_nodes(); ++node) {
-    if (body.constraints.is_clamped(dof_of(node, 0))) o.clamped_nodes.push_back(node);
+    const auto clamped = [&](int d) { return body.constraints.is_clamped(dof_of(node, d)); };
+    if (clamped(0) && clamped(1) && clamped(2)) {
+      o.clamped_nodes.push_back(node);
+    } else {
+      for (int d = 0; d < 3; ++d) {
+        if (clamped(d)) o.clamped_dofs.push_back(dof_of(node, d));
+      }
+    }
   }
   o.alpha = def.damping.alpha;
   o.beta = def.damping.beta;
@@ -280,7 +287,14 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.harmonics = harmonics;
   o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
   const std::string path = (dir / fmt::format("recovery_p{}_{}.inp", point, body.name)).string();
-  write_calculix_deck(path, body.mesh, F, o);
+  if (body.constraints.has_dependents()) {
+    // *EQUATION and supports in local frames, as the resolved equations of the body's DofMap.
+    Mesh mesh = body.mesh;
+    mesh.equations = body.constraints.resolved_equations();
+    write_calculix_deck(path, mesh, F, o);
+  } else {
+    write_calculix_deck(path, body.mesh, F, o);
+  }
   return path;
 }
 
@@ -303,6 +317,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   };
   std::vector<Row> check;
   std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
+  std::string reactions_csv = "point,body,node,dof,harmonic,real,imag\n";
+  bool any_reactions = false;
 
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
   std::vector<RecoveredVtu> vtu_files;
@@ -359,6 +375,17 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     if (want_stress && def.output.vtu) {
       stress_operator.emplace(body.mesh, body.material, AssemblyOptions{});
     }
+    // Nodes with a clamped, supported or equation-dependent DOF: their reactions are reported.
+    std::vector<int> held_nodes;
+    for (int node = 0; node < body.mesh.num_nodes(); ++node) {
+      for (int d = 0; d < 3; ++d) {
+        if (body.constraints.is_constrained(dof_of(node, d))) {
+          held_nodes.push_back(node);
+          break;
+        }
+      }
+    }
+    any_reactions = any_reactions || !held_nodes.empty();
     RecoverySummary summary;
     for (int pi : points) {
       const FrequencyPoint& p = response.points[pi];
@@ -394,6 +421,31 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int dof : full_dofs) ref = std::max(ref, std::abs(reduced(dof, h)));
         check.push_back({pi, static_cast<int>(b), harmonics[h], diff.max_relative[h],
                          diff.rms_relative[h], ref, diff.max_absolute[h]});
+      }
+      // Reactions: the forces the clamps and supports exert on the body, R_k = D_k x_k − F_k with
+      // D_k = K − (kΩ)²M + i kΩ (αM + βK) (zero at free DOFs to the solver's round-off).
+      if (!held_nodes.empty()) {
+        const Eigen::MatrixXd xr = x.real(), xi = x.imag();
+        const Eigen::MatrixXd Kr = body.K * xr, Ki = body.K * xi;
+        const Eigen::MatrixXd Mr = body.M * xr, Mi = body.M * xi;
+        for (int h = 0; h < nh; ++h) {
+          const double w = harmonics[h] * p.omega;
+          const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() +
+                                      std::complex<double>(0, 1) * Ki.col(h);
+          const Eigen::VectorXcd Mx = Mr.col(h).cast<std::complex<double>>() +
+                                      std::complex<double>(0, 1) * Mi.col(h);
+          const Eigen::VectorXcd R =
+              Kx - w * w * Mx + std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) -
+              F.col(h);
+          for (int node : held_nodes) {
+            for (int d = 0; d < 3; ++d) {
+              const std::complex<double> v = R(dof_of(node, d));
+              reactions_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name,
+                                           body.mesh.node_ids[node], kAxes[d], harmonics[h],
+                                           v.real(), v.imag());
+            }
+          }
+        }
       }
       // Listed nodes.
       for (int id : def.recovery.nodes) {
@@ -471,6 +523,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                  r.reference_max, r.max_rel, r.rms_rel, r.max_abs);
     }
   });
+  if (any_reactions) {
+    write_file_atomically((dir / "reactions.csv").string(),
+                          [&](std::ostream& out) { out << reactions_csv; });
+  }
   if (!def.recovery.nodes.empty()) {
     write_file_atomically((dir / "recovered_nodes.csv").string(),
                           [&](std::ostream& out) { out << nodes_csv; });

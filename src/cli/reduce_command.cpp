@@ -33,7 +33,7 @@ std::vector<StageRun> stage_runs(const CaseDefinition& base, const fs::path& out
       const std::string folder = study_folder_name(base.study.parameter, v);
       runs.push_back({folder,
                       with_parameter(base, base.study.parameter, v, base.where("study.parameter")),
-                      out_dir / folder});
+                      out_dir / folder, v});
     }
   } else {
     runs.push_back({"", base, out_dir});
@@ -70,7 +70,8 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
   }
   static const std::set<std::string> kResults = {
       "points.csv",    "master_response.csv", "contact_forces.csv", "contact_state.csv",
-      "histories.csv", "summary.json",        "recovery_check.csv", "recovered_nodes.csv"};
+      "histories.csv", "summary.json",        "recovery_check.csv", "recovered_nodes.csv",
+      "reactions.csv"};
   static const std::set<std::string> kPlots = {"frf", "contact_state", "hysteresis",
                                                "frf_full_vs_reduced", "frf_study"};
   for (const std::string& input : inputs) {
@@ -122,6 +123,9 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
   d.output.calculix_deck = defaults.calculix_deck;
   d.output.quiet = defaults.quiet;
   d.title.clear();
+  // One analysis of a study depends on its own value only (already set in `definition`): the
+  // study's other values do not enter, so its folder matches the `inputs` of its summary.json.
+  d.study = StudyDefinition{};
   // Input files count by their contents, never by their paths: the same case read as
   // `case.yaml`, as `$PWD/case.yaml`, from another working directory or after the project folder
   // was moved has the same fingerprint (the paths are blanked here and the contents hashed below;
@@ -228,6 +232,7 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
     bd.masters = NodeSelection{{}, {}};
     for (int n : body.masters) bd.masters.ids.push_back(body.node_id(n));
     bd.clamp = NodeSelection{};
+    bd.supports.clear();
   }
   for (size_t c = 0; c < rewritten.contacts.size(); ++c) {
     ContactDefinition& cd = rewritten.contacts[c];
@@ -263,8 +268,7 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
     body.from_mesh = true;
     body.mesh = std::move(resolved.mesh);  // `geometry` is not used any more
     body.material = resolved.material;
-    body.constraints = DofMap::from_nodes(body.mesh.num_nodes(), resolved.clamp, {true, true, true},
-                                          body.mesh.equations);
+    body.constraints = body_constraints(resolved, body.mesh);
     const auto by_id = node_index_by_id(body.mesh);
     for (ReducedDof& d : body.reduced.dofs) {
       if (d.kind != ReducedDof::Kind::kPhysical) continue;

@@ -6,13 +6,16 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <set>
 #include <sstream>
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
 
+#include "cli/summary_file.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -133,65 +136,6 @@ int axis_row(const std::string& axis, bool global) {
   return -1;
 }
 
-// The JSON string whose opening quote is at line[*i] (escapes undone: \n, \t, \uXXXX below 0x100,
-// any other \c as c, as our writer makes them); *i is left after its closing quote.
-bool json_string_at(const std::string& line, size_t* i, std::string* value) {
-  std::string out;
-  for (size_t k = *i + 1; k < line.size(); ++k) {
-    const char c = line[k];
-    if (c == '"') {
-      *value = out;
-      *i = k + 1;
-      return true;
-    }
-    if (c == '\\' && k + 1 < line.size()) {
-      const char e = line[++k];
-      if (e == 'n') {
-        out += '\n';
-      } else if (e == 't') {
-        out += '\t';
-      } else if (e == 'u' && k + 4 < line.size()) {
-        out += static_cast<char>(std::strtol(line.substr(k + 1, 4).c_str(), nullptr, 16));
-        k += 4;
-      } else {
-        out += e;
-      }
-    } else {
-      out += c;
-    }
-  }
-  return false;
-}
-
-// The string value of `"key": "..."` on a line of our summary.json (JSON escapes undone).
-bool json_string_line(const std::string& line, const std::string& key, std::string* value) {
-  const std::string prefix = "\"" + key + "\": \"";
-  const size_t at = line.find(prefix);
-  if (at == std::string::npos) return false;
-  size_t i = at + prefix.size() - 1;
-  return json_string_at(line, &i, value);
-}
-
-// All strings of a one-line JSON array `"key": ["a", "b"]` (escapes undone).
-bool json_string_array_line(const std::string& line, const std::string& key,
-                            std::vector<std::string>* values) {
-  const std::string prefix = "\"" + key + "\": [";
-  const size_t at = line.find(prefix);
-  if (at == std::string::npos) return false;
-  values->clear();
-  size_t i = at + prefix.size();
-  while (true) {
-    const size_t open = line.find_first_of("\"]", i);
-    if (open == std::string::npos) return false;
-    if (line[open] == ']') break;
-    i = open;
-    std::string value;
-    if (!json_string_at(line, &i, &value)) return false;
-    values->push_back(value);
-  }
-  return true;
-}
-
 }  // namespace
 
 std::string fingerprint_hex(const std::string& text) {
@@ -226,40 +170,52 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
   SolveResults out;
   FrequencyResponse& fr = out.response;
 
-  // summary.json: title, fingerprint, frf DOFs (one key per line, as the solve writes it).
+  // summary.json: title, fingerprint, frf DOFs (any JSON layout: cli/summary_file.h).
   {
     const fs::path path = dir / "summary.json";
-    require_stage_file(path, hint);
-    std::ifstream in(path);
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
-      std::string value;
-      std::vector<std::string> values;
-      if (line.rfind("  \"title\"", 0) == 0 && json_string_line(line, "title", &value)) {
-        out.title = value;
-      } else if (line.rfind("  \"fingerprint\"", 0) == 0 &&
-                 json_string_line(line, "fingerprint", &value)) {
-        out.fingerprint = value;
-      } else if (line.rfind("  \"frf\"", 0) == 0 && json_string_array_line(line, "frf", &values)) {
-        for (const std::string& v : values) {
-          // body:node:dof (the body name may itself contain ':').
-          const size_t c2 = v.rfind(':');
-          const size_t c1 =
-              c2 == std::string::npos || c2 == 0 ? std::string::npos : v.rfind(':', c2 - 1);
-          const int dir_index =
-              c2 == std::string::npos ? -1 : axis_row(v.substr(c2 + 1), /*global=*/true);
-          if (c1 == std::string::npos || dir_index < 0) {
-            throw InvalidInput({path.string(), number, "frf"},
-                               "'" + v + "' is not body:node:direction");
+    const nlohmann::ordered_json summary = read_summary(path, hint);
+    std::string text;  // for the line of a faulty key
+    const auto fail = [&](const std::string& key, const std::string& message) {
+      std::ifstream in(path, std::ios::binary);
+      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      throw InvalidInput({path.string(), summary_key_line(text, key), key}, message);
+    };
+    const auto string_of = [&](const char* key, std::string* value) {
+      if (!summary.contains(key)) return;
+      if (!summary[key].is_string()) fail(key, "expected a string");
+      *value = summary[key].get<std::string>();
+    };
+    string_of("title", &out.title);
+    string_of("fingerprint", &out.fingerprint);
+    if (summary.contains("frf")) {
+      const auto& frf = summary["frf"];
+      if (!frf.is_array()) fail("frf", "expected a list of DOFs");
+      for (const auto& v : frf) {
+        ResponseDofDefinition r;
+        int direction = -1;
+        if (v.is_object()) {  // {"body": b, "node": n, "direction": "x", ...}
+          if (!(v.contains("body") && v["body"].is_string() && v.contains("node") &&
+                v["node"].is_number_integer() && v.contains("direction") &&
+                v["direction"].is_string())) {
+            fail("frf", "'" + v.dump() + "' has no body, node and direction");
           }
-          ResponseDofDefinition r;
-          r.body = v.substr(0, c1);
-          r.node = std::atoi(v.substr(c1 + 1, c2 - c1 - 1).c_str());
-          r.direction = dir_index;
-          out.frf.push_back(r);
+          r.body = v["body"].get<std::string>();
+          r.node = v["node"].get<int>();
+          direction = axis_row(v["direction"].get<std::string>(), /*global=*/true);
+        } else if (v.is_string()) {  // "body:node:direction" (earlier versions)
+          const std::string t = v.get<std::string>();
+          const size_t c2 = t.rfind(':');  // the body name may itself contain ':'
+          const size_t c1 =
+              c2 == std::string::npos || c2 == 0 ? std::string::npos : t.rfind(':', c2 - 1);
+          if (c1 != std::string::npos) {
+            r.body = t.substr(0, c1);
+            r.node = std::atoi(t.substr(c1 + 1, c2 - c1 - 1).c_str());
+            direction = axis_row(t.substr(c2 + 1), /*global=*/true);
+          }
         }
+        if (direction < 0) fail("frf", "'" + v.dump() + "' is not body:node:direction");
+        r.direction = direction;
+        out.frf.push_back(r);
       }
     }
   }

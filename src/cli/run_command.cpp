@@ -21,6 +21,7 @@
 #include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
+#include "cli/summary_file.h"
 #include "io/case_file.h"
 
 namespace stickslip {
@@ -35,7 +36,7 @@ int run_case(const StageCommand& command) {
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
-  int failed_points = 0;
+  SolveOutcome outcome;
   std::vector<PlotSeries> overlay;
   PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
@@ -48,14 +49,18 @@ int run_case(const StageCommand& command) {
     const PreparedModel model = prepare_model(def, progress, {}, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     interruption_doing("writing the solve files in " + where);
-    write_solve_results(run.dir, def, model, solved,
+    write_solve_results(run, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
     interruption_done("solve files in " + where);
     interruption_doing("recovering in " + where);
+    const auto t_recovery = Clock::now();
     std::vector<PlotSeries> full_frf;
     run_recovery(run.dir, def, model, solved.response, recovery_points(def, model, solved.response),
                  progress, &full_frf);
     interruption_done("recovery files in " + where);
+    SummaryTimings timings;
+    const auto t_plots = Clock::now();
+    timings.recovery_s = std::chrono::duration<double>(t_plots - t_recovery).count();
     if (def.output.plots) {
       interruption_doing("plotting in " + where);
       const SolveResults results = read_solve_results(run.dir, "stickslip run");
@@ -65,14 +70,19 @@ int run_case(const StageCommand& command) {
       overlay.insert(overlay.end(), frf.begin(), frf.end());
       interruption_done("plots in " + where);
     }
-    failed_points += report_solved(solved, run.dir, progress);
+    timings.plots_s = std::chrono::duration<double>(Clock::now() - t_plots).count();
+    timings.total_s = std::chrono::duration<double>(Clock::now() - t_run).count();
+    interruption_doing("completing summary.json in " + where);
+    complete_summary(run.dir, timings);
+    interruption_done("summary.json in " + where);
+    outcome += report_solved(solved, run.dir, progress);
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
     interruption_doing("plotting the study overlay in " + out_dir.string());
     plot_study(out_dir, base.title, base.study.parameter, overlay, &plots);
   }
   const int solved_code = solve_exit_code(
-      std::chrono::duration<double>(Clock::now() - t0).count(), failed_points, progress);
+      std::chrono::duration<double>(Clock::now() - t0).count(), outcome, progress);
   const int plots_code = plots_exit_code(plots, out_dir);
   return solved_code != 0 ? solved_code : plots_code;
 }

@@ -10,12 +10,14 @@
 
 #include <fmt/core.h>
 #include <fmt/ostream.h>
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/interruption.h"
 #include "cli/pipeline.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
+#include "cli/summary_file.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -29,36 +31,10 @@ namespace stickslip {
 namespace {
 
 namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
 
 const char* kLocalAxes[3] = {"t1", "t2", "n"};
 const char* kGlobalAxes[3] = {"x", "y", "z"};
-
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          out += fmt::format("\\u{:04x}", static_cast<int>(c));
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
-}
 
 // Name of the contact pair's axis rows: 3D contacts t1, t2, n; 1D laws "u".
 std::string local_axis(const PreparedModel& model, int pair, int row) {
@@ -68,8 +44,8 @@ std::string local_axis(const PreparedModel& model, int pair, int row) {
 // summary.json's static_check (docs/output-files.md): with static: uncoupled, how many points
 // the check of frequency_response.h flagged and the pairs with the largest mismatch over the
 // sweep (at most kWorstPairs, flagged pairs only); with static: coupled, nothing is checked.
-std::string static_check_json(const CaseDefinition& def, const PreparedModel& model,
-                              const SolvedCase& solved, const std::vector<int>& pair_in_contact) {
+Json static_check_json(const CaseDefinition& def, const PreparedModel& model,
+                       const SolvedCase& solved, const std::vector<int>& pair_in_contact) {
   constexpr size_t kWorstPairs = 5;
   const bool uncoupled = !solved.system->unknown_harmonics().has_static();
   const FrequencyResponse& fr = solved.response;
@@ -97,25 +73,64 @@ std::string static_check_json(const CaseDefinition& def, const PreparedModel& mo
   std::stable_sort(order.begin(), order.end(),
                    [&](size_t a, size_t b) { return worst[a].mismatch > worst[b].mismatch; });
   if (order.size() > kWorstPairs) order.resize(kWorstPairs);
-  std::string out = fmt::format(
-      "{{\"static\": \"{}\", \"threshold\": {}, \"flagged_points\": {}, \"worst_pairs\": [",
-      uncoupled ? "uncoupled" : "coupled", kStaticMismatchThreshold, flagged);
-  for (size_t n = 0; n < order.size(); ++n) {
-    const size_t q = order[n];
+  Json out;
+  out["static"] = uncoupled ? "uncoupled" : "coupled";
+  out["threshold"] = kStaticMismatchThreshold;
+  out["flagged_points"] = flagged;
+  out["worst_pairs"] = Json::array();
+  for (const size_t q : order) {
     const PreparedPair& info = model.pair_info[q];
-    out += fmt::format(
-        "{}{{\"contact\": \"{}\", \"pair\": {}, \"node_a\": {}, \"node_b\": {}, "
-        "\"point\": {}, \"mismatch\": {:.3e}, \"separation\": {:.3f}}}",
-        n ? ", " : "", json_escape(def.contacts[info.contact].name), pair_in_contact[q],
-        info.node_a_id, info.node_b_id, worst[q].point, worst[q].mismatch, worst[q].separation);
+    out["worst_pairs"].push_back({{"contact", def.contacts[info.contact].name},
+                                  {"pair", pair_in_contact[q]},
+                                  {"node_a", info.node_a_id},
+                                  {"node_b", info.node_b_id},
+                                  {"point", worst[q].point},
+                                  {"mismatch", worst[q].mismatch},
+                                  {"separation", worst[q].separation}});
   }
-  return out + "]}";
+  return out;
 }
+
+// Seconds rounded to the millisecond (timings are not measured more finely than that).
+double milliseconds(double seconds) { return std::round(seconds * 1000) / 1000; }
 
 }  // namespace
 
-void write_solve_results(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
-                         const SolvedCase& solved, double seconds_total) {
+std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& model,
+                               const FrequencyResponse& fr) {
+  std::vector<FrfPeak> peaks;
+  int first = -1, last = -1;
+  for (size_t i = 0; i < fr.points.size(); ++i) {
+    if (!fr.points[i].converged) continue;
+    if (first < 0) first = static_cast<int>(i);
+    last = static_cast<int>(i);
+  }
+  for (const ResponseDofDefinition& r : def.output.frf) {
+    FrfPeak peak;
+    peak.dof = r;
+    const int b = model.body_index(r.body);
+    const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
+    for (size_t i = 0; i < fr.points.size() && g >= 0; ++i) {
+      const FrequencyPoint& p = fr.points[i];
+      if (!p.converged) continue;
+      const int h = p.master.cols() > 1 ? 1 : 0;  // harmonic 1 (column 0 is the mean)
+      const double a = std::abs(p.master(g, h));
+      if (peak.point < 0 || a > peak.amplitude_m) {
+        peak.point = static_cast<int>(i);
+        peak.amplitude_m = a;
+        peak.frequency_hz = rad_s_to_hz(p.omega);
+      }
+    }
+    peak.at_edge = peak.point >= 0 && (peak.point == first || peak.point == last);
+    peaks.push_back(peak);
+  }
+  return peaks;
+}
+
+void write_solve_results(const StageRun& run, const PreparedModel& model, const SolvedCase& solved,
+                         double seconds_total) {
+  const fs::path& dir = run.dir;
+  const CaseDefinition& def = run.definition;
   create_output_folder(dir);
   const FrequencyResponse& fr = solved.response;
   const std::vector<int>& harmonics = fr.harmonics;
@@ -219,46 +234,73 @@ void write_solve_results(const fs::path& dir, const CaseDefinition& def, const P
 
   int converged = 0;
   for (const FrequencyPoint& p : fr.points) converged += p.converged ? 1 : 0;
-  write_file_atomically((dir / "summary.json").string(), [&](std::ostream& out) {
-    out << "{\n";
-    fmt::print(out, "  \"program\": \"stickslip\",\n  \"version\": \"{}\",\n", STICKSLIP_VERSION);
-    fmt::print(out, "  \"case_file\": \"{}\",\n", json_escape(def.file));
-    fmt::print(out, "  \"title\": \"{}\",\n", json_escape(def.title));
-    fmt::print(out, "  \"fingerprint\": \"{}\",\n", solve_fingerprint(def));
-    out << "  \"frf\": [";
-    for (size_t i = 0; i < def.output.frf.size(); ++i) {
-      const ResponseDofDefinition& r = def.output.frf[i];
-      fmt::print(out, "{}\"{}:{}:{}\"", i ? ", " : "", json_escape(r.body), r.node,
-                 kGlobalAxes[r.direction]);
+  Json summary;
+  summary["program"] = "stickslip";
+  summary["version"] = STICKSLIP_VERSION;
+  summary["case_file"] = def.file;
+  summary["title"] = def.title;
+  summary["fingerprint"] = solve_fingerprint(def);
+  summary["output_directory"] = fs::absolute(dir).lexically_normal().string();
+  if (def.study.active()) {
+    summary["study"] = {{"parameter", def.study.parameter}, {"value", run.value},
+                        {"folder", run.folder}};
+  } else {
+    summary["study"] = nullptr;
+  }
+  const SweepWindow& w = solved.window;
+  summary["window"] = {{"start_hz", w.start_hz},
+                       {"stop_hz", w.stop_hz},
+                       {"stuck_mode", w.stuck_mode > 0 ? Json(w.stuck_mode) : Json(nullptr)},
+                       {"stuck_mode_hz", w.stuck_mode > 0 ? Json(w.stuck_mode_hz) : Json(nullptr)}};
+  summary["frf"] = Json::array();
+  for (const FrfPeak& peak : frf_peaks(def, model, fr)) {
+    Json entry = {{"body", peak.dof.body},
+                  {"node", peak.dof.node},
+                  {"direction", kGlobalAxes[peak.dof.direction]}};
+    if (peak.point >= 0) {
+      entry["peak_point"] = peak.point;
+      entry["peak_frequency_hz"] = peak.frequency_hz;
+      entry["peak_amplitude_m"] = peak.amplitude_m;
+      entry["peak_at_window_edge"] = peak.at_edge;
     }
-    out << "],\n";
-    fmt::print(out, "  \"reduced_dofs\": {},\n  \"contact_pairs\": {},\n  \"unknowns\": {},\n",
-               model.num_dofs, model.pairs.size(), solved.system->size());
-    fmt::print(out, "  \"points\": {},\n  \"converged_points\": {},\n  \"completed\": {},\n",
-               fr.points.size(), converged, fr.completed ? "true" : "false");
-    fmt::print(out, "  \"message\": \"{}\",\n", json_escape(fr.message));
-    out << "  \"static_check\": " << static_check_json(def, model, solved, pair_in_contact)
-        << ",\n";
-    out << "  \"bodies\": [";
-    for (size_t b = 0; b < model.bodies.size(); ++b) {
-      const PreparedBody& body = model.bodies[b];
-      fmt::print(out,
-                 "{}\n    {{\"name\": \"{}\", \"full_dofs\": {}, \"reduced_dofs\": {}, "
-                 "\"masters\": {}, \"seconds_reduction\": {:.3f}}}",
-                 b ? "," : "", json_escape(body.name), body.from_mesh ? body.mesh.num_dofs() : 0,
-                 body.reduced.size(), body.master_dof.size() / 3, body.seconds_reduction);
-    }
-    out << "\n  ],\n";
-    fmt::print(
-        out,
-        "  \"timings\": {{\"prepare_s\": {:.3f}, \"solve_s\": {:.3f}, \"total_s\": {:.3f}}},\n",
-        model.seconds_prepare, solved.seconds_solve, seconds_total);
-    fmt::print(out, "  \"inputs\": \"{}\"\n", json_escape(describe_case(def)));
-    out << "}\n";
-  });
+    summary["frf"].push_back(entry);
+  }
+  summary["reduced_dofs"] = model.num_dofs;
+  summary["contact_pairs"] = model.pairs.size();
+  summary["unknowns"] = solved.system->size();
+  summary["points"] = fr.points.size();
+  summary["converged_points"] = converged;
+  summary["completed"] = fr.completed;
+  summary["message"] = fr.message;
+  summary["static_check"] = static_check_json(def, model, solved, pair_in_contact);
+  summary["bodies"] = Json::array();
+  for (const PreparedBody& body : model.bodies) {
+    summary["bodies"].push_back({{"name", body.name},
+                                 {"full_dofs", body.from_mesh ? body.mesh.num_dofs() : 0},
+                                 {"reduced_dofs", body.reduced.size()},
+                                 {"masters", body.master_dof.size() / 3},
+                                 {"seconds_reduction", milliseconds(body.seconds_reduction)}});
+  }
+  summary["timings"] = {{"prepare_s", milliseconds(model.seconds_prepare)},
+                        {"solve_s", milliseconds(solved.seconds_solve)},
+                        {"recovery_s", 0.0},
+                        {"plots_s", 0.0},
+                        {"total_s", milliseconds(seconds_total)}};
+  std::vector<std::string> files;
+  for (const fs::path& f : published_files_under(dir)) files.push_back(f.generic_string());
+  files.push_back("summary.json");
+  summary["files"] = files;
+  // This folder's analysis as a case file: one study value (no study), absolute file paths, the
+  // output folder used; `stickslip run` on it makes these results again.
+  CaseDefinition inputs = with_absolute_paths(def);
+  inputs.study = StudyDefinition{};
+  inputs.output.directory = summary["output_directory"].get<std::string>();
+  summary["inputs"] = describe_case(inputs);
+  write_summary(dir, summary);
 }
 
-int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressFn& progress) {
+SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
+                           const ProgressFn& progress) {
   int failed = 0;
   for (const FrequencyPoint& p : solved.response.points) failed += p.converged ? 0 : 1;
   progress(fmt::format("{} points ({} not converged) in {:.2f} s; results in {}",
@@ -269,6 +311,22 @@ int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressF
     bool open = false;
     for (const PairResponse& r : p.pairs) open = open || separates_in_part(r.cycle);
     separating += p.static_warning && open ? 1 : 0;
+  }
+  int inexact = 0;  // points where the event AFT fell back to the sampled one for some pair
+  for (const FrequencyPoint& p : solved.response.points) {
+    bool fallback = false;
+    for (const PairResponse& r : p.pairs) fallback = fallback || r.cycle.aft_fallback;
+    inexact += fallback ? 1 : 0;
+  }
+  if (inexact > 0 && solved.warn_aft_fallback) {
+    std::fprintf(stderr,
+                 "stickslip: warning: `analysis.aft: event` is exact only for contacts whose "
+                 "tangential motion stays on one line; at %d of %zu points some pairs moved in "
+                 "the tangent plane and their forces come from the sampled AFT with time_samples "
+                 "= %d (error at the stick/slip and lift-off instants; raise time_samples to "
+                 "check)\n",
+                 inexact, solved.response.points.size(),
+                 solved.system->options().time_samples);
   }
   if (flagged > 0) {  // a warning, printed even with --quiet
     std::fprintf(stderr,
@@ -281,17 +339,40 @@ int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressF
                  flagged, solved.response.points.size(), separating,
                  100 * kStaticMismatchThreshold, dir.string().c_str());
   }
-  return failed;
+  SolveOutcome outcome{.failed_points = failed};
+  // A stepped sweep is incomplete exactly when points failed (said above and at the end); a
+  // continuation can stop with every point converged and the range not covered.
+  if (!solved.response.completed && failed == 0) {
+    outcome.incomplete_analyses = 1;
+    const double first = solved.frequencies_hz.front(), last = solved.frequencies_hz.back();
+    double reached = first;
+    for (const FrequencyPoint& p : solved.response.points) {
+      const double hz = p.omega / (2 * kPi);
+      if (std::abs(hz - first) > std::abs(reached - first)) reached = hz;
+    }
+    std::fprintf(stderr,
+                 "stickslip: the analysis stopped at %.6g Hz, %.0f %% of the way from %.6g to "
+                 "%.6g Hz (%s; results in %s): %s\n",
+                 reached, 100 * std::abs(reached - first) / std::abs(last - first), first, last,
+                 solved.response.points.empty() ? "no points" : "the points before are written",
+                 dir.string().c_str(), solved.response.message.c_str());
+  }
+  return outcome;
 }
 
-int solve_exit_code(double seconds, int failed_points, const ProgressFn& progress) {
+int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress) {
   progress(fmt::format("done in {:.1f} s", seconds));
-  if (failed_points > 0) {
+  if (outcome.failed_points > 0) {
     std::fprintf(stderr, "stickslip: %d frequency points did not converge (see points.csv)\n",
-                 failed_points);
-    return 1;
+                 outcome.failed_points);
   }
-  return 0;
+  if (outcome.incomplete_analyses > 0) {
+    std::fprintf(stderr,
+                 "stickslip: %d analyses stopped before the end of their frequency range (see "
+                 "summary.json \"message\")\n",
+                 outcome.incomplete_analyses);
+  }
+  return outcome.failed_points > 0 || outcome.incomplete_analyses > 0 ? 1 : 0;
 }
 
 int run_solve(const StageCommand& command) {
@@ -302,7 +383,7 @@ int run_solve(const StageCommand& command) {
   const auto progress = stderr_progress(quiet);
   ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
-  int failed_points = 0;
+  SolveOutcome outcome;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : stage_runs(base, out_dir)) {
     if (!run.folder.empty()) progress("study: " + run.folder);
@@ -313,12 +394,12 @@ int run_solve(const StageCommand& command) {
                             /*load_basis_if_present=*/false, &cache);
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     interruption_doing("writing the solve files in " + run.dir.string());
-    write_solve_results(run.dir, run.definition, model, solved,
+    write_solve_results(run, model, solved,
                         std::chrono::duration<double>(Clock::now() - t_run).count());
     interruption_done("solve files in " + run.dir.string());
-    failed_points += report_solved(solved, run.dir, progress);
+    outcome += report_solved(solved, run.dir, progress);
   }
-  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), failed_points,
+  return solve_exit_code(std::chrono::duration<double>(Clock::now() - t0).count(), outcome,
                          progress);
 }
 

@@ -41,6 +41,9 @@ struct CycleStatistics {
   int periods = 0;  // periods of the march (a stuck cycle: 2, the second known to repeat the
                     // first without being marched; memoryless elements: 1)
   bool converged = true;  // cycle repeated within MarchOptions.tolerance
+  // Set by the event AFT (hbm/aft.h) when it did not apply to this cycle and the sampled AFT
+  // gave it instead (a 3D contact whose tangential motion is not collinear).
+  bool aft_fallback = false;
 };
 
 struct MarchOptions {

@@ -274,8 +274,10 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
           t_new.reset();
         }
       }
-    } else {
-      last_failure = summary.message;
+    } else {  // the corrector's lambda is an unknown: say where it started, not its argument
+      last_failure = std::string("corrector from lambda = ") + str(y_predicted(n) * lambda_scale) +
+                     ": " + to_string(summary.termination) + " after " +
+                     std::to_string(summary.iterations) + " iterations";
     }
     if (!t_new) {
       rejected = std::move(rejection);

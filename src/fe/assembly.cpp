@@ -18,7 +18,7 @@ void validate(const AssemblyOptions& options) {
 }
 
 ElementType effective_element_type(ElementType type, const AssemblyOptions& options) {
-  if (type == ElementType::kC3D8 || type == ElementType::kC3D8I) {
+  if (type == ElementType::kC3D8 || type == ElementType::kC3D8I || type == ElementType::kC3D8B) {
     switch (options.hex8) {
       case AssemblyOptions::Hex8Formulation::kAsMesh:
         return type;

@@ -1,7 +1,9 @@
 #include "fe/dof_map.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <map>
 #include <string>
 
 #include "core/errors.h"
@@ -120,6 +122,100 @@ DofMap::DofMap(int num_dofs, std::span<const int> constrained,
     rows_.push_back(resolved[s]);
     origins_.push_back(equations[equation_of[s]].origin);
   }
+}
+
+SupportConstraints support_constraints(int num_nodes, std::span<const NodeSupport> supports) {
+  // Rows (unit directions) and origins per node, in the order given.
+  std::map<int, std::vector<std::pair<Eigen::Vector3d, std::string>>> rows;
+  for (const NodeSupport& s : supports) {
+    if (s.node < 0 || s.node >= num_nodes) {
+      throw InvalidInput("support at " + s.origin + ": node index " + std::to_string(s.node) +
+                         " out of range [0, " + std::to_string(num_nodes) + ")");
+    }
+    for (const Eigen::Vector3d& d : s.directions) {
+      const double norm = d.norm();
+      if (!(norm > 0.0) || !std::isfinite(norm)) {
+        throw InvalidInput("support at " + s.origin + ": a direction must be a non-zero vector");
+      }
+      rows[s.node].emplace_back(d / norm, s.origin);
+    }
+  }
+  SupportConstraints out;
+  for (auto& [node, list] : rows) {
+    // Gauss–Jordan elimination with partial pivoting over the columns x, y, z; the rows are unit
+    // vectors, so a remaining row below kRankTolerance lies in the span of the pivots found.
+    constexpr double kRankTolerance = 1e-9;
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(list.size()), 3);
+    for (size_t i = 0; i < list.size(); ++i) A.row(static_cast<Eigen::Index>(i)) = list[i].first;
+    std::vector<std::pair<int, int>> pivots;  // (row, column)
+    std::vector<char> used_row(list.size(), 0);
+    for (int col = 0; col < 3; ++col) {
+      int best = -1;
+      for (int r = 0; r < A.rows(); ++r) {
+        if (!used_row[r] && (best < 0 || std::abs(A(r, col)) > std::abs(A(best, col)))) best = r;
+      }
+      if (best < 0 || std::abs(A(best, col)) <= kRankTolerance) continue;
+      used_row[best] = 1;
+      A.row(best) /= A(best, col);
+      for (int r = 0; r < A.rows(); ++r) {
+        if (r != best) A.row(r) -= A(r, col) * A.row(best);
+      }
+      pivots.emplace_back(best, col);
+    }
+    for (const auto& [r, p] : pivots) {
+      LinearConstraint c;
+      c.dofs.push_back(dof_of(node, p));
+      c.coefficients.push_back(1.0);
+      for (int d = 0; d < 3; ++d) {
+        if (d != p && std::abs(A(r, d)) > kSupportAxisTolerance) {
+          c.dofs.push_back(dof_of(node, d));
+          c.coefficients.push_back(A(r, d));
+        }
+      }
+      if (c.dofs.size() == 1) {
+        out.clamped.push_back(c.dofs[0]);
+      } else {
+        c.origin = list[r].second;
+        out.equations.push_back(std::move(c));
+      }
+    }
+  }
+  std::sort(out.clamped.begin(), out.clamped.end());
+  return out;
+}
+
+DofMap DofMap::from_supports(int num_nodes, std::span<const int> clamped_nodes,
+                             std::span<const NodeSupport> supports,
+                             std::span<const LinearConstraint> equations) {
+  const SupportConstraints sc = support_constraints(num_nodes, supports);
+  std::vector<int> dofs = sc.clamped;
+  for (int n : clamped_nodes) {
+    if (n < 0 || n >= num_nodes) {
+      throw InvalidInput("DofMap: constrained node index " + std::to_string(n) +
+                         " out of range [0, " + std::to_string(num_nodes) + ")");
+    }
+    for (int d = 0; d < 3; ++d) dofs.push_back(dof_of(n, d));
+  }
+  std::vector<LinearConstraint> all(equations.begin(), equations.end());
+  all.insert(all.end(), sc.equations.begin(), sc.equations.end());
+  return DofMap(kDofsPerNode * num_nodes, dofs, all);
+}
+
+std::vector<LinearConstraint> DofMap::resolved_equations() const {
+  std::vector<LinearConstraint> out;
+  for (int s = 0; s < num_dofs(); ++s) {
+    if (dependent_row_[s] < 0) continue;
+    LinearConstraint c;
+    c.dofs.push_back(s);
+    c.coefficients.push_back(1.0);
+    for (const auto& [f, a] : rows_[dependent_row_[s]]) {
+      c.dofs.push_back(full_dof_[f]);
+      c.coefficients.push_back(-a);
+    }
+    c.origin = origins_[dependent_row_[s]];
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 DofMap DofMap::from_nodes(int num_nodes, std::span<const int> nodes,

@@ -28,6 +28,30 @@
 
 namespace stickslip {
 
+// A support of one node (node index): its displacement along each of `directions` (global axes,
+// non-zero; normalised here) is zero: a symmetry plane (its normal), a roller, a 3-2-1 support, a
+// direction of a local frame. `origin` names where it was asked for ("file:line"), for messages.
+struct NodeSupport {
+  int node = 0;
+  std::vector<Eigen::Vector3d> directions;
+  std::string origin;
+};
+
+// The supports as DOF constraints. Per node the directions of all its supports are merged and
+// reduced to an independent set (a direction in the span of the node's others adds nothing; three
+// independent ones hold the node in x, y and z), written in reduced row-echelon form over the
+// node's x, y, z with the largest pivot first: a row that is a global axis (other entries below
+// kSupportAxisTolerance, relative) clamps that DOF; every other row is an equation
+// u_p + Σ c_d u_d = 0 over the node's own DOFs whose dependent DOF p (the pivot) appears in no
+// other equation of the node. Node indices outside [0, num_nodes) and zero directions:
+// InvalidInput naming the origin.
+struct SupportConstraints {
+  std::vector<int> clamped;                 // DOFs, sorted
+  std::vector<LinearConstraint> equations;  // origin: the support's
+};
+inline constexpr double kSupportAxisTolerance = 1e-12;
+SupportConstraints support_constraints(int num_nodes, std::span<const NodeSupport> supports);
+
 class DofMap {
  public:
   DofMap() = default;
@@ -41,6 +65,12 @@ class DofMap {
                            std::array<bool, 3> directions = {true, true, true},
                            std::span<const LinearConstraint> equations = {});
 
+  // Clamped nodes (x, y, z), supports (support_constraints) and equations (Mesh::equations), in
+  // one map: the supports' clamped DOFs join the clamp, their equations follow `equations`.
+  static DofMap from_supports(int num_nodes, std::span<const int> clamped_nodes,
+                              std::span<const NodeSupport> supports,
+                              std::span<const LinearConstraint> equations = {});
+
   int num_dofs() const { return static_cast<int>(free_index_.size()); }
   int num_free() const { return static_cast<int>(full_dof_.size()); }
   int num_constrained() const { return num_dofs() - num_free(); }  // clamped + dependent
@@ -53,6 +83,10 @@ class DofMap {
   bool has_dependents() const { return !rows_.empty(); }
   // The origin ("file:line") of the equation that made `dof` dependent (is_dependent(dof)).
   const std::string& dependent_origin(int dof) const { return origins_[dependent_row_[dof]]; }
+  // Every dependent DOF's resolved equation u_s − Σ_j a_sj u_full_dof(j) = 0 (free DOFs only on
+  // the right; origin: the equation's): with the clamped DOFs, the same constraints as the
+  // equations given, in a form any FE code takes (*EQUATION).
+  std::vector<LinearConstraint> resolved_equations() const;
   // Full DOF of a free index.
   int full_dof(int free) const { return full_dof_[free]; }
   const std::vector<int>& free_dofs() const { return full_dof_; }

@@ -400,6 +400,47 @@ void strain_operators_hex8i(const Matrix<double, 3, 8>& X, double lambda, double
   }
 }
 
+// C3D8B (B-bar, mean dilatation; Hughes 1980): the volumetric part of the strain at every
+// integration point is replaced by its element mean,
+//   B̄_g = B_g + (1/3) m (b̄ - b_g)ᵀ,  b_g = mᵀ B_g (divergence row),  b̄ = (1/V) Σ w det J b_g,
+// m = [1 1 1 0 0 0]ᵀ. Since D_dev m = 0 for D_dev = D(λ = -2μ/3, μ), the stiffness splits exactly
+// into a fully integrated deviatoric part and a rank-one volumetric part:
+//   K = Σ w det J B_gᵀ D_dev B_g + κ V b̄ b̄ᵀ,  κ = λ + 2μ/3 (bulk modulus).
+// Gbar (3 x 8) holds b̄ by node and direction: b̄(3a + j) = Gbar(j, a).
+double mean_gradients_hex8(const Matrix<double, 3, 8>& X, Matrix<double, 3, 8>& Gbar) {
+  const RefData<8>& ref = hex8_2();
+  Matrix<double, 3, 8> G;
+  Gbar.setZero();
+  double volume = 0.0;
+  for (size_t g = 0; g < ref.w.size(); ++g) {
+    const double c = ref.w[g] * gradients<8>(X, ref.dN[g], G);
+    Gbar += c * G;
+    volume += c;
+  }
+  Gbar /= volume;
+  return volume;
+}
+
+void stiffness_hex8b(const Matrix<double, 3, 8>& X, double lambda, double mu,
+                     Matrix<double, 24, 24>& K) {
+  stiffness_standard<8>(X, hex8_2(), -2.0 * mu / 3.0, mu, K);
+  Matrix<double, 3, 8> Gbar;
+  const double volume = mean_gradients_hex8(X, Gbar);
+  const Eigen::Map<const Matrix<double, 24, 1>> b(Gbar.data());  // column-major: 3a + j
+  K.noalias() += (lambda + 2.0 * mu / 3.0) * volume * (b * b.transpose());
+}
+
+void strain_operators_hex8b(const Matrix<double, 3, 8>& X, std::vector<Eigen::MatrixXd>& B) {
+  strain_operators_standard<8>(X, hex8_2(), B);
+  Matrix<double, 3, 8> Gbar;
+  mean_gradients_hex8(X, Gbar);
+  const Eigen::Map<const Matrix<double, 1, 24>> bbar(Gbar.data());
+  for (Eigen::MatrixXd& Bg : B) {
+    const Matrix<double, 1, 24> correction = (bbar - Bg.topRows<3>().colwise().sum()) / 3.0;
+    for (int i = 0; i < 3; ++i) Bg.row(i) += correction;
+  }
+}
+
 template <int NEN>
 Matrix<double, 3, NEN> fixed_coordinates(ElementType type, const Eigen::Matrix3Xd& X) {
   if (X.cols() != NEN) {
@@ -434,6 +475,12 @@ void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
       copy_out<8>(k, K);
       return;
     }
+    case ElementType::kC3D8B: {
+      Matrix<double, 24, 24> k;
+      stiffness_hex8b(fixed_coordinates<8>(type, X), l, m, k);
+      copy_out<8>(k, K);
+      return;
+    }
     case ElementType::kC3D20:
     case ElementType::kC3D20R: {
       Matrix<double, 60, 60> k;
@@ -462,7 +509,8 @@ void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, E
   const bool exact = rule == MassIntegration::kExact;
   switch (type) {
     case ElementType::kC3D8:
-    case ElementType::kC3D8I: {
+    case ElementType::kC3D8I:
+    case ElementType::kC3D8B: {
       Matrix<double, 24, 24> m;
       mass_standard<8>(fixed_coordinates<8>(type, X), hex8_2(), density, m);
       copy_out<8>(m, M);
@@ -495,6 +543,7 @@ double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
+    case ElementType::kC3D8B:
       return volume_standard<8>(fixed_coordinates<8>(type, X), hex8_2());
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
@@ -543,7 +592,8 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
   DetRange r;
   switch (type) {
     case ElementType::kC3D8:
-    case ElementType::kC3D8I: {
+    case ElementType::kC3D8I:
+    case ElementType::kC3D8B: {
       const Matrix<double, 3, 8> x = X;
       det_range<8>(x, hex8_2(), &r);
       static const RefData<8> centre = make_ref<8>(Rule{{Vector3d::Zero()}, {8.0}}, shape_hex8);
@@ -613,6 +663,7 @@ void stiffness_rule(ElementType type, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
+    case ElementType::kC3D8B:
       return rule_out<8>(hex8_2(), P, w);
     case ElementType::kC3D20:
       return rule_out<20>(hex20_3(), P, w);
@@ -642,7 +693,8 @@ void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorX
                      Eigen::Matrix3Xd& dN) {
   switch (type) {
     case ElementType::kC3D8:
-    case ElementType::kC3D8I: {
+    case ElementType::kC3D8I:
+    case ElementType::kC3D8B: {
       Matrix<double, 8, 1> n;
       Matrix<double, 3, 8> d;
       shape_hex8(xi, n, d);
@@ -686,6 +738,8 @@ void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
     case ElementType::kC3D8I:
       return strain_operators_hex8i(fixed_coordinates<8>(type, X), lame_lambda(material),
                                     shear_modulus(material), B);
+    case ElementType::kC3D8B:
+      return strain_operators_hex8b(fixed_coordinates<8>(type, X), B);
     case ElementType::kC3D20:
       return strain_operators_standard<20>(fixed_coordinates<20>(type, X), hex20_3(), B);
     case ElementType::kC3D20R:

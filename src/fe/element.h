@@ -11,12 +11,13 @@
 //   type     stiffness rule            exact mass rule (MassIntegration::kExact)
 //   C3D8     2x2x2 Gauss               2x2x2 Gauss
 //   C3D8I    2x2x2 Gauss + 9 incompatible modes, condensed       2x2x2 Gauss
+//   C3D8B    2x2x2 Gauss, volumetric strain = its element mean   2x2x2 Gauss
 //   C3D20    3x3x3 Gauss               3x3x3 Gauss
 //   C3D20R   2x2x2 Gauss               3x3x3 Gauss
 //   C3D4     1 point                   4-point (degree 2)
 //   C3D10    4-point (degree 2)        64-point collapsed Gauss (degree 5)
 // MassIntegration::kStiffnessRule integrates the mass with the stiffness rule, as CalculiX does
-// (identical for C3D8, C3D8I, C3D20; rank-deficient for C3D20R and C3D4).
+// (identical for C3D8, C3D8I, C3D8B, C3D20; rank-deficient for C3D20R and C3D4).
 // Hexahedron Gauss points are ordered xi fastest, then eta, then zeta.
 //
 // C3D8I (Wilson-Taylor incompatible modes): displacement u = sum N_a u_a + sum_k P_k alpha_k with
@@ -28,6 +29,14 @@
 // The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass).
 // CalculiX 2.20's C3D8I uses J0 but omits the det J0 / det J factor: identical on
 // parallelepipeds, different (and failing the patch test) on distorted bricks.
+//
+// C3D8B (B-bar, ANSYS SOLID185 with KEYOPT(2)=0, its "selective reduced integration"): the
+// volumetric strain at each integration point is replaced by the element's mean volumetric strain
+// (mean dilatation, Hughes 1980): B̄ = B + (1/3) m (b̄ - b)ᵀ with m = [1 1 1 0 0 0]ᵀ, b = mᵀB
+// the divergence row at the point and b̄ its volume average over the element. Then
+//   K_e = Σ_g w det J B̄ᵀ D B̄ = (fully integrated deviatoric part) + κ V b̄ b̄ᵀ,  κ = λ + 2μ/3,
+// free of volumetric locking as ν → 1/2 (shear locking in bending stays, as in C3D8). Mass and
+// strain operators at the 8 Gauss points (B̄) as above. CalculiX has no such element.
 //
 // A non-positive Jacobian determinant at an integration point throws InvalidInput.
 #pragma once

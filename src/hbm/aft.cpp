@@ -18,8 +18,8 @@ Eigen::MatrixXd build_sample_derivative(const FourierBasis& basis, int m) {
 
 }  // namespace
 
-Aft::Aft(FourierBasis basis)
-    : basis_(std::move(basis)), analysis_t_(basis_.analysis().transpose()) {
+Aft::Aft(FourierBasis basis, AftMethod method)
+    : basis_(std::move(basis)), method_(method), analysis_t_(basis_.analysis().transpose()) {
   for (int m = 1; m <= 3; ++m) sample_derivatives_.push_back(build_sample_derivative(basis_, m));
 }
 
@@ -48,6 +48,21 @@ AftWorkspace& workspace() {
 CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                               const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
                               Eigen::MatrixXd* jacobian, AftSamples* samples) const {
+  if (method_ == AftMethod::kEvent) {
+    CycleStatistics stats;
+    if (evaluate_events(element, coefficients, offset, forces, jacobian, samples, stats))
+      return stats;
+    stats = evaluate_sampled(element, coefficients, offset, forces, jacobian, samples);
+    stats.aft_fallback = true;
+    return stats;
+  }
+  return evaluate_sampled(element, coefficients, offset, forces, jacobian, samples);
+}
+
+CycleStatistics Aft::evaluate_sampled(const NonlinearElement& element,
+                                      const Eigen::VectorXd& coefficients,
+                                      const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
+                                      Eigen::MatrixXd* jacobian, AftSamples* samples) const {
   const int m = element.dimension();
   const int n = basis_.time_samples();
   const int nc = basis_.coefficient_count();

@@ -261,7 +261,7 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
       pairs_(std::move(pairs)),
       excitation_(std::move(excitation)),
       options_((validate(options), std::move(options))),
-      aft_(FourierBasis(unknown_set(options_), options_.time_samples)) {
+      aft_(FourierBasis(unknown_set(options_), options_.time_samples), options_.aft) {
   validate(model_);
   const int ndof = static_cast<int>(model_.Phi.rows());
   const int nm = static_cast<int>(model_.Phi.cols());

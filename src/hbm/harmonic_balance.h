@@ -135,6 +135,8 @@ struct HarmonicBalanceOptions {
   std::vector<int> harmonic_list{};  // if not empty, the dynamic harmonics (≥ 1, increasing),
                                      // e.g. {1, 3, 5}; overrides `harmonics`
   int time_samples = 64;             // N per period for AFT; N ≥ 2(2 H_max + 1)
+  AftMethod aft = AftMethod::kEvent;  // aft.h: kEvent exact where it applies (falls back to
+                                      // kSampled per cycle otherwise, flagged in the statistics)
   StaticCoupling static_coupling = StaticCoupling::kUncoupled;
   double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
   NewtonOptions static_newton;  // for the uncoupled static problem

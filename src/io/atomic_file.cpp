@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <random>
 #include <set>
 #include <streambuf>
+#include <vector>
 
 #include <fmt/core.h>
 
@@ -219,6 +221,22 @@ void protect_input_file(const fs::path& path) {
   g_protected.insert({st.st_dev, st.st_ino});
 }
 
+namespace {
+std::mutex g_published_mutex;
+std::vector<fs::path> g_published;  // absolute, normalised, in order of publication
+}  // namespace
+
+std::vector<fs::path> published_files_under(const fs::path& dir) {
+  const fs::path root = fs::absolute(dir).lexically_normal();
+  std::vector<fs::path> out;
+  std::lock_guard<std::mutex> lock(g_published_mutex);
+  for (const fs::path& file : g_published) {
+    const fs::path relative = file.lexically_relative(root);
+    if (!relative.empty() && *relative.begin() != "..") out.push_back(relative);
+  }
+  return out;
+}
+
 void publish_file(const fs::path& from, const fs::path& to) {
   if (is_protected(to)) {
     throw InvalidInput({to.string(), 0, ""},
@@ -228,6 +246,10 @@ void publish_file(const fs::path& from, const fs::path& to) {
   if (::rename(from.c_str(), to.c_str()) != 0) {
     throw InvalidInput({to.string(), 0, ""}, "cannot put the file in place: " + reason(errno));
   }
+  const fs::path file = fs::absolute(to).lexically_normal();
+  std::lock_guard<std::mutex> lock(g_published_mutex);
+  if (std::find(g_published.begin(), g_published.end(), file) == g_published.end())
+    g_published.push_back(file);
 }
 
 void write_file_atomically(const std::string& path,

@@ -27,6 +27,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace stickslip {
 
@@ -38,6 +39,11 @@ void write_file_atomically(const std::string& path,
 // Moves the complete file `from` (normally in a TemporaryFolder of the same directory) onto `to`
 // in one step; InvalidInput naming `to` and the reason if the file system refuses.
 void publish_file(const std::filesystem::path& from, const std::filesystem::path& to);
+
+// The files this process has published (publish_file, write_file_atomically) under `dir` or its
+// subfolders, relative to `dir`, in the order they were first published (summary.json's `files`,
+// and what a run keeps when it removes the files of an earlier run).
+std::vector<std::filesystem::path> published_files_under(const std::filesystem::path& dir);
 
 class TemporaryFolder {
  public:

@@ -100,6 +100,7 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
   validate(options);
   check_indices(options.clamped_nodes, mesh.num_nodes(), "CalculixDeckOptions::clamped_nodes");
   check_indices(options.output_nodes, mesh.num_nodes(), "CalculixDeckOptions::output_nodes");
+  check_indices(options.clamped_dofs, 3 * mesh.num_nodes(), "CalculixDeckOptions::clamped_dofs");
   check_loads(mesh, loads, options.harmonics);
   for (const char* name : {"SS_NALL", "SS_EALL", "SS_FIXED", "SS_OUT"}) {
     if (mesh.node_sets.count(name) != 0 || mesh.element_sets.count(name) != 0) {
@@ -108,6 +109,11 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
     }
   }
   Mesh deck_mesh = mesh;
+  // ccx has no B-bar brick: C3D8B is written as C3D8 (full integration), said in the deck.
+  const bool bbar = std::count(mesh.element_types.begin(), mesh.element_types.end(),
+                               ElementType::kC3D8B) > 0;
+  std::replace(deck_mesh.element_types.begin(), deck_mesh.element_types.end(),
+               ElementType::kC3D8B, ElementType::kC3D8);
   std::vector<int> all_nodes(static_cast<size_t>(mesh.num_nodes()));
   std::iota(all_nodes.begin(), all_nodes.end(), 0);
   std::vector<int> all_elements(static_cast<size_t>(mesh.num_elements()));
@@ -123,6 +129,10 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
       << shortest_decimal(options.frequency_hz) << " Hz\n"
       << "** CLOAD LOAD CASE=1: Re X_k = a_k, LOAD CASE=2: Im X_k = -b_k "
          "(x(t) = Re(X_k exp(i k Omega t)))\n";
+  if (bbar) {
+    out << "** C3D8B (B-bar, ANSYS SOLID185) elements are written as C3D8: CalculiX has no B-bar "
+           "brick, so its stiffness differs (most for nu near 0.5)\n";
+  }
   write_inp(out, deck_mesh);
   out << "*MATERIAL, NAME=SS_MATERIAL\n*ELASTIC\n"
       << decimal_in_width(options.youngs_modulus, kFieldWidth) << ", " << decimal_in_width(options.poisson_ratio, kFieldWidth)
@@ -130,6 +140,13 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
       << decimal_in_width(options.density, kFieldWidth) << '\n'
       << "*SOLID SECTION, ELSET=SS_EALL, MATERIAL=SS_MATERIAL\n";
   if (!options.clamped_nodes.empty()) out << "*BOUNDARY\nSS_FIXED, 1, 3\n";
+  if (!options.clamped_dofs.empty()) {
+    out << "*BOUNDARY\n";
+    for (int dof : options.clamped_dofs) {
+      const int d = dof % 3 + 1;
+      out << mesh.node_ids[dof / 3] << ", " << d << ", " << d << '\n';
+    }
+  }
 
   const auto& H = options.harmonics;
   const bool dynamic = std::any_of(H.begin(), H.end(), [](int k) { return k > 0; });

@@ -20,7 +20,7 @@
 //   the mesh (io/inp_writer.h) plus the sets SS_NALL (all nodes), SS_EALL (all elements),
 //   SS_FIXED (clamped nodes) and SS_OUT (output nodes: options.output_nodes, or all nodes),
 //   *MATERIAL SS_MATERIAL (*ELASTIC E, ν; *DENSITY ρ), *SOLID SECTION on SS_EALL,
-//   *BOUNDARY SS_FIXED, 1, 3 (all three directions),
+//   *BOUNDARY SS_FIXED, 1, 3 (all three directions), then one line per clamped DOF,
 //   step 1  *FREQUENCY, STORAGE=YES with num_modes (only if a harmonic >= 1 is listed),
 //   harmonic 0, if listed: *STATIC step, *CLOAD, OP=NEW,
 //   every harmonic k >= 1 (in the order listed): *STEADY STATE DYNAMICS at k f .. k f (ccx
@@ -32,7 +32,8 @@
 // A node gets CLOAD lines for its three directions if any component is non-zero in that
 // harmonic. Numbers are written in shortest round-trip decimal form. Node and element numbers are
 // the mesh's external ids. Element types are those of the mesh (C3D8 for stickslip's
-// kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass).
+// kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass),
+// except C3D8B (B-bar), which ccx lacks: written as C3D8, with a comment line saying so.
 // Inputs: loads 3 num_nodes x nh, column j = harmonics[j], harmonic 0 real. Bad input throws
 // InvalidInput naming the field and rule (also if the mesh already has a set named SS_*).
 #pragma once
@@ -52,6 +53,7 @@ struct CalculixDeckOptions {
   double poisson_ratio = 0.0;      // -1 < nu < 0.5
   double density = 0.0;            // kg/m^3, > 0
   std::vector<int> clamped_nodes;  // node indices fixed in x, y, z
+  std::vector<int> clamped_dofs;   // single DOFs fixed (3 node index + direction): supports
   double alpha = 0.0;              // C = alpha M + beta K: alpha in 1/s, >= 0
   double beta = 0.0;               // beta in s, >= 0
   double frequency_hz = 0.0;       // fundamental Ω/2π, > 0 when a harmonic >= 1 is listed

@@ -629,25 +629,82 @@ void parse_meshes(Parser& p, const MapView& top) {
             m.forbid(key, "with 'file' (it is for 'generate: two_beam')");
           m.file("file", &d.file);
           if (m.has("format")) {
-            m.choice("format", &d.format, {"inp", "msh"});
+            m.choice("format", &d.format, {"inp", "msh", "cdb"});
           } else {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
                            [](unsigned char c) { return std::tolower(c); });
-            p.check(ext == ".inp" || ext == ".msh", m.full("file"), m.line("file"),
+            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"),
+                    m.line("file"),
                     "cannot tell the format from the extension '" + ext +
-                        "': name it .inp or .msh, or add 'format: inp | msh'");
+                        "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
             d.format = ext.substr(1);
           }
           if (d.format != "msh") {
             for (const char* key : {"hexahedron8", "hexahedron20"})
-              m.forbid(key, "for a .inp file (its element types are in the file)");
+              m.forbid(key, "for a ." + d.format + " file (its element types are in the file)");
           }
           m.choice("hexahedron8", &d.hexahedron8, {"C3D8", "C3D8I"});
           m.choice("hexahedron20", &d.hexahedron20, {"C3D20", "C3D20R"});
         }
         p.out().meshes[name] = d;
       });
+}
+
+// bodies.B.supports: a list of {nodes, directions, normal, t1}.
+std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
+  const YAML::Node& list = body.value("supports");
+  p.sequence(list, body.full("supports"), body.line("supports"));
+  p.check(list.size() > 0, body.full("supports"), body.line("supports"),
+          "expected at least one support");
+  std::vector<SupportDefinition> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string path = body.full("supports") + "[" + std::to_string(i) + "]";
+    MapView m(p, list[i], path, line_of(list[i]) > 0 ? line_of(list[i]) : body.line("supports"),
+              {"nodes", "directions", "normal", "t1"});
+    p.record(path, m.line());
+    SupportDefinition d;
+    m.require("nodes");
+    m.require("directions", "x, y, z, or with 'normal' t1, t2, n");
+    d.nodes = node_selection(p, m.value("nodes"), m.full("nodes"), m.line("nodes"));
+    d.local_frame = m.has("normal");
+    if (d.local_frame) {
+      d.normal = p.direction(m.value("normal"), m.full("normal"), m.line("normal"));
+      if (m.has("t1")) {
+        d.t1 = p.direction(m.value("t1"), m.full("t1"), m.line("t1"));
+        const double c = d.t1[0] * d.normal[0] + d.t1[1] * d.normal[1] + d.t1[2] * d.normal[2];
+        p.check(std::abs(c) < 1 - 1e-6, m.full("t1"), m.line("t1"),
+                "must not be parallel to the normal");
+      }
+    } else {
+      m.forbid("t1", "without 'normal' (t1 is a hint for the local frame of 'normal')");
+    }
+    const std::vector<std::string> names =
+        d.local_frame ? std::vector<std::string>{"t1", "t2", "n"}
+                      : std::vector<std::string>{"x", "y", "z"};
+    const YAML::Node& v = m.value("directions");
+    std::vector<YAML::Node> items;
+    if (v.IsSequence()) {
+      for (const YAML::Node& item : v) items.push_back(item);
+    } else {
+      items.push_back(v);
+    }
+    p.check(!items.empty(), m.full("directions"), m.line("directions"),
+            "expected at least one direction");
+    for (const YAML::Node& item : items) {
+      const std::string name = p.text(item, m.full("directions"), m.line("directions"));
+      p.check(std::find(names.begin(), names.end(), name) != names.end(), m.full("directions"),
+              m.line("directions"),
+              "unknown direction '" + name + "': expected " + join(names, ", ") +
+                  (d.local_frame ? " (the rows of the frame of 'normal')"
+                                 : " (global axes; t1, t2, n need 'normal')"));
+      p.check(std::find(d.directions.begin(), d.directions.end(), name) == d.directions.end(),
+              m.full("directions"), m.line("directions"), "direction '" + name + "' given twice");
+      d.directions.push_back(name);
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
 }
 
 void parse_bodies(Parser& p, const MapView& top) {
@@ -657,13 +714,14 @@ void parse_bodies(Parser& p, const MapView& top) {
         p.check(name != "ground", path, line,
                 "'ground' is reserved (the fixed ground of contacts)");
         MapView m(p, node, path, line,
-                  {"mesh", "element_set", "material", "clamp", "masters", "modes",
+                  {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes",
                    "modal_damping_ratio", "reduced"});
         BodyDefinition d;
         m.number("modal_damping_ratio", &d.modal_damping_ratio);
         if (m.has("reduced")) {
           d.source = BodyDefinition::Source::kReduced;
-          for (const char* key : {"mesh", "element_set", "material", "clamp", "masters", "modes"})
+          for (const char* key :
+               {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
                     {"stiffness", "mass", "mapping", "format"});
@@ -710,6 +768,7 @@ void parse_bodies(Parser& p, const MapView& top) {
           m.text("element_set", &d.element_set);
           if (m.has("clamp"))
             d.clamp = node_selection(p, m.value("clamp"), m.full("clamp"), m.line("clamp"));
+          if (m.has("supports")) d.supports = parse_supports(p, m);
           if (m.has("masters"))
             d.masters = node_selection(p, m.value("masters"), m.full("masters"), m.line("masters"));
           m.integer("modes", &d.modes, 0, kMaxReducedBodyDofs,
@@ -1110,14 +1169,14 @@ void parse_static_loads(Parser& p, const MapView& top) {
 void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
-            {"frequency", "method", "harmonics", "time_samples", "static", "tolerance",
+            {"frequency", "method", "harmonics", "time_samples", "aft", "static", "tolerance",
              "max_iterations", "max_points", "initial_guess", "predictor"});
   AnalysisDefinition& a = p.out().analysis;
   m.choice("method", &a.method, {"stepped", "continuation"});
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
             {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
-             "max_step_hz"});
+             "max_step_hz", "sweep"});
   FrequencyDefinition& fr = a.frequency;
   auto positive = [&](const char* key, double* dst) {
     if (!f.has(key)) return;
@@ -1142,6 +1201,9 @@ void parse_analysis(Parser& p, const MapView& top) {
             "the frequency range is empty or inverted: stop_hz = " + format_number(fr.stop_hz) +
                 " must be > start_hz = " + format_number(fr.start_hz));
   }
+  std::string sweep = "up";
+  f.choice("sweep", &sweep, {"up", "down"});
+  fr.downward = sweep == "down";
   f.require("step_hz");
   fr.step_hz = p.number(f.value("step_hz"), f.full("step_hz"), f.line("step_hz"));
   p.check(fr.step_hz > 0, f.full("step_hz"), f.line("step_hz"),
@@ -1200,6 +1262,7 @@ void parse_analysis(Parser& p, const MapView& top) {
               std::to_string(kTimeSamplesFloor) + ", " + std::to_string(kTimeSamplesPerHarmonic) +
               "(2H+1))) = " + std::to_string(most) + " for highest harmonic H = " +
               std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
+  m.choice("aft", &a.aft, {"event", "sampled"});
   m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
@@ -1735,6 +1798,25 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
   return c;
 }
 
+CaseDefinition with_absolute_paths(const CaseDefinition& definition) {
+  CaseDefinition c = definition;
+  const auto absolute = [](std::string& path) {
+    if (!path.empty()) path = std::filesystem::absolute(path).lexically_normal().string();
+  };
+  for (auto& [name, m] : c.meshes) absolute(m.file);
+  for (auto& [name, b] : c.bodies) {
+    absolute(b.reduced.stiffness);
+    absolute(b.reduced.mass);
+    absolute(b.reduced.mapping);
+  }
+  for (ContactDefinition& d : c.contacts) {
+    absolute(d.pairs_file);
+    absolute(d.preload_file);
+  }
+  absolute(c.output.directory);
+  return c;
+}
+
 std::string describe_case(const CaseDefinition& c) {
   YAML::Emitter e;
   // Numbers in their shortest round-trip form (yaml-cpp would print 17 digits).
@@ -1804,8 +1886,26 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "material" << YAML::Value << b.material;
       e << YAML::Key << "clamp" << YAML::Value;
       selection(b.clamp);
-      e << YAML::Key << "masters" << YAML::Value;
-      selection(b.masters);
+      if (!b.supports.empty()) {
+        e << YAML::Key << "supports" << YAML::Value << YAML::BeginSeq;
+        for (const SupportDefinition& sd : b.supports) {
+          e << YAML::BeginMap << YAML::Key << "nodes" << YAML::Value;
+          selection(sd.nodes);
+          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << sd.directions;
+          if (sd.local_frame) {
+            e << YAML::Key << "normal" << YAML::Value << YAML::Flow
+              << std::vector<double>(sd.normal.begin(), sd.normal.end());
+            e << YAML::Key << "t1" << YAML::Value << YAML::Flow
+              << std::vector<double>(sd.t1.begin(), sd.t1.end());
+          }
+          e << YAML::EndMap;
+        }
+        e << YAML::EndSeq;
+      }
+      if (!b.masters.empty()) {  // empty: not given (the contact and forced nodes)
+        e << YAML::Key << "masters" << YAML::Value;
+        selection(b.masters);
+      }
       e << YAML::Key << "modes" << YAML::Value << b.modes;
     } else {
       e << YAML::Key << "reduced" << YAML::Value << YAML::BeginMap;
@@ -1823,24 +1923,30 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::BeginMap;
     e << YAML::Key << "name" << YAML::Value << d.name;
     e << YAML::Key << "law" << YAML::Value << d.law;
-    e << YAML::Key << "bodies" << YAML::Value;
-    vec(std::vector<std::string>{d.body_a, d.body_b});
-    if (!d.nodes_a.empty()) {
-      e << YAML::Key << "between" << YAML::Value << YAML::BeginSeq;
+    if (!d.nodes_a.empty()) {  // `between` names the bodies (one body: to the ground)
+      e << YAML::Key << "between" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      e << YAML::Key << d.body_a << YAML::Value;
       selection(d.nodes_a);
-      selection(d.nodes_b);
-      e << YAML::EndSeq;
+      if (d.body_b != "ground") {
+        e << YAML::Key << d.body_b << YAML::Value;
+        selection(d.nodes_b);
+      }
+      e << YAML::EndMap;
       e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
-    } else if (!d.pairs_file.empty()) {
-      e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
     } else {
-      e << YAML::Key << "pairs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-      for (const auto& pr : d.pairs) vec(pr);
-      e << YAML::EndSeq;
+      e << YAML::Key << "bodies" << YAML::Value;
+      vec(std::vector<std::string>{d.body_a, d.body_b});
+      if (!d.pairs_file.empty()) {
+        e << YAML::Key << "pairs_file" << YAML::Value << d.pairs_file;
+      } else {
+        e << YAML::Key << "pairs" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+        for (const auto& pr : d.pairs) vec(pr);
+        e << YAML::EndSeq;
+      }
     }
     e << YAML::Key << (uses_frame(d) ? "normal" : "direction") << YAML::Value;
     vec(uses_frame(d) ? d.normal : d.direction);
-    if (uses_frame(d)) {
+    if (uses_frame(d) && d.t1 != std::array<double, 3>{0, 0, 0}) {  // zero: not given
       e << YAML::Key << "t1" << YAML::Value;
       vec(d.t1);
     }
@@ -1848,7 +1954,10 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
       << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
+    // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
+    const bool gap = (d.law == "friction" || d.law == "gap") && d.gap != 0;
     for (const std::string& key : parameter_keys(d)) {
+      if (key == "preload" && !d.preload_computed && (gap || !d.preload_file.empty())) continue;
       e << YAML::Key << key << YAML::Value;
       if (key == "preload" && d.preload_computed) {
         e << "computed";
@@ -1859,7 +1968,7 @@ std::string describe_case(const CaseDefinition& c) {
     if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
-    e << YAML::Key << "gap" << YAML::Value << num(d.gap);
+    if (gap) e << YAML::Key << "gap" << YAML::Value << num(d.gap);
     e << YAML::EndMap;
   }
   e << YAML::EndSeq;
@@ -1867,12 +1976,25 @@ std::string describe_case(const CaseDefinition& c) {
   for (const ExcitationDefinition& x : c.excitation) {
     e << YAML::Flow << YAML::BeginMap;
     e << YAML::Key << "body" << YAML::Value << x.body;
-    e << YAML::Key << "nodes" << YAML::Value;
-    selection(x.nodes);
+    if (x.nodes.sets.empty()) {
+      e << YAML::Key << "node" << YAML::Value;
+      vec(x.nodes.ids);
+    } else {
+      e << YAML::Key << "node_set" << YAML::Value;
+      vec(x.nodes.sets);
+    }
     e << YAML::Key << "harmonic" << YAML::Value << x.harmonic;
-    e << YAML::Key << "force" << YAML::Value << YAML::BeginSeq;
-    for (const auto& f : x.force) vec(std::array<double, 2>{f.real(), f.imag()});
-    e << YAML::EndSeq << YAML::EndMap;
+    if (x.by_direction) {  // as given, so that a study of its amplitude still applies
+      e << YAML::Key << "direction" << YAML::Value;
+      vec(x.direction);
+      e << YAML::Key << "amplitude" << YAML::Value << num(x.amplitude);
+      e << YAML::Key << "phase_deg" << YAML::Value << num(x.phase_deg);
+    } else {
+      e << YAML::Key << "force" << YAML::Value << YAML::BeginSeq;
+      for (const auto& f : x.force) vec(std::array<double, 2>{f.real(), f.imag()});
+      e << YAML::EndSeq;
+    }
+    e << YAML::EndMap;
   }
   e << YAML::EndSeq;
   if (!c.static_loads.empty()) {
@@ -1880,8 +2002,13 @@ std::string describe_case(const CaseDefinition& c) {
     for (const StaticLoadDefinition& l : c.static_loads) {
       e << YAML::Flow << YAML::BeginMap;
       e << YAML::Key << "body" << YAML::Value << l.body;
-      e << YAML::Key << "nodes" << YAML::Value;
-      selection(l.nodes);
+      if (l.nodes.sets.empty()) {
+        e << YAML::Key << "node" << YAML::Value;
+        vec(l.nodes.ids);
+      } else {
+        e << YAML::Key << "node_set" << YAML::Value;
+        vec(l.nodes.sets);
+      }
       if (l.kind == StaticLoadDefinition::Kind::kPressure) {
         e << YAML::Key << "pressure" << YAML::Value << num(l.pressure);
       } else {
@@ -1908,15 +2035,20 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << "half_width_hz" << YAML::Value << num(a.frequency.half_width_hz);
   }
   e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
+  e << YAML::Key << "sweep" << YAML::Value << (a.frequency.downward ? "down" : "up");
   if (a.method == "continuation") {
-    e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
-    e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
+    // 0: not given (the continuation derives them from step_hz)
+    if (a.frequency.min_step_hz > 0)
+      e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
+    if (a.frequency.max_step_hz > 0)
+      e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
   e << YAML::Key << "method" << YAML::Value << a.method;
   e << YAML::Key << "harmonics" << YAML::Value;
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
+  if (!a.aft.empty()) e << YAML::Key << "aft" << YAML::Value << a.aft;
   e << YAML::Key << "static" << YAML::Value << a.static_coupling;
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;

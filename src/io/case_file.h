@@ -93,8 +93,8 @@ struct MeshDefinition {
   Source source = Source::kGenerate;
   std::string generate = "two_beam";   // kGenerate: the generator (only two_beam)
   TwoBeamDefinition two_beam;          // kGenerate
-  std::string file;                    // kFile: resolved path of a .inp or .msh file
-  std::string format;                  // kFile: inp | msh (from the extension unless given)
+  std::string file;                    // kFile: resolved path of a .inp, .msh or .cdb file
+  std::string format;                  // kFile: inp | msh | cdb (from the extension unless given)
   std::string hexahedron8 = "C3D8I";   // msh: element of 8-node hexahedra (C3D8 | C3D8I)
   std::string hexahedron20 = "C3D20";  // msh: element of 20-node hexahedra (C3D20 | C3D20R)
 };
@@ -104,6 +104,17 @@ struct NodeSelection {
   std::vector<std::string> sets;
   std::vector<int> ids;
   bool empty() const { return sets.empty() && ids.empty(); }
+};
+
+// A support (bodies.B.supports[i]): the displacement of each node along each direction is zero.
+// Directions are global axes x, y, z, or, with a local frame (`normal`, optional `t1` hint, the
+// contact frames' rule: core/frame.h), its rows t1, t2, n.
+struct SupportDefinition {
+  NodeSelection nodes;                  // required
+  std::vector<std::string> directions;  // required, no name twice: x | y | z, or t1 | t2 | n
+  bool local_frame = false;             // `normal` given
+  std::array<double, 3> normal{0, 0, 0};
+  std::array<double, 3> t1{0, 0, 0};    // 0 = automatic
 };
 
 struct ReducedMatricesDefinition {
@@ -121,6 +132,7 @@ struct BodyDefinition {
   std::string element_set;  // elements of the body; empty = the whole mesh
   std::string material;     // name in CaseDefinition::materials (required)
   NodeSelection clamp;      // nodes fixed in x, y, z
+  std::vector<SupportDefinition> supports;  // nodes held in some directions
   NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction
   int modes = 60;           // fixed-interface modes kept (≥ 0)
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
@@ -220,6 +232,7 @@ struct FrequencyDefinition {
   double step_hz = 0.0;                  // stepped: the step; continuation: the initial step
   double min_step_hz = 0.0;              // continuation; 0 = automatic
   double max_step_hz = 0.0;              // continuation; 0 = automatic
+  bool downward = false;                 // `sweep: down`: from the high end to the low end
 };
 
 struct AnalysisDefinition {
@@ -228,6 +241,8 @@ struct AnalysisDefinition {
   std::vector<int> harmonics{1};   // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                    // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;           // N per period, ≥ 2(2 H_max + 1)
+  std::string aft;                 // event | sampled (hbm/aft.h AftMethod); empty: not given
+                                   // (event, without the fall-back warning)
   std::string static_coupling = "uncoupled";  // key `static`: uncoupled | coupled
   double tolerance = 1.0e-8;                  // Newton, relative residual (> 0)
   int max_iterations = 30;                    // Newton iterations per point (≥ 1)
@@ -324,7 +339,13 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
 // whose values do not all have folders of their own.
 std::string study_folder_name(const std::string& parameter, double value);
 
-// The definition as canonical YAML with every default filled in (for summary.json and logs).
+// The definition as canonical YAML with every default filled in (for summary.json and logs). It
+// is a case file that read_case_file accepts and that describes itself with the same text
+// (relative file paths in it are read against the folder of the file it is saved in: see
+// with_absolute_paths).
 std::string describe_case(const CaseDefinition& definition);
+// The definition with its file paths (meshes, matrices, mappings, pairs and preload files, the
+// output folder) made absolute against the current working directory and normalised.
+CaseDefinition with_absolute_paths(const CaseDefinition& definition);
 
 }  // namespace stickslip

@@ -327,7 +327,7 @@ class InpParser {
       if (!type) fail(k.line, "*ELEMENT without TYPE=");
       if (!parse_element_type(*type, &element_type_)) {
         fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) +
-                         " (supported: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10)");
+                         " (supported: C3D8, C3D8I, C3D8B, C3D20, C3D20R, C3D4, C3D10)");
       }
       mode_ = Mode::kElement;
       if (auto n = param(k, "ELSET")) current_set_ = new_set(false, *n, k.line);

@@ -15,8 +15,8 @@
 //   *INCLUDE, INPUT=path                 the file's lines in place (textually: data lines continue
 //                                        the keyword before the *INCLUDE); path relative to the
 //                                        including file's folder; nested; a cycle is an error
-// Supported TYPE: C3D8, C3D8I, C3D20, C3D20R, C3D4, C3D10 (node order as in the .inp, which is
-// Mesh's). Any other element type is rejected.
+// Supported TYPE: C3D8, C3D8I, C3D8B (B-bar), C3D20, C3D20R, C3D4, C3D10 (node order as in the
+// .inp, which is Mesh's). Any other element type is rejected.
 // Nothing vanishes silently: a keyword that would change the stiffness or mass and is not
 // supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *SPRING, *MASS,
 // parts and instances, node/element generation, ...; list in inp_reader.cpp) is an

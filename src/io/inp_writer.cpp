@@ -53,7 +53,8 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
         << decimal_in_width(mesh.coordinates(2, i), kFieldWidth) << '\n';
   }
   constexpr std::array kTypes = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
-                                 ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10};
+                                 ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10,
+                                 ElementType::kC3D8B};
   for (ElementType type : kTypes) {
     bool header = false;
     for (int e = 0; e < mesh.num_elements(); ++e) {

@@ -188,6 +188,7 @@ int vtk_cell_type(ElementType type) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
+    case ElementType::kC3D8B:
       return 12;
     case ElementType::kC3D20:
     case ElementType::kC3D20R:

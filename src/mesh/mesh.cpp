@@ -13,6 +13,7 @@ int nodes_per_element(ElementType type) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
+    case ElementType::kC3D8B:
       return 8;
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
@@ -33,6 +34,7 @@ const char* element_type_name(ElementType type) {
     case ElementType::kC3D20R: return "C3D20R";
     case ElementType::kC3D4: return "C3D4";
     case ElementType::kC3D10: return "C3D10";
+    case ElementType::kC3D8B: return "C3D8B";
   }
   return "?";
 }
@@ -43,7 +45,8 @@ bool parse_element_type(const std::string& name, ElementType* type) {
   static const std::pair<const char*, ElementType> kTable[] = {
       {"C3D8", ElementType::kC3D8},   {"C3D8I", ElementType::kC3D8I},
       {"C3D20", ElementType::kC3D20}, {"C3D20R", ElementType::kC3D20R},
-      {"C3D4", ElementType::kC3D4},   {"C3D10", ElementType::kC3D10}};
+      {"C3D4", ElementType::kC3D4},   {"C3D10", ElementType::kC3D10},
+      {"C3D8B", ElementType::kC3D8B}};
   for (const auto& [n, t] : kTable) {
     if (u == n) {
       *type = t;

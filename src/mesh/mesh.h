@@ -27,6 +27,8 @@ enum class ElementType {
   kC3D20R,  // 20-node hexahedron, reduced 2x2x2 integration
   kC3D4,    // 4-node tetrahedron
   kC3D10,   // 10-node tetrahedron
+  kC3D8B,   // 8-node hexahedron, B-bar (mean dilatation), 2x2x2: ANSYS SOLID185, KEYOPT(2)=0;
+            // not a CalculiX element (CalculiX's C3D8 is plain full integration)
 };
 
 int nodes_per_element(ElementType type);

@@ -40,6 +40,7 @@ std::vector<std::vector<int>> local_faces(ElementType type) {
   const bool quadratic =
       type == ElementType::kC3D20 || type == ElementType::kC3D20R || type == ElementType::kC3D10;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
+                   type == ElementType::kC3D8B ||
                    type == ElementType::kC3D20 || type == ElementType::kC3D20R;
   const auto add = [&](const int* corners, int n) {
     std::vector<int> f(corners, corners + n);
@@ -59,8 +60,34 @@ std::vector<std::vector<int>> local_faces(ElementType type) {
   return faces;
 }
 
-// Shape functions N (n) and their derivatives dN/dξ, dN/dη (2 x n) of a face with n nodes at the
-// natural point (ξ, η): quadrilaterals on [−1, 1]², triangles on {ξ, η ≥ 0, ξ + η ≤ 1}.
+// ∫ N_i dA and ∫ N_i² dA over one face, and its area.
+struct FaceIntegrals {
+  Eigen::VectorXd n, n2;
+  double area = 0.0;
+};
+
+FaceIntegrals integrate_face(const Mesh& mesh, const ElementFace& face) {
+  const int n = static_cast<int>(face.nodes.size());
+  Eigen::Matrix3Xd X(3, n);
+  for (int a = 0; a < n; ++a) X.col(a) = mesh.coordinates.col(face.nodes[a]);
+  FaceIntegrals r;
+  r.n = Eigen::VectorXd::Zero(n);
+  r.n2 = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd N;
+  Eigen::Matrix2Xd dN;
+  for (const FacePoint& p : face_rule(n)) {
+    face_shape(n, p.xi, p.eta, N, dN);
+    const Eigen::Vector3d gx = X * dN.row(0).transpose(), gy = X * dN.row(1).transpose();
+    const double dA = gx.cross(gy).norm() * p.w;
+    r.n += N * dA;
+    r.n2 += N.cwiseProduct(N) * dA;
+    r.area += dA;
+  }
+  return r;
+}
+
+}  // namespace
+
 void face_shape(int n, double xi, double eta, Eigen::VectorXd& N, Eigen::Matrix2Xd& dN) {
   N.resize(n);
   dN.resize(2, n);
@@ -122,12 +149,6 @@ void face_shape(int n, double xi, double eta, Eigen::VectorXd& N, Eigen::Matrix2
   }
 }
 
-struct FacePoint {
-  double xi, eta, w;
-};
-
-// Gauss–Legendre 3 x 3 on [−1, 1]² (degree 5), Dunavant's 6-point rule on the triangle (degree
-// 4; D. A. Dunavant, Int. J. Numer. Meth. Eng. 21, 1985), weights summing to the reference area.
 const std::vector<FacePoint>& face_rule(int n) {
   static const std::vector<FacePoint> quad = [] {
     const double s[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)};
@@ -152,31 +173,7 @@ const std::vector<FacePoint>& face_rule(int n) {
   return n == 4 || n == 8 ? quad : tri;
 }
 
-// ∫ N_i dA and ∫ N_i² dA over one face, and its area.
-struct FaceIntegrals {
-  Eigen::VectorXd n, n2;
-  double area = 0.0;
-};
-
-FaceIntegrals integrate_face(const Mesh& mesh, const ElementFace& face) {
-  const int n = static_cast<int>(face.nodes.size());
-  Eigen::Matrix3Xd X(3, n);
-  for (int a = 0; a < n; ++a) X.col(a) = mesh.coordinates.col(face.nodes[a]);
-  FaceIntegrals r;
-  r.n = Eigen::VectorXd::Zero(n);
-  r.n2 = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd N;
-  Eigen::Matrix2Xd dN;
-  for (const FacePoint& p : face_rule(n)) {
-    face_shape(n, p.xi, p.eta, N, dN);
-    const Eigen::Vector3d gx = X * dN.row(0).transpose(), gy = X * dN.row(1).transpose();
-    const double dA = gx.cross(gy).norm() * p.w;
-    r.n += N * dA;
-    r.n2 += N.cwiseProduct(N) * dA;
-    r.area += dA;
-  }
-  return r;
-}
+namespace {
 
 // ∫ N_i n dA over one face, n = ∂x/∂ξ × ∂x/∂η / |…| as the face's node order gives it (3 x n).
 Eigen::Matrix3Xd integrate_face_normal(const Mesh& mesh, const ElementFace& face) {

@@ -50,6 +50,19 @@ struct ElementFace {
 // first element that has it), ordered by element index then local face number.
 std::vector<ElementFace> faces_within(const Mesh& mesh, std::span<const int> nodes);
 
+// Shape functions N (n) and their derivatives dN/dξ, dN/dη (2 x n) of a face with n = 3, 4, 6 or
+// 8 nodes (ElementFace order) at the natural point (ξ, η): quadrilaterals on [−1, 1]², triangles
+// on {ξ, η ≥ 0, ξ + η ≤ 1} with barycentric (1 − ξ − η, ξ, η).
+void face_shape(int n, double xi, double eta, Eigen::VectorXd& N, Eigen::Matrix2Xd& dN);
+
+// Quadrature on the reference face of n nodes: Gauss–Legendre 3 x 3 on [−1, 1]² (degree 5),
+// Dunavant's 6-point rule on the triangle (degree 4; D. A. Dunavant, Int. J. Numer. Meth. Eng. 21,
+// 1985); weights sum to the reference area (4, 1/2).
+struct FacePoint {
+  double xi, eta, w;
+};
+const std::vector<FacePoint>& face_rule(int n);
+
 // Area of one face (m²).
 double face_area(const Mesh& mesh, const ElementFace& face);
 

@@ -170,4 +170,116 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
       << recover_log;
 }
 
+// Example 04: one node on a friction contact that lifts off, swept up and down. Checks that do not
+// use the program's numbers: (1) where the contact stays closed the normal motion is linear and
+// decoupled from the tangential slip, Z1 = F_z / (k + kn − Ω² + iΩc) (m = 1); (2) at every point
+// the work of the excitation per cycle equals the viscous plus the friction dissipation; (3) the
+// two sweeps are one response outside the fold and two inside it: the downward sweep on a branch
+// that separates over most of the cycle, the upward one on a nearly closed one (both stable:
+// README, checked by time integration).
+struct LiftOffPoint {
+  double omega = 0, friction_energy = 0, separation = 0;
+  std::map<std::pair<std::string, int>, std::complex<double>> X;  // (dof, harmonic)
+};
+
+std::map<int, LiftOffPoint> lift_off_sweep(const fs::path& dir) {
+  std::map<int, LiftOffPoint> pts;
+  for (const auto& r : read_csv(dir / "points.csv")) {
+    LiftOffPoint& p = pts[std::stoi(r.at("point"))];
+    EXPECT_EQ(r.at("converged"), "1") << dir << " point " << r.at("point");
+    p.omega = 2 * M_PI * std::stod(r.at("frequency_hz"));
+    p.friction_energy = std::stod(r.at("dissipated_energy"));
+  }
+  for (const auto& r : read_csv(dir / "master_response.csv")) {
+    pts[std::stoi(r.at("point"))].X[{r.at("dof"), std::stoi(r.at("harmonic"))}] = value(r);
+  }
+  for (const auto& r : read_csv(dir / "contact_state.csv")) {
+    pts[std::stoi(r.at("point"))].separation = std::stod(r.at("separation"));
+  }
+  return pts;
+}
+
+TEST(Examples, LiftOffNodeSweptUpAndDownFindsBothCoexistingResponses) {
+  const fs::path out = fresh_dir("example_04");
+  for (const char* name : {"case", "down"}) {
+    const fs::path c = kExamples / "04_lift_off_branches" / (std::string(name) + ".yaml");
+    ASSERT_EQ(shell(kProgram + " run -q " + c.string() + " -o " + (out / name).string(),
+                    out / (std::string(name) + ".log")),
+              0)
+        << slurp(out / (std::string(name) + ".log"));
+  }
+  const auto up = lift_off_sweep(out / "case"), down = lift_off_sweep(out / "down");
+  ASSERT_EQ(up.size(), 121u);
+  ASSERT_EQ(down.size(), up.size());
+  for (const auto& [i, d] : down) {  // `sweep: down`: from 0.64 Hz down by 0.004 Hz
+    EXPECT_NEAR(d.omega, 2 * M_PI * (0.64 - 0.004 * i), 1e-9) << "point " << i;
+  }
+  const double k = 1, kn = 8, c = 0.05, Fx = 0.3, Fz = 0.8, N0 = 1;
+  // The up sweep's points by frequency, to pair them with the down sweep's.
+  std::map<long, const LiftOffPoint*> up_at;
+  for (const auto& [i, p] : up) up_at[std::lround(p.omega * 1e6)] = &p;
+  int closed_checked = 0, overlap = 0;
+  for (const auto* sweep : {&up, &down}) {
+    for (const auto& [i, p] : *sweep) {
+      const double w = p.omega;
+      // (1) Closed throughout (kn |Z1| below N0 with a margin): linear in z, no other harmonic.
+      const std::complex<double> z1 = Fz / std::complex<double>(k + kn - w * w, w * c);
+      if (kn * std::abs(z1) < 0.9 * N0) {
+        ++closed_checked;
+        EXPECT_LT(std::abs(p.X.at({"z", 1}) - z1), 1e-8 * std::abs(z1)) << "rad/s " << w;
+        EXPECT_LT(std::abs(p.X.at({"z", 0})), 1e-8 * std::abs(z1)) << "rad/s " << w;
+        EXPECT_EQ(p.separation, 0.0) << "rad/s " << w;
+      }
+      // (2) Work per cycle: π Im(F̄ X1) in = π c Ω Σ_k k² |X_k|² + friction out. The friction
+      // energy is the sampled AFT's (N = 512): measured within 5e-4 of the input at the lift-off
+      // points, round-off where the contact is stuck and closed.
+      const double input = -M_PI * (Fx * p.X.at({"x", 1}).imag() + Fz * p.X.at({"z", 1}).imag());
+      double viscous = 0;
+      for (const auto& [key, v] : p.X) viscous += M_PI * c * w * key.second * key.second * std::norm(v);
+      EXPECT_NEAR(viscous + p.friction_energy, input, 2e-3 * input) << "rad/s " << w;
+    }
+  }
+  EXPECT_GE(closed_checked, 30);  // 16 per sweep: 1.0–1.37 and 4.02 rad/s
+  for (const auto& [i, d] : down) {
+    const LiftOffPoint& u = *up_at.at(std::lround(d.omega * 1e6));
+    const double zu = std::abs(u.X.at({"z", 1})), zd = std::abs(d.X.at({"z", 1}));
+    if (d.omega < 1.5 || d.omega > 2.05) {  // one response: both sweeps find the same
+      EXPECT_LT(std::abs(u.X.at({"z", 1}) - d.X.at({"z", 1})), 1e-6 * zd) << "rad/s " << d.omega;
+    } else if (zd > 10 * zu) {  // two: the downward sweep stays on the lift-off branch
+      ++overlap;
+      EXPECT_GT(d.separation, 0.5) << "rad/s " << d.omega;
+      EXPECT_LT(u.separation, 0.25) << "rad/s " << d.omega;
+    }
+  }
+  EXPECT_GE(overlap, 10) << "the sweeps no longer show the two coexisting responses";
+}
+
+// A continuation that stops before the end of its range is not a success: exit code 1, a line on
+// stderr saying where, summary.json "completed": false, the points before kept. Stopped here by
+// max_points; `sweep: down` starts it at the high end.
+TEST(Examples, ContinuationStoppedShortOfTheRangeExitsOneAndSaysWhere) {
+  const fs::path out = fresh_dir("example_04_short");
+  fs::copy(kExamples / "04_lift_off_branches", out / "ex", fs::copy_options::recursive);
+  std::string text = slurp(out / "ex" / "down.yaml");
+  const std::string static_line = "  static: coupled";
+  ASSERT_NE(text.find(static_line), std::string::npos);
+  text.replace(text.find(static_line), static_line.size(),
+               "  static: coupled\n  method: continuation\n  max_points: 20");
+  std::ofstream(out / "ex" / "short.yaml") << text;
+  ASSERT_EQ(shell(kProgram + " run -q " + (out / "ex" / "short.yaml").string() + " -o " +
+                      (out / "res").string(),
+                  out / "log.txt"),
+            1)
+      << slurp(out / "log.txt");
+  const std::string log = slurp(out / "log.txt");
+  EXPECT_NE(log.find("the analysis stopped at"), std::string::npos) << log;
+  EXPECT_NE(log.find("max_points"), std::string::npos) << log;
+  const auto points = read_csv(out / "res" / "points.csv");
+  ASSERT_EQ(points.size(), 20u);
+  for (const auto& r : points) EXPECT_EQ(r.at("converged"), "1");
+  EXPECT_NEAR(std::stod(points.front().at("frequency_hz")), 0.64, 1e-12);
+  EXPECT_LT(std::stod(points.back().at("frequency_hz")), 0.64);
+  EXPECT_NE(slurp(out / "res" / "summary.json").find("\"completed\": false"), std::string::npos);
+}
+
 }  // namespace

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli_test_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::cli_test {
 namespace {
@@ -165,7 +166,7 @@ std::vector<double> case_frequencies(const fs::path& results) {
 
 TEST(FreeBodiesCli, SpringHeldCantileverStaticsAndModesMatchCalculixForAnyNumberOfModes) {
   const std::optional<std::string> ccx = find_ccx();
-  if (!ccx) GTEST_SKIP() << "ccx (CalculiX) not installed";
+  STICKSLIP_REQUIRE_TOOL(ccx, "ccx (CalculiX)");
   const fs::path dir = fresh_dir("spring_held_bar");
   std::ofstream(dir / "bar.inp") << bar_mesh();
   const CalculixBar reference = run_calculix_bar(dir, *ccx);

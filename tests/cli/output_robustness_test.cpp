@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <functional>
@@ -24,6 +25,7 @@
 #include <thread>
 
 #include "cli_test_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::cli_test {
 namespace {
@@ -154,21 +156,20 @@ std::set<std::string> files_under(const fs::path& dir) {
   return out;
 }
 
-// summary.json without the lines that differ between two runs of one case: timings, the case
-// file's path and the inputs (which name the output folder).
+// summary.json without the values that differ between two runs of one case: timings, the case
+// file's path, the output folder and the inputs (which name the output folder), and the files
+// written (an interrupted run wrote fewer: each one it lists must be there).
 std::string comparable(const fs::path& p) {
   const std::string text = slurp(p);
   if (p.filename() != "summary.json") return text;
-  std::istringstream in(text);
-  std::string out, line;
-  while (std::getline(in, line)) {
-    bool varies = false;
-    for (const char* key : {"\"timings\"", "\"case_file\"", "\"inputs\"", "seconds_reduction"}) {
-      varies = varies || line.find(key) != std::string::npos;
-    }
-    if (!varies) out += line + "\n";
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(text);
+  for (const auto& file : summary["files"]) {
+    EXPECT_TRUE(fs::exists(p.parent_path() / file.get<std::string>())) << file << " is listed";
   }
-  return out;
+  for (const char* key : {"timings", "case_file", "inputs", "output_directory", "files"})
+    summary.erase(key);
+  for (auto& body : summary["bodies"]) body.erase("seconds_reduction");
+  return summary.dump(1);
 }
 
 // Every file under `dir` is one a clean run writes (in `clean`), with the same content; no
@@ -205,7 +206,7 @@ const fs::path& clean_run() {
 class OutputRobustness : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+    STICKSLIP_REQUIRE_TOOL(have_gnuplot(), "gnuplot");
     dir_ = fresh_dir(std::string("robust_") +
                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
     file_ = write_case(dir_, "case", tiny_case());
@@ -442,7 +443,9 @@ TEST_F(OutputRobustness, RerunAfterSigkillRemovesTheTemporariesAndEqualsACleanRu
     EXPECT_EQ(c.wait(), 128 + SIGKILL);
     // An orphaned gnuplot keeps the lock of its folder until it ends: wait for it.
     for (pid_t k : kids) ASSERT_TRUE(wait_until([&] { return !alive_not_zombie(k); }));
-    if (!kids.empty()) EXPECT_TRUE(has_temporaries(out)) << "the kill left gnuplot's folder";
+    if (!kids.empty()) {
+      EXPECT_TRUE(has_temporaries(out)) << "the kill left gnuplot's folder";
+    }
     Child rerun = start_run(file_, out, dir_ / "rerun.log");
     EXPECT_EQ(rerun.wait(), 0) << slurp(dir_ / "rerun.log");
     EXPECT_TRUE(fs::exists(out / live)) << "a live process's file is kept";

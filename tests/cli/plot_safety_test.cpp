@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_test_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::cli_test {
 namespace {
@@ -103,7 +104,7 @@ std::vector<fs::path> markers(const fs::path& root) {
 }
 
 TEST(PlotSafety, HostileNamesRunNothingAndArePlottedLiterally) {
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot is not installed";
+  STICKSLIP_REQUIRE_TOOL(have_gnuplot(), "gnuplot");
   const fs::path dir = fresh_dir("plot_safety");
   const fs::path marks = dir / "marks";
   fs::create_directories(marks);

@@ -26,7 +26,7 @@ fs::path solve_folder(const std::string& name) {
   const fs::path dir = fresh(name);
   write(dir / "summary.json",
         "{\n  \"program\": \"stickslip\",\n  \"title\": \"a \\\"quoted\\\" title\",\n"
-        "  \"fingerprint\": \"0123456789abcdef\",\n  \"frf\": [\"b:7:y\"],\n}\n");
+        "  \"fingerprint\": \"0123456789abcdef\",\n  \"frf\": [\"b:7:y\"]\n}\n");
   write(dir / "points.csv",
         "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative\n"
         "0,100.5,1,3,1e-12,0.5,1e-9\n1,101.25,0,30,1e-3,0,1e-2\n");
@@ -144,7 +144,7 @@ TEST(ResultsFiles, ErrorsNameTheFileTheLineAndTheCommand) {
   EXPECT_NE(e.find("point 2 is not in points.csv"), std::string::npos) << e;
 
   e = error_with("frf", "summary.json",
-                 "{\n  \"fingerprint\": \"00\",\n  \"frf\": [\"b:1\"],\n}\n");
+                 "{\n  \"fingerprint\": \"00\",\n  \"frf\": [\"b:1\"]\n}\n");
   EXPECT_NE(e.find("summary.json:3: frf"), std::string::npos) << e;
 
   e = error_with("axis", "histories.csv",

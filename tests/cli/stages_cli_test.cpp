@@ -357,6 +357,27 @@ TEST_F(StagesCli, PlotRedrawsTheFrfFromTheCsvFiles) {
     ++rows;
   }
   EXPECT_EQ(rows, 9);
+  // The picture's amplitude axis is in the length unit that suits the largest amplitude (0.1 and
+  // up in m, mm, µm, else nm); the .dat above keeps metres and the script scales them.
+  double top = 0;
+  for (const auto& [f, a] : expected) top = std::max(top, a);
+  const std::vector<std::pair<std::string, double>> units = {
+      {"m", 1.0}, {"mm", 1e3}, {"\xc2\xb5m", 1e6}, {"nm", 1e9}};
+  auto unit = units.back();
+  for (const auto& u : units) {
+    if (top * u.second >= 0.1) {
+      unit = u;
+      break;
+    }
+  }
+  const std::string script = slurp(dir / "frf.gp");
+  EXPECT_NE(script.find("'amplitude of harmonic 1 (" + unit.first + ")'"), std::string::npos)
+      << script;
+  if (unit.second != 1.0) {
+    std::ostringstream scale;
+    scale << "using 1:($2*" << unit.second << ")";
+    EXPECT_NE(script.find(scale.str()), std::string::npos) << script;
+  }
   EXPECT_TRUE(fs::exists(dir / "contact_state.dat"));
   EXPECT_TRUE(fs::exists(dir / "hysteresis.dat"));  // histories of pair 0
   EXPECT_EQ(run("plot " + (dir / "nowhere").string(), dir / "log.txt"), 2);

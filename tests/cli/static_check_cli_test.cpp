@@ -45,7 +45,9 @@ TEST(StaticCheckCli, UncoupledIsFlaggedWhereContactsSeparateAndCoupledNever) {
   ASSERT_FALSE(separating.empty()) << "the case no longer opens the joint";
   int flagged = 0;
   for (const auto& r : read_csv(dir / "uncoupled" / "points.csv")) {
-    if (separating.count(r.at("point"))) EXPECT_EQ(r.at("static_warning"), "1") << r.at("point");
+    if (separating.count(r.at("point"))) {
+      EXPECT_EQ(r.at("static_warning"), "1") << r.at("point");
+    }
     flagged += r.at("static_warning") == "1";
   }
   const std::string summary = slurp(dir / "uncoupled" / "summary.json");

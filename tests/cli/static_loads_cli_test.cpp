@@ -260,7 +260,9 @@ TEST(StaticLoadsCli, ATorqueTheFrictionCannotHoldMakesTheStaticStateSlip) {
       }
     }
     EXPECT_NEAR(total_n, hand.N, 1e-8 * hand.N);
-    if (mu < 1) EXPECT_EQ(at_limit, 8);
+    if (mu < 1) {
+      EXPECT_EQ(at_limit, 8);
+    }
   }
 }
 

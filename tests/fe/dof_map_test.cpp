@@ -6,6 +6,9 @@
 
 #include <random>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
 #include "core/errors.h"
 
 namespace stickslip {
@@ -123,6 +126,67 @@ TEST(DofMapEquations, CyclesAndTwoEquationsForOneDofAreRefused) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(e.message().find("two equations, at t:1 and t:2"), std::string::npos)
         << e.message();
+  }
+}
+
+// Supports (support_constraints, DofMap::from_supports): the space of admissible displacements
+// T must be exactly {u : d·u_node = 0 for every support direction d of the node}, checked with
+// the orthogonal projector built in the test from the directions.
+Eigen::MatrixXd dense_transformation(const DofMap& map) { return Eigen::MatrixXd(map.transformation()); }
+
+TEST(DofMapSupports, LocalDirectionsLeaveExactlyTheOrthogonalComplementFree) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.8, 0.52).normalized();
+  const Eigen::Vector3d a = Eigen::Vector3d(0.9, 0.1, -0.4).normalized();
+  // Node 0: one direction (a roller on an inclined plane); node 1: two (a line); node 2: the
+  // same direction twice and a combination of them (rank 1); node 3: three (held).
+  const std::vector<NodeSupport> supports = {
+      {0, {n}, "c:1"}, {1, {n, a}, "c:2"}, {2, {n, -2.0 * n}, "c:3"}, {2, {n}, "c:4"},
+      {3, {n, a, n.cross(a)}, "c:5"}};
+  const DofMap map = DofMap::from_supports(5, {}, supports);
+  const std::vector<std::vector<Eigen::Vector3d>> held = {{n}, {n, a}, {n}, {n, a, n.cross(a)}, {}};
+  const std::vector<int> free_per_node = {2, 1, 2, 0, 3};
+  EXPECT_EQ(map.num_free(), 8);
+  const Eigen::MatrixXd T = dense_transformation(map);
+  for (int node = 0; node < 5; ++node) {
+    const Eigen::MatrixXd Tn = T.middleRows(3 * node, 3);
+    // Every admissible displacement is orthogonal to the held directions ...
+    for (const Eigen::Vector3d& d : held[node]) {
+      EXPECT_LT((d.transpose() * Tn).cwiseAbs().maxCoeff(), kTolerance) << "node " << node;
+    }
+    // ... and they span the whole complement (rank = 3 - rank of the held directions).
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(Tn);
+    EXPECT_EQ(lu.rank(), free_per_node[node]) << "node " << node;
+  }
+}
+
+TEST(DofMapSupports, AxisDirectionsClampTheirDofAndCombineWithClampsAndEquations) {
+  // Node 0 supported in y (a symmetry plane), node 1 in x and -z, node 2 clamped and supported
+  // along a skew direction (the support adds nothing), node 3 tied by an equation u_3x = u_1y.
+  const Eigen::Vector3d skew = Eigen::Vector3d(1, 1, 0).normalized();
+  const std::vector<NodeSupport> supports = {
+      {0, {Eigen::Vector3d::UnitY()}, "s:1"}, {1, {Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ()}, "s:2"},
+      {2, {skew}, "s:3"}};
+  const SupportConstraints sc = support_constraints(4, supports);
+  EXPECT_EQ(sc.clamped, (std::vector<int>{1, 3, 5}));
+  ASSERT_EQ(sc.equations.size(), 1u);
+  const std::vector<int> clamp = {2};
+  const std::vector<LinearConstraint> eqs = {eq({9, 4}, {1, -1}, "m:1")};
+  const DofMap map = DofMap::from_supports(4, clamp, supports, eqs);
+  for (int dof : {1, 3, 5, 6, 7, 8}) EXPECT_TRUE(map.is_clamped(dof)) << dof;
+  EXPECT_TRUE(map.is_dependent(9));
+  EXPECT_EQ(map.num_free(), 12 - 6 - 1);
+}
+
+TEST(DofMapSupports, BadSupportsAreRefusedNamingTheirOrigin) {
+  const std::vector<NodeSupport> zero = {{0, {Eigen::Vector3d::Zero()}, "case.yaml:7"}};
+  const std::vector<NodeSupport> outside = {{4, {Eigen::Vector3d::UnitX()}, "case.yaml:8"}};
+  for (const auto* s : {&zero, &outside}) {
+    try {
+      support_constraints(2, *s);
+      ADD_FAILURE() << "accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find((*s)[0].origin), std::string::npos) << e.what();
+    }
   }
 }
 

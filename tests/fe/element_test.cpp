@@ -105,7 +105,8 @@ INSTANTIATE_TEST_SUITE_P(
     AllTypes, ElementProperties,
     ::testing::Values(Case{ElementType::kC3D8, 6}, Case{ElementType::kC3D8I, 6},
                       Case{ElementType::kC3D20, 6}, Case{ElementType::kC3D20R, 12},
-                      Case{ElementType::kC3D4, 6}, Case{ElementType::kC3D10, 6}),
+                      Case{ElementType::kC3D4, 6}, Case{ElementType::kC3D10, 6},
+                      Case{ElementType::kC3D8B, 6}),
     case_name);
 
 // Exact closed forms on undistorted elements.

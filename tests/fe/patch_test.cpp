@@ -88,7 +88,8 @@ TEST_P(PatchTest, DistortedMeshReproducesLinearFieldAndConstantStress) {
 INSTANTIATE_TEST_SUITE_P(AllTypes, PatchTest,
                          ::testing::Values(ElementType::kC3D8, ElementType::kC3D8I,
                                            ElementType::kC3D20, ElementType::kC3D20R,
-                                           ElementType::kC3D4, ElementType::kC3D10),
+                                           ElementType::kC3D4, ElementType::kC3D10,
+                                           ElementType::kC3D8B),
                          [](const auto& info) { return element_type_name(info.param); });
 
 // Independent B^T D B implementation of the Wilson incompatible-mode hexahedron, with
@@ -217,7 +218,8 @@ TEST_P(UniaxialTest, CubeReproducesYoungsModulusAndPoissonRatio) {
 INSTANTIATE_TEST_SUITE_P(AllTypes, UniaxialTest,
                          ::testing::Values(ElementType::kC3D8, ElementType::kC3D8I,
                                            ElementType::kC3D20, ElementType::kC3D20R,
-                                           ElementType::kC3D4, ElementType::kC3D10),
+                                           ElementType::kC3D4, ElementType::kC3D10,
+                                           ElementType::kC3D8B),
                          [](const auto& info) { return element_type_name(info.param); });
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "../required_tool.h"
 
 namespace stickslip {
 namespace {
@@ -132,8 +133,7 @@ TEST(HarwellBoeing, RefusesToWriteAnAsymmetricMatrixAsRsa) {
 }
 
 TEST(HarwellBoeing, ReadsFileWrittenByScipy) {
-  if (!scipy_available())
-    GTEST_SKIP() << "/usr/bin/python3 with scipy not found (scripts/setup.sh)";
+  STICKSLIP_REQUIRE_TOOL(scipy_available(), "/usr/bin/python3 with scipy");
   const fs::path dir = scratch_dir();
   const std::string cmd =
       std::string(kPython) + " " + kDataDir + "/make_hb.py write " + dir.string();
@@ -148,8 +148,7 @@ TEST(HarwellBoeing, ReadsFileWrittenByScipy) {
 }
 
 TEST(HarwellBoeing, FileWeWriteIsReadIdenticallyByScipy) {
-  if (!scipy_available())
-    GTEST_SKIP() << "/usr/bin/python3 with scipy not found (scripts/setup.sh)";
+  STICKSLIP_REQUIRE_TOOL(scipy_available(), "/usr/bin/python3 with scipy");
   const fs::path dir = scratch_dir();
   const SparseMatrix A = random_sparse(150, 41, 0.08, 23, false);  // indices of 3 digits
   write_harwell_boeing((dir / "ours.hb").string(), A,

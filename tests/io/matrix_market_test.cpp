@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "../required_tool.h"
 
 namespace stickslip {
 namespace {
@@ -139,8 +140,7 @@ TEST(MatrixMarket, RefusesToWriteAnAsymmetricMatrixAsSymmetric) {
 }
 
 TEST(MatrixMarket, ReadsFilesWrittenByScipy) {
-  if (!scipy_available())
-    GTEST_SKIP() << "/usr/bin/python3 with scipy not found (scripts/setup.sh)";
+  STICKSLIP_REQUIRE_TOOL(scipy_available(), "/usr/bin/python3 with scipy");
   const fs::path dir = fs::temp_directory_path() / ("stickslip_mm_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string cmd =

@@ -73,6 +73,17 @@ TEST(StaticLoadsCase, ForcesTotalsAndPressuresParseWithAComputedPreload) {
   const std::string described = describe_case(c);
   EXPECT_NE(described.find("preload: computed"), std::string::npos) << described;
   EXPECT_NE(described.find("total_force"), std::string::npos) << described;
+  // ... and it reads back into the same static loads (summary.json's inputs run again).
+  const CaseDefinition again = parse(described);
+  ASSERT_EQ(again.static_loads.size(), 3u);
+  EXPECT_TRUE(again.contacts[0].preload_computed);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(again.static_loads[i].kind, c.static_loads[i].kind) << i;
+    EXPECT_EQ(again.static_loads[i].nodes.sets, c.static_loads[i].nodes.sets) << i;
+    EXPECT_EQ(again.static_loads[i].nodes.ids, c.static_loads[i].nodes.ids) << i;
+    EXPECT_EQ(again.static_loads[i].force, c.static_loads[i].force) << i;
+    EXPECT_EQ(again.static_loads[i].pressure, c.static_loads[i].pressure) << i;
+  }
   // A study cannot vary a computed preload; it varies the loads that compute it: a force's
   // magnitude (its direction kept) or a pressure.
   EXPECT_THROW(with_parameter(c, "contacts.joint.per_pair.preload", 100), InvalidInput);

@@ -20,6 +20,7 @@
 #include "io/calculix_deck.h"
 #include "recovery/harmonic_response.h"
 #include "recovery_test_util.h"
+#include "../required_tool.h"
 
 namespace stickslip {
 namespace {
@@ -77,7 +78,7 @@ double max_relative(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
 }
 
 TEST(CalculixRecovery, SteadyStateDynamicsDeckReproducesTheRecovery) {
-  if (!have_ccx()) GTEST_SKIP() << "ccx (CalculiX) is not installed";
+  STICKSLIP_REQUIRE_TOOL(have_ccx(), "ccx (CalculiX)");
   const Mesh mesh = testing::bar_mesh(8, 2, 2, {0.4, 0.1, 0.1}, ElementType::kC3D8);
   // ccx's C3D8 (full integration) and its mass matrix (the stiffness rule).
   AssemblyOptions assembly;

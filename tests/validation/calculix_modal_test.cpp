@@ -17,6 +17,7 @@
 #include "linalg/sparse_cholesky.h"
 #include "linalg/sparse_ops.h"
 #include "validation_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::validation {
 namespace {
@@ -40,7 +41,7 @@ struct Case {
 class CalculixModal : public ::testing::TestWithParam<Case> {};
 
 TEST_P(CalculixModal, LowestTenFrequenciesAgree) {
-  if (!find_ccx()) GTEST_SKIP() << "ccx (CalculiX) is not installed; scripts/setup.sh installs it";
+  STICKSLIP_REQUIRE_TOOL(find_ccx(), "ccx (CalculiX)");
   const Case& c = GetParam();
   BoxOptions box;
   box.type = c.type;
@@ -211,7 +212,7 @@ void compare_c3d8i(int nx, int ny, int nz, double distortion, double matrix_tole
 }
 
 TEST(CalculixModalC3D8I, StiffnessMatchesAndFrequenciesDifferOnlyByIncompatibleModeMass) {
-  if (!find_ccx()) GTEST_SKIP() << "ccx (CalculiX) is not installed; scripts/setup.sh installs it";
+  STICKSLIP_REQUIRE_TOOL(find_ccx(), "ccx (CalculiX)");
   double coarse_gap = 0, fine_gap = 0;
   compare_c3d8i(8, 2, 2, 0.0, kMatrixTolerance, kSameFormulationTolerance, &coarse_gap);
   compare_c3d8i(16, 4, 4, 0.0, kMatrixTolerance, kSameFormulationTolerance, &fine_gap);
@@ -221,7 +222,7 @@ TEST(CalculixModalC3D8I, StiffnessMatchesAndFrequenciesDifferOnlyByIncompatibleM
 }
 
 TEST(CalculixModalC3D8I, DistortedElementsDifferOnlyByTheJacobianRatioOfIncompatibleModes) {
-  if (!find_ccx()) GTEST_SKIP() << "ccx (CalculiX) is not installed; scripts/setup.sh installs it";
+  STICKSLIP_REQUIRE_TOOL(find_ccx(), "ccx (CalculiX)");
   double gap = 0;
   compare_c3d8i(8, 2, 2, kDistortion, kDistortedMatrixTolerance, kDistortedEigenvalueTolerance,
                 &gap);

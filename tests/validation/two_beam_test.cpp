@@ -18,6 +18,7 @@
 #include "fe/springs.h"
 #include "io/two_beam_model.h"
 #include "validation_support.h"
+#include "../required_tool.h"
 
 namespace stickslip::validation {
 namespace {
@@ -128,7 +129,7 @@ TEST_P(StuckTwoBeam, LowestEightFrequenciesAgreeWithCalculix) {
               stuck.model.contact_pairs.size());
   for (int j = 0; j < kNumModes; ++j) std::printf(" %.1f", f(j));
   std::printf("\n");
-  if (!find_ccx()) GTEST_SKIP() << "ccx (CalculiX) is not installed; scripts/setup.sh installs it";
+  STICKSLIP_REQUIRE_TOOL(find_ccx(), "ccx (CalculiX)");
 
   const CalculixEigenvalues ccx =
       run_calculix_frequency(calculix_stuck_deck(stuck, kNumModes),

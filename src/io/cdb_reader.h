@@ -1,0 +1,66 @@
+// Reader of the mesh part of an ANSYS CDB file, the blocked format written by CDWRITE.
+//
+// Read (APDL commands are case-insensitive and recognised by their first four letters):
+//   NBLOCK,nf,SOLID[,max,count]  then a Fortran format line, e.g. (3i9,6e21.13e3), then one
+//                           fixed-width line per node: id, two solid-model fields, x, y, z and
+//                           the rotation angles of the nodal coordinate system; fields missing at
+//                           the end of a short line are 0. Ends at "N,R5.x,LOC,-1" or "-1".
+//   EBLOCK,19,SOLID[,...]   then a format line, e.g. (19i10), then per element: material, type,
+//                           real, section, esys, birth/death, solid-model ref, shape, number of
+//                           nodes n, 0, element id, then its first 8 nodes; nodes 9..n on the
+//                           next line(s). Ends at "-1".
+//   ET,itype,ename[,KOP1..]  and KEYOPT,itype,k,value: the element type of each type number.
+//   CMBLOCK,name,NODE|ELEM,count  then a format line and `count` numbers; a negative number -b
+//                           after a means the range a..b. Node components become node sets,
+//                           element components element sets (names upper-cased).
+//   MPDATA (blocked "MPDATA,R5.0,1,EX,mat,1,value" and "UNBL", or "MPDATA,EX,mat,1,value")
+//                           for EX, NUXY/PRXY, DENS: `materials` (when not null), by number.
+//   D,node,UX|UY|UZ|ALL,0[,0,nend,ninc]  nodes held in all three directions form the node set
+//                           D_ALL (usable as a clamp; D itself clamps nothing).
+// Element types (KEYOPT(2) chooses the integration):
+//   SOLID185  hexahedron, KEYOPT(2)=0 (B-bar)        -> C3D8B
+//   SOLID186  hexahedron, KEYOPT(2)=0 (reduced 2x2x2) -> C3D20R, KEYOPT(2)=1 (full 3x3x3) -> C3D20;
+//             tetrahedral shape (K=L, M=N=O=P)         -> C3D10 (ANSYS uses the 10-node
+//             tetrahedron's shape functions for it)
+//   SOLID187  10-node tetrahedron                      -> C3D10
+//   MESH200   mesh-only element, no stiffness: skipped with a warning.
+// Refused with the element id, its line and why: SOLID185 KEYOPT(2)=1 (uniform reduced
+// integration with hourglass control: stickslip has none), =2 and =3 (enhanced strain: not the
+// same formulation as C3D8I's incompatible modes, and not checked against ANSYS), mixed u-P
+// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, wedge
+// and pyramid shapes, degenerate SOLID185 shapes, mid-side nodes left out (0 or a short list),
+// other element types. Also refused, at their line: a D with a non-zero value, a node held in
+// some directions only (supports per direction are not read from decks yet), CE / CP / rigid
+// regions (they tie DOFs), temperature-dependent or anisotropic material data, rotated nodal
+// coordinate systems on nodes with D. Every other command is listed in one warning per reason
+// ("<file>: ignored (<why>): F (line 80), ACEL (line 75), ...") appended to `warnings`.
+//
+// Errors: InvalidInput with SourceLocation{file, line} and what is wrong.
+#pragma once
+
+#include <istream>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace stickslip {
+
+// A material of a deck: the constants it gives (NaN where it gives none), where they came from.
+struct DeckMaterial {
+  double youngs_modulus = std::numeric_limits<double>::quiet_NaN();  // Pa
+  double poisson_ratio = std::numeric_limits<double>::quiet_NaN();
+  double density = std::numeric_limits<double>::quiet_NaN();  // kg/m^3
+  std::string origin;                                         // "file:line" of its first datum
+};
+
+Mesh read_cdb(const std::string& path, std::vector<std::string>* warnings = nullptr,
+              std::map<int, DeckMaterial>* materials = nullptr);
+// Same, from a stream; `source_name` is used as the file name in error messages.
+Mesh read_cdb(std::istream& in, const std::string& source_name,
+              std::vector<std::string>* warnings = nullptr,
+              std::map<int, DeckMaterial>* materials = nullptr);
+
+}  // namespace stickslip

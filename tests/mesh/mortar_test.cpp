@@ -1,0 +1,239 @@
+// Mortar coupling of two blocks meeting on a plane (mesh/mortar.h), against properties that hold
+// exactly and are computed here independently of the coupling: node-to-node on conforming meshes,
+// rigid motions and every linear field reproduced on non-matching and distorted meshes, a uniform
+// pressure on A delivered to B as its consistent nodal forces (∫ N_k dA from surface_area.h, a
+// different integration), the gap of separated blocks, and partial coverage reported.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "core/errors.h"
+#include "mesh/mesh_tools.h"
+#include "mesh/mortar.h"
+#include "mesh/surface_area.h"
+
+namespace stickslip {
+namespace {
+
+// Block A: [0, 1] x [0, 1] x [0, 0.2], its top face z = 0.2 the surface. Block B: [0, bx] x
+// [0, 1] x [0.2 + gap, 0.5 + gap], its bottom face the surface.
+struct Blocks {
+  Mesh a, b;
+  std::vector<ElementFace> faces_a, faces_b;
+  std::vector<int> nodes_a, nodes_b;
+};
+
+Blocks blocks(int ax, int ay, int bx, int by, double gap = 0.0, double b_length = 1.0) {
+  Blocks s;
+  s.a = structured_hex_box(ax, ay, 1, {1.0, 1.0, 0.2}, ElementType::kC3D8);
+  s.b = structured_hex_box(bx, by, 1, {b_length, 1.0, 0.3}, ElementType::kC3D8);
+  s.b.coordinates.row(2).array() += 0.2 + gap;
+  s.nodes_a = nodes_on_plane(s.a, {0, 0, 0.2}, {0, 0, 1}, 1e-9);
+  s.nodes_b = nodes_on_plane(s.b, {0, 0, 0.2 + gap}, {0, 0, 1}, 1e-9);
+  s.faces_a = faces_within(s.a, s.nodes_a);
+  s.faces_b = faces_within(s.b, s.nodes_b);
+  return s;
+}
+
+// Moves B's surface nodes inside the surface (not on its edges) by up to `amount` (m) in x and y:
+// with amount well below the cell size the faces stay convex and flat, but are no longer
+// parallelograms.
+void distort_b(Blocks& s, double amount, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amount, amount);
+  for (int node : s.nodes_b) {
+    auto x = s.b.coordinates.col(node);
+    if (x.x() > 1e-9 && x.x() < 1 - 1e-9) x.x() += u(rng);
+    if (x.y() > 1e-9 && x.y() < 1 - 1e-9) x.y() += u(rng);
+  }
+}
+
+double weighted(const MortarPoint& p, const Mesh& b, const std::function<double(const Eigen::Vector3d&)>& f) {
+  double s = 0;
+  for (size_t k = 0; k < p.nodes_b.size(); ++k) s += p.weights_b[k] * f(b.coordinates.col(p.nodes_b[k]));
+  return s;
+}
+
+TEST(Mortar, ConformingMeshesGiveNodeToNodeWithTheConsistentNodalArea) {
+  const Blocks s = blocks(3, 4, 3, 4);
+  const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+  ASSERT_EQ(c.points.size(), s.nodes_a.size());
+  EXPECT_TRUE(c.partial.empty());
+  const std::vector<double> area = nodal_areas(s.a, s.nodes_a, NodalAreaRule::kConsistent);
+  for (size_t i = 0; i < c.points.size(); ++i) {
+    const MortarPoint& p = c.points[i];
+    EXPECT_EQ(p.node_a, s.nodes_a[i]);
+    EXPECT_NEAR(p.area, area[i], 1e-14);
+    EXPECT_NEAR((p.normal - Eigen::Vector3d(0, 0, 1)).norm(), 0, 1e-14);
+    for (size_t k = 0; k < p.nodes_b.size(); ++k) {
+      const bool coincident =
+          (s.b.coordinates.col(p.nodes_b[k]) - s.a.coordinates.col(p.node_a)).norm() < 1e-12;
+      EXPECT_NEAR(p.weights_b[k], coincident ? 1.0 : 0.0, 1e-12) << "A node " << p.node_a;
+    }
+    EXPECT_NEAR(p.gap, 0, 1e-14);
+  }
+}
+
+// Every linear field f(x) = f0 + g·x of B's nodes, weighted by Φ, gives f at the A node; with
+// f = 1 that is the full coverage, with f = x, y, z the rigid translations and rotations.
+void expect_linear_fields_reproduced(const Blocks& s, const MortarCoupling& c) {
+  ASSERT_TRUE(c.partial.empty());
+  const std::vector<std::pair<double, Eigen::Vector3d>> fields = {
+      {1.0, {0, 0, 0}}, {0.0, {1, 0, 0}}, {0.0, {0, 1, 0}}, {0.0, {0, 0, 1}}, {0.3, {-0.7, 2.1, 0.4}}};
+  for (const MortarPoint& p : c.points) {
+    EXPECT_NEAR(p.coverage, 1.0, 1e-12);
+    double sum = 0;
+    for (double w : p.weights_b) sum += w;
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    for (const auto& [f0, g] : fields) {
+      auto f = [&](const Eigen::Vector3d& x) { return f0 + g.dot(x); };
+      EXPECT_NEAR(weighted(p, s.b, f), f(s.a.coordinates.col(p.node_a)), 1e-12)
+          << "A node " << p.node_a << ", field " << f0 << " + " << g.transpose();
+    }
+  }
+}
+
+TEST(Mortar, NonMatchingMeshesReproduceEveryLinearField) {
+  for (const auto& [bx, by] : {std::pair{4, 5}, std::pair{7, 2}, std::pair{2, 9}}) {
+    SCOPED_TRACE(std::to_string(bx) + " x " + std::to_string(by));
+    const Blocks s = blocks(3, 3, bx, by);
+    expect_linear_fields_reproduced(s, mortar_coupling(s.a, s.faces_a, s.b, s.faces_b));
+  }
+}
+
+TEST(Mortar, DistortedFacesOfBStillReproduceEveryLinearField) {
+  // A's faces are parallelograms: ψ_i and x are polynomials over them, so the 7-point rule on the
+  // overlap triangles is exact whatever B's (convex) faces look like.
+  Blocks s = blocks(3, 3, 5, 4);
+  distort_b(s, 0.06, 7);  // cells 0.2 x 0.25
+  expect_linear_fields_reproduced(s, mortar_coupling(s.a, s.faces_a, s.b, s.faces_b));
+}
+
+TEST(Mortar, UniformPressureOnAReachesBAsItsConsistentNodalForces) {
+  // p D_i on A's nodes, carried by Φᵀ, must be p ∫_B N_k dA on B's nodes (the patch test):
+  // Σ_i Φ_ik D_i = the consistent nodal area of B's node k, from surface_area.h's own quadrature.
+  for (const auto& [bx, by] : {std::pair{4, 5}, std::pair{7, 2}}) {
+    SCOPED_TRACE(std::to_string(bx) + " x " + std::to_string(by));
+    const Blocks s = blocks(3, 3, bx, by);
+    const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+    std::map<int, double> delivered;
+    double total = 0;
+    for (const MortarPoint& p : c.points) {
+      total += p.area;
+      for (size_t k = 0; k < p.nodes_b.size(); ++k) delivered[p.nodes_b[k]] += p.weights_b[k] * p.area;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-14);
+    const std::vector<double> area_b = nodal_areas(s.b, s.nodes_b, NodalAreaRule::kConsistent);
+    for (size_t k = 0; k < s.nodes_b.size(); ++k) {
+      EXPECT_NEAR(delivered[s.nodes_b[k]], area_b[k], 1e-14) << "B node " << s.nodes_b[k];
+    }
+  }
+}
+
+TEST(Mortar, GapIsTheNormalDistanceOfTheSurfaces) {
+  for (double gap : {1e-3, -2e-3}) {
+    const Blocks s = blocks(3, 3, 4, 5, gap);
+    const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+    ASSERT_TRUE(c.partial.empty());
+    for (const MortarPoint& p : c.points) EXPECT_NEAR(p.gap, gap, 1e-14) << p.node_a;
+  }
+  // Beyond the search distance nothing couples: every point is reported, with no coverage.
+  const Blocks far = blocks(3, 3, 4, 5, 0.5);
+  const MortarCoupling c = mortar_coupling(far.a, far.faces_a, far.b, far.faces_b,
+                                           {.search_distance = 0.1});
+  EXPECT_EQ(c.partial.size(), far.nodes_a.size());
+  for (const MortarPoint& p : c.points) {
+    EXPECT_EQ(p.coverage, 0.0);
+    EXPECT_TRUE(std::isnan(p.gap));
+  }
+}
+
+TEST(Mortar, PointsWhoseFacesStickOutOfBAreReportedPartial) {
+  // B covers x in [0, 0.5]. A's nodes at x = 0 have their faces in [0, 1/3]: covered. Those at
+  // 1/3 and 2/3 have faces reaching past 0.5: partial, covered by the part of their hat function
+  // N_i (in x; the y factor cancels) over x < 0.5: at 1/3 all but the triangle of height 1/2 over
+  // [0.5, 2/3], i.e. 1 − (1/2 · 1/6 · 1/2) / (1/3) = 7/8; at 2/3 that triangle only, 1/8. At x = 1
+  // nothing overlaps: coverage 0.
+  const Blocks s = blocks(3, 3, 2, 3, 0.0, 0.5);
+  const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+  for (const MortarPoint& p : c.points) {
+    const double x = s.a.coordinates(0, p.node_a);
+    const bool listed = std::find(c.partial.begin(), c.partial.end(), p.node_a) != c.partial.end();
+    if (x < 1e-9) {
+      EXPECT_NEAR(p.coverage, 1.0, 1e-12);
+      EXPECT_FALSE(listed);
+    } else {
+      EXPECT_LT(p.coverage, 1.0 - 1e-6) << x;
+      EXPECT_TRUE(listed) << x;
+    }
+    if (std::abs(x - 1.0 / 3) < 1e-9) {
+      EXPECT_NEAR(p.coverage, 0.875, 1e-12);
+    }
+    if (std::abs(x - 2.0 / 3) < 1e-9) {
+      EXPECT_NEAR(p.coverage, 0.125, 1e-12);
+    }
+    if (x > 0.9) {
+      EXPECT_EQ(p.coverage, 0.0);
+    }
+  }
+}
+
+// The same box as `structured_hex_box` cut into tetrahedra (6 per hexahedron around its 0–6
+// diagonal): its surfaces are made of 3-node triangles.
+Mesh tet_box(int nx, int ny, const Eigen::Vector3d& size) {
+  const Mesh hex = structured_hex_box(nx, ny, 1, size, ElementType::kC3D8);
+  Mesh tet;
+  tet.coordinates = hex.coordinates;
+  tet.node_ids = hex.node_ids;
+  constexpr int kTets[6][4] = {{0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6},
+                               {0, 7, 4, 6}, {0, 4, 5, 6}, {0, 5, 1, 6}};
+  int id = 1;
+  for (int e = 0; e < hex.num_elements(); ++e) {
+    const std::span<const int> v = hex.element_nodes(e);
+    for (const auto& t : kTets) {
+      const std::array<int, 4> nodes = {v[t[0]], v[t[1]], v[t[2]], v[t[3]]};
+      tet.add_element(id++, ElementType::kC3D4, nodes);
+    }
+  }
+  return tet;
+}
+
+TEST(Mortar, TriangleFacesAgainstQuadrilateralsPassTheSameChecks) {
+  Blocks s = blocks(3, 3, 4, 5);
+  s.a = tet_box(3, 3, {1.0, 1.0, 0.2});
+  s.faces_a = faces_within(s.a, s.nodes_a);  // the same node indices: the hexahedra's nodes
+  ASSERT_EQ(s.faces_a.size(), 18u);
+  ASSERT_EQ(s.faces_a.front().nodes.size(), 3u);
+  const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+  expect_linear_fields_reproduced(s, c);
+  std::map<int, double> delivered;
+  for (const MortarPoint& p : c.points) {
+    for (size_t k = 0; k < p.nodes_b.size(); ++k) delivered[p.nodes_b[k]] += p.weights_b[k] * p.area;
+  }
+  const std::vector<double> area_b = nodal_areas(s.b, s.nodes_b, NodalAreaRule::kConsistent);
+  for (size_t k = 0; k < s.nodes_b.size(); ++k) EXPECT_NEAR(delivered[s.nodes_b[k]], area_b[k], 1e-14);
+}
+
+TEST(Mortar, QuadraticFacesAreRefusedByName) {
+  const Blocks s = blocks(2, 2, 2, 2);
+  std::vector<ElementFace> eight = {s.faces_a.front()};
+  for (int extra : {0, 1, 2, 3}) eight.front().nodes.push_back(extra);  // 8 nodes: quadratic
+  try {
+    mortar_coupling(s.a, eight, s.b, s.faces_b);
+    FAIL() << "an 8-node face was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("8 nodes"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Mortar, EmptySurfacesAreRefused) {
+  const Blocks s = blocks(2, 2, 2, 2);
+  EXPECT_THROW(mortar_coupling(s.a, {}, s.b, s.faces_b), InvalidInput);
+  EXPECT_THROW(mortar_coupling(s.a, s.faces_a, s.b, {}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
