@@ -60,8 +60,7 @@ Json static_check_json(const CaseDefinition& def, const PreparedModel& model,
     flagged += p.static_warning ? 1 : 0;
     for (size_t q = 0; q < p.pairs.size() && uncoupled; ++q) {
       const PairResponse& r = p.pairs[q];
-      const bool bad = r.static_mismatch > kStaticMismatchThreshold ||
-                       r.cycle.separation_fraction > 0;
+      const bool bad = r.static_mismatch > kStaticMismatchThreshold || separates_in_part(r.cycle);
       if (bad && (worst[q].point < 0 || r.static_mismatch > worst[q].mismatch)) {
         worst[q] = {r.static_mismatch, r.cycle.separation_fraction, static_cast<int>(i)};
       }
@@ -310,7 +309,7 @@ SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
   for (const FrequencyPoint& p : solved.response.points) {
     flagged += p.static_warning ? 1 : 0;
     bool open = false;
-    for (const PairResponse& r : p.pairs) open = open || r.cycle.separation_fraction > 0;
+    for (const PairResponse& r : p.pairs) open = open || separates_in_part(r.cycle);
     separating += p.static_warning && open ? 1 : 0;
   }
   int inexact = 0;  // points where the event AFT fell back to the sampled one for some pair

@@ -66,7 +66,7 @@ void check_static_state(const HarmonicBalanceSystem& system, const Eigen::Vector
       point.static_mismatch = out.static_mismatch;
       point.static_worst_pair = static_cast<int>(p);
     }
-    if (out.static_mismatch > kStaticMismatchThreshold || out.cycle.separation_fraction > 0) {
+    if (out.static_mismatch > kStaticMismatchThreshold || separates_in_part(out.cycle)) {
       point.static_warning = true;
     }
   }

@@ -37,11 +37,17 @@ namespace stickslip {
 // cycle-mean force f̄ (the AFT's own harmonic 0 over the cycle) equals its frozen f0). Per pair:
 //   static_mismatch = ||f̄ − f0|| / max(||f0||, max_t ||f(t)||)   (local axes, 2-norms),
 // and a point is flagged when some pair's mismatch exceeds kStaticMismatchThreshold or some pair
-// separates (N = 0 over part of the cycle: its mean normal force then exceeds the frozen one, and
+// separates over part of the cycle (separates_in_part; N = 0 over part of the cycle: its mean normal force then exceeds the frozen one, and
 // the mean approach shifts). Stuck, closed cycles give f̄ = f0 to round-off (f is linear about
 // f0 and u has no mean beyond u0); a cycle that slips symmetrically about f0 is not flagged
 // either, and rightly: its harmonic-0 balance holds. With static: coupled nothing is checked.
 inline constexpr double kStaticMismatchThreshold = 1e-2;  // 1 % of the pair's force scale
+// Separation that the frozen static state cannot represent: over part of the cycle. A pair open
+// over the whole cycle has f̄ = 0, which is right when its static state is open too (f0 = 0: a
+// pair that a computed preload leaves open) and is caught by the mismatch otherwise.
+inline bool separates_in_part(const CycleStatistics& cycle) {
+  return cycle.separation_fraction > 0 && cycle.separation_fraction < 1;
+}
 
 struct PairResponse {
   Eigen::MatrixXcd displacement_local;  // m x nh, u = R (x_A − x_B)

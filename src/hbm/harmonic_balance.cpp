@@ -572,6 +572,20 @@ void HarmonicBalanceSystem::solve_static() {
   StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0, static_shift_);
   u0_ = Eigen::VectorXd::Zero(rows_);
   static_summary_ = solve_newton(sys, 0.0, u0_, options_.static_newton);
+  if (!static_summary_.converged() && ulin0.norm() > 0) {
+    // A contact without a preload sits at its kink at rest (w = 0: N = max(0, kn w)), where its
+    // tangent is the open one; the first Newton step then goes to the response without contacts
+    // and no fraction of it decreases ||R|| (a joint pressed by static loads, preload: computed).
+    // From the linear response u_lin,0 instead, the pressed pairs penetrate and their closed
+    // (stuck or slipping) tangents give a first step to the closed joint: a semismooth Newton
+    // whose active set starts from the loads' own direction.
+    Eigen::VectorXd u = ulin0;
+    const NewtonSummary from_linear = solve_newton(sys, 0.0, u, options_.static_newton);
+    if (from_linear.converged()) {
+      u0_ = u;
+      static_summary_ = from_linear;
+    }
+  }
   sys.forces(u0_, f0_, nullptr);
 }
 

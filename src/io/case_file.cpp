@@ -1700,11 +1700,13 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
   }
   const std::string key = parts.empty() ? "" : parts.back();
   double* field = nullptr;
+  double magnitude = 0.0;  // static_loads[i].force / total_force: the new magnitude (N)
   std::function<void()> after;
   const std::string supported =
       "supported: materials.M.{youngs_modulus,poisson_ratio,density}, "
       "contacts.C.{per_pair,total}.<parameter>, contacts.C.gap, damping.{alpha,beta}, "
-      "bodies.B.modal_damping_ratio, excitation[i].amplitude";
+      "bodies.B.modal_damping_ratio, excitation[i].amplitude, "
+      "static_loads[i].{force,total_force,pressure}";
   if (parts.size() == 3 && parts[0] == "materials") {
     auto it = c.materials.find(parts[1]);
     if (it == c.materials.end()) fail("no material '" + parts[1] + "'");
@@ -1760,6 +1762,33 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
       const std::complex<double> a = std::polar(1.0, e.phase_deg * kPi / 180.0) * e.amplitude;
       for (size_t k = 0; k < 3; ++k) e.force[k] = a * e.direction[k];
     };
+  } else if (parts.size() == 2 && parts[0].rfind("static_loads[", 0) == 0 &&
+             parts[0].back() == ']') {
+    const std::string index = parts[0].substr(13, parts[0].size() - 14);
+    size_t i = c.static_loads.size();
+    if (!index.empty() && index.find_first_not_of("0123456789") == std::string::npos &&
+        index.size() < 9)
+      i = static_cast<size_t>(std::stoul(index));
+    if (i >= c.static_loads.size()) fail("no static_loads entry " + index);
+    StaticLoadDefinition& l = c.static_loads[i];
+    const std::string given = l.kind == StaticLoadDefinition::Kind::kPressure ? "pressure"
+                              : l.kind == StaticLoadDefinition::Kind::kForce  ? "force"
+                                                                              : "total_force";
+    if (key != given) fail("static_loads entry " + index + " gives '" + given + "'");
+    if (key == "pressure") {
+      if (value == 0.0) fail("must not be 0");
+      field = &l.pressure;
+    } else {
+      // The force vector scaled to the magnitude `value` (N), its direction kept.
+      const double norm = std::sqrt(l.force[0] * l.force[0] + l.force[1] * l.force[1] +
+                                    l.force[2] * l.force[2]);
+      if (!(norm > 0)) fail("the static load's force is zero: it has no direction to keep");
+      if (!(value >= 0)) fail("a magnitude must be >= 0");
+      field = &magnitude;  // written below, then applied by `after`
+      after = [&l, &magnitude, norm] {
+        for (double& f : l.force) f *= magnitude / norm;
+      };
+    }
   }
   if (!field) fail("not a numeric key that a study can vary; " + supported);
   const std::string rule = numeric_rule_violation(key, value);
@@ -1973,8 +2002,13 @@ std::string describe_case(const CaseDefinition& c) {
     for (const StaticLoadDefinition& l : c.static_loads) {
       e << YAML::Flow << YAML::BeginMap;
       e << YAML::Key << "body" << YAML::Value << l.body;
-      e << YAML::Key << "nodes" << YAML::Value;
-      selection(l.nodes);
+      if (l.nodes.sets.empty()) {
+        e << YAML::Key << "node" << YAML::Value;
+        vec(l.nodes.ids);
+      } else {
+        e << YAML::Key << "node_set" << YAML::Value;
+        vec(l.nodes.sets);
+      }
       if (l.kind == StaticLoadDefinition::Kind::kPressure) {
         e << YAML::Key << "pressure" << YAML::Value << num(l.pressure);
       } else {

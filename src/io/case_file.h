@@ -327,7 +327,9 @@ std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
 // Returns `definition` with the numeric key at dotted `path` set to `value` (the study
 // mechanism): materials.M.{youngs_modulus,poisson_ratio,density},
 // contacts.C.{per_pair|total}.{kt,kn,mu,preload,k,k1,k3}, contacts.C.gap, damping.{alpha,beta},
-// bodies.B.modal_damping_ratio, excitation[i].amplitude (scales the force to that magnitude).
+// bodies.B.modal_damping_ratio, excitation[i].amplitude (scales the force to that magnitude),
+// static_loads[i].{force,total_force} (the vector scaled to that magnitude, N ≥ 0; the key the
+// entry gives) and static_loads[i].pressure (≠ 0).
 // Throws InvalidInput (at `where`) for an unknown path or a value that breaks the key's rule.
 CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,
                               double value, const SourceLocation& where = {});

@@ -16,6 +16,7 @@
 
 #include "cli_test_support.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -283,6 +284,125 @@ TEST(StaticLoadsCli, APressureOnInnerFacesIsAnInputError) {
                      "shared by elements"),
             std::string::npos)
       << log;
+}
+
+// A lateral load on bar 2 bends it and opens two rows of the joint in its static state (N = 0);
+// the 1 mN vibration keeps them open over the whole cycle. The frozen static state is then right
+// for those pairs (mean force 0 = static force 0): the uncoupled check must not flag them.
+TEST(StaticLoadsCli, PairsTheStaticStateLeavesOpenAreNotFlaggedByTheUncoupledCheck) {
+  const fs::path dir = fresh_dir("static_loads_open");
+  {
+    std::ofstream(dir / "bars.inp") << two_bars_inp();
+  }
+  const fs::path c = write_case(
+      dir, "open",
+      pressed_bars_case("  - {body: bar2, node_set: LOAD, total_force: [0, 3000, 0]}\n"));
+  ASSERT_EQ(run("run " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  int open = 0;
+  for (const auto& [pair, f] : static_pair_forces(dir / "out")) open += f.at("n") == 0.0;
+  EXPECT_EQ(open, 6) << "the lateral load no longer opens two rows";
+  int whole_cycle = 0;
+  for (const auto& r : read_csv(dir / "out" / "contact_state.csv")) {
+    whole_cycle += std::stod(r.at("separation")) == 1.0;
+  }
+  EXPECT_EQ(whole_cycle, 6 * 5);  // 6 pairs at each of the 5 points
+  for (const auto& r : read_csv(dir / "out" / "points.csv")) {
+    EXPECT_EQ(r.at("static_warning"), "0") << r.at("point");
+  }
+  EXPECT_EQ(slurp(dir / "run.log").find("warning:"), std::string::npos) << slurp(dir / "run.log");
+}
+
+// A study of the pressing force (the computed preload's counterpart of the thesis's preload
+// factor): each folder's joint force is the hand calculation's for its force (linear in F).
+TEST(StaticLoadsCli, AStudyOfThePressingForceScalesTheComputedPreload) {
+  const fs::path dir = fresh_dir("static_loads_study");
+  {
+    std::ofstream(dir / "bars.inp") << two_bars_inp();
+  }
+  const fs::path c = write_case(
+      dir, "study",
+      pressed_bars_case("") +
+          "study:\n  parameter: static_loads[0].total_force\n  values: [4500, 900]\n");
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  const Hand hand = hand_calculation();
+  for (const double F : {4500.0, 900.0}) {
+    const fs::path folder = dir / "out" / ("total_force_" + std::to_string(int(F)));
+    double total = 0.0;
+    for (const auto& [pair, f] : static_pair_forces(folder)) total += f.at("n");
+    EXPECT_NEAR(total, hand.N * F / kForce, 1e-8 * hand.N) << folder;
+  }
+}
+
+// The reference butt joint (generated mesh, C3D8) pressed by 4500 N: beam 2 is held at its far end
+// in y and z only (supports), and the force acts on its cross-section one element from that end,
+// so the whole force must pass the joint: the static normal forces sum to F (equilibrium of beam
+// 2 along x), and the joint is not uniformly pressed (the end blocks are off the beams' axis).
+TEST(StaticLoadsCli, ReferenceJointPressedThroughItsEndCarriesTheWholeForce) {
+  const fs::path dir = fresh_dir("static_loads_reference");
+  const std::string head = R"(stickslip: 1
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam, element: C3D8}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, supports: [{nodes: CLAMP2, directions: [y, z]}]}
+analysis:
+  frequency: {start_hz: 1488, stop_hz: 1490, step_hz: 1}
+)";
+  const fs::path mesh_case = write_case(dir, "mesh", head);
+  ASSERT_EQ(run("mesh " + mesh_case.string() + " -o " + (dir / "m").string(), dir / "mesh.log"), 0)
+      << slurp(dir / "mesh.log");
+  // Beam 2's nodes at x = 0.59 m (its far end is x = 0.6 m).
+  std::string section;
+  {
+    std::istringstream in(slurp(dir / "m" / "mesh" / "beam2.inp"));
+    std::string line;
+    bool in_nodes = false;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] == '*') {
+        in_nodes = line.rfind("*NODE", 0) == 0;
+        continue;
+      }
+      if (!in_nodes || line.empty()) continue;
+      std::istringstream fields(line);
+      std::string id, x;
+      std::getline(fields, id, ',');
+      std::getline(fields, x, ',');
+      if (std::abs(std::stod(x) - 0.59) < 1e-9) section += (section.empty() ? "" : ", ") + id;
+    }
+  }
+  ASSERT_FALSE(section.empty());
+  const fs::path c = write_case(dir, "pressed", head + R"(contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    total: {kt: 1.3401e11, kn: 1.68927e11, mu: 0.5, preload: computed, split: area}
+excitation:
+  - {body: beam1, node_set: FORCE1, direction: z, amplitude: 1.0e-3}
+static_loads:
+  - {body: beam2, node: [)" + section + R"(], total_force: [-4500, 0, 0]}
+damping: {alpha: 5.0}
+recovery: {points: none}
+output: {plots: false, vtu: false}
+)");
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  double total = 0.0, smallest = kForce, largest = 0.0;
+  const auto forces = static_pair_forces(dir / "out");
+  ASSERT_EQ(forces.size(), 30u);
+  for (const auto& [pair, f] : forces) {
+    total += f.at("n");
+    smallest = std::min(smallest, f.at("n"));
+    largest = std::max(largest, f.at("n"));
+    EXPECT_LE(std::hypot(f.at("t1"), f.at("t2")), kMu * f.at("n") * (1 + 1e-9)) << pair;
+  }
+  EXPECT_NEAR(total, kForce, 1e-8 * kForce);
+  EXPECT_EQ(smallest, 0.0) << "no pair lifts off";
+  EXPECT_GT(largest, 2.0 * kForce / 30) << "the joint is pressed uniformly";
 }
 
 }  // namespace

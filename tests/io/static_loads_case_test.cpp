@@ -73,8 +73,29 @@ TEST(StaticLoadsCase, ForcesTotalsAndPressuresParseWithAComputedPreload) {
   const std::string described = describe_case(c);
   EXPECT_NE(described.find("preload: computed"), std::string::npos) << described;
   EXPECT_NE(described.find("total_force"), std::string::npos) << described;
-  // A study cannot vary a computed preload.
+  // ... and it reads back into the same static loads (summary.json's inputs run again).
+  const CaseDefinition again = parse(described);
+  ASSERT_EQ(again.static_loads.size(), 3u);
+  EXPECT_TRUE(again.contacts[0].preload_computed);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(again.static_loads[i].kind, c.static_loads[i].kind) << i;
+    EXPECT_EQ(again.static_loads[i].nodes.sets, c.static_loads[i].nodes.sets) << i;
+    EXPECT_EQ(again.static_loads[i].nodes.ids, c.static_loads[i].nodes.ids) << i;
+    EXPECT_EQ(again.static_loads[i].force, c.static_loads[i].force) << i;
+    EXPECT_EQ(again.static_loads[i].pressure, c.static_loads[i].pressure) << i;
+  }
+  // A study cannot vary a computed preload; it varies the loads that compute it: a force's
+  // magnitude (its direction kept) or a pressure.
   EXPECT_THROW(with_parameter(c, "contacts.joint.per_pair.preload", 100), InvalidInput);
+  const CaseDefinition scaled = with_parameter(c, "static_loads[0].total_force", 9000);
+  EXPECT_EQ(scaled.static_loads[0].force[0], -9000.0);
+  EXPECT_EQ(scaled.static_loads[0].force[1], 0.0);
+  EXPECT_EQ(with_parameter(c, "static_loads[1].force", 20).static_loads[1].force[2], 20.0);
+  EXPECT_EQ(with_parameter(c, "static_loads[2].pressure", -2e5).static_loads[2].pressure, -2e5);
+  EXPECT_THROW(with_parameter(c, "static_loads[0].force", 10), InvalidInput);  // total_force
+  EXPECT_THROW(with_parameter(c, "static_loads[2].pressure", 0), InvalidInput);
+  EXPECT_THROW(with_parameter(c, "static_loads[3].pressure", 1e5), InvalidInput);
+  EXPECT_THROW(with_parameter(c, "static_loads[0].total_force", -1), InvalidInput);
   // The typed preload stays, with static loads too.
   const CaseDefinition typed = parse(
       pressed_case("150", "  - {body: beam2, node_set: FORCE2, force: [-10, 0, 0]}\n"));
