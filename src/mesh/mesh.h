@@ -47,6 +47,27 @@ struct LinearConstraint {
   std::string origin;
 };
 
+// A linear discrete spring (Abaqus/CalculiX SPRING1, SPRING2, SPRINGA) of stiffness k (N/m):
+//   energy ½ k (d_aᵀ u_a − d_bᵀ u_b)²,  u_b = 0 for node_b = -1 (to the ground),
+// d_a, d_b unit vectors: SPRING1 and SPRING2 along global axes, SPRINGA along the line from a to
+// b in the undeformed mesh (d_a = d_b). Its stiffness is added to K in assembly (fe/assembly.h).
+struct DiscreteSpring {
+  int id = 0;       // element id in the file (shares the id space of elements)
+  int node_a = 0;   // node index
+  int node_b = -1;  // node index or -1
+  Eigen::Vector3d direction_a = Eigen::Vector3d::UnitX(), direction_b = Eigen::Vector3d::UnitX();
+  double stiffness = 0.0;  // N/m, >= 0
+  std::string origin;      // "file:line"
+};
+
+// A point mass m (kg) on the three translations of a node (Abaqus/CalculiX MASS), added to M.
+struct PointMass {
+  int id = 0;    // element id in the file
+  int node = 0;  // node index
+  double mass = 0.0;
+  std::string origin;
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -64,6 +85,10 @@ struct Mesh {
 
   // --- linear constraints between DOFs (*EQUATION), in file order ---
   std::vector<LinearConstraint> equations;
+
+  // --- discrete springs and point masses (not elements: no stresses, not in element sets) ---
+  std::vector<DiscreteSpring> springs;
+  std::vector<PointMass> point_masses;
 
   int num_nodes() const { return static_cast<int>(node_ids.size()); }
   int num_elements() const { return static_cast<int>(element_types.size()); }
