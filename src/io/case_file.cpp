@@ -690,7 +690,6 @@ void parse_bodies(Parser& p, const MapView& top) {
         } else {
           d.source = BodyDefinition::Source::kMesh;
           m.require("mesh", "or 'reduced'");
-          m.require("material");
           m.text("mesh", &d.mesh);
           if (!p.out().meshes.count(d.mesh)) {
             std::vector<std::string> names;
@@ -699,8 +698,8 @@ void parse_bodies(Parser& p, const MapView& top) {
                    "unknown mesh '" + d.mesh + "'" + suggestion(d.mesh, names) +
                        (names.empty() ? "; no meshes defined" : "; meshes: " + join(names, ", ")));
           }
-          m.text("material", &d.material);
-          if (!p.out().materials.count(d.material)) {
+          m.text("material", &d.material);  // none: the mesh file's (pipeline)
+          if (!d.material.empty() && !p.out().materials.count(d.material)) {
             std::vector<std::string> names;
             for (const auto& [n, _] : p.out().materials) names.push_back(n);
             p.fail(m.full("material"), m.line("material"),

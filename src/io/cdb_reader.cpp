@@ -577,6 +577,7 @@ class CdbParser {
     }
     std::unordered_map<int, int> element_index;
     std::set<int> skipped_elements;
+    std::vector<int> element_numbers;  // material number of each element kept
     int mesh200 = 0, mesh200_line = -1;
     for (const RawElement& e : elements_) {
       std::vector<int> nodes;
@@ -612,7 +613,20 @@ class CdbParser {
         fail(e.line, "element " + std::to_string(e.id) + " (" + element_type_name(*type) +
                          "): " + problem);
       }
-      used_materials_.insert(e.material);
+      element_numbers.push_back(e.material);
+    }
+    // Materials by number: MAT<n>; each element's from its material field.
+    std::map<int, int> material_index;
+    for (const auto& [number, dm] : deck_materials_) {
+      material_index[number] = static_cast<int>(mesh.materials.size());
+      mesh.materials.push_back({"MAT" + std::to_string(number), dm.youngs_modulus,
+                                dm.poisson_ratio, dm.density, dm.origin, ""});
+    }
+    if (!mesh.materials.empty()) {
+      for (int number : element_numbers) {
+        const auto it = material_index.find(number);
+        mesh.element_material.push_back(it == material_index.end() ? -1 : it->second);
+      }
     }
     if (mesh200 > 0) {
       notes_.push_back(file_ + ": " + std::to_string(mesh200) +
@@ -786,7 +800,6 @@ class CdbParser {
   std::vector<RawSet> sets_;
   std::map<int, EType> etypes_;
   std::map<int, DeckMaterial> deck_materials_;
-  std::set<int> used_materials_;
   std::map<int, std::pair<int, int>> held_;  // node id -> (direction mask, first D line)
   // reason -> (command, first line), in order of first appearance
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> ignored_;

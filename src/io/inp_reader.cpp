@@ -158,8 +158,9 @@ constexpr Refusal kRefused[] = {
 
 // Why a keyword the reader skips does not matter to stickslip (the warning's hint).
 const char* skip_hint(const std::string& name) {
-  if (name == "*MATERIAL" || name == "*ELASTIC" || name == "*DENSITY" || name == "*SOLID SECTION")
-    return "the material comes from the case file";
+  if (name == "*PLASTIC" || name == "*EXPANSION" || name == "*CONDUCTIVITY" ||
+      name == "*SPECIFIC HEAT" || name == "*HYPERELASTIC" || name == "*CREEP")
+    return "linear elastic materials only";
   if (name == "*BOUNDARY") return "clamps come from the case file";
   if (name == "*STEP" || name == "*END STEP" || name == "*STATIC" || name == "*FREQUENCY" ||
       name == "*CLOAD" || name == "*DLOAD" || name == "*STEADY STATE DYNAMICS")
@@ -375,6 +376,34 @@ class InpParser {
     } else if (k.name == "*EQUATION") {
       check_params(k, {});
       mode_ = Mode::kEquation;
+    } else if (k.name == "*MATERIAL") {
+      check_params(k, {"NAME"});
+      const auto name = param(k, "NAME");
+      if (!name) fail(k.line, "*MATERIAL without NAME=");
+      for (const MeshMaterial& m : materials_) {
+        if (m.name == upper(*name)) fail(k.line, "*MATERIAL " + upper(*name) + " defined twice");
+      }
+      materials_.push_back({upper(*name), kNaN, kNaN, kNaN, origin(k.line), ""});
+    } else if (k.name == "*ELASTIC" || k.name == "*DENSITY") {
+      if (materials_.empty()) fail(k.line, k.name + " before any *MATERIAL");
+      if (k.name == "*ELASTIC") {
+        check_params(k, {"TYPE"});
+        const auto type = param(k, "TYPE");
+        if (type && upper(*type) != "ISO" && upper(*type) != "ISOTROPIC") {
+          materials_.back().problem = "*ELASTIC, TYPE=" + upper(*type) + " on " +
+                                      line_text(k.line) + ": only isotropic elasticity is supported";
+        }
+      } else {
+        check_params(k, {});
+      }
+      property_lines_ = 0;
+      mode_ = k.name == "*ELASTIC" ? Mode::kElastic : Mode::kDensity;
+    } else if (k.name == "*SOLID SECTION") {
+      check_params(k, {"ELSET", "MATERIAL", "ORIENTATION"});
+      const auto elset = param(k, "ELSET"), material = param(k, "MATERIAL");
+      if (!elset || !material) fail(k.line, "*SOLID SECTION needs ELSET= and MATERIAL=");
+      sections_.push_back({upper(*elset), upper(*material), k.line});
+      mode_ = Mode::kSkip;  // a data line (2D thickness) does not matter for solids
     } else if (k.name == "*SPRING" || k.name == "*MASS") {
       const bool spring = k.name == "*SPRING";
       for (const auto& [key, value] : k.params) {
@@ -483,6 +512,30 @@ class InpParser {
                 {SetItem::Kind::kId, elements_.back().id, 0, 1, "", line});
           }
           pending_.reset();
+        }
+        return;
+      }
+      case Mode::kElastic:
+      case Mode::kDensity: {
+        const auto tokens = data_tokens(t, line);
+        MeshMaterial& m = materials_.back();
+        if (mode_ == Mode::kElastic && !m.problem.empty()) return;  // anisotropic: not read
+        if (++property_lines_ > 1) {
+          if (m.problem.empty()) {
+            m.problem = keyword_.name + " with more than one line (temperature-dependent) on " +
+                        line_text(line) + ": not supported";
+          }
+          return;
+        }
+        if (mode_ == Mode::kElastic) {
+          if (tokens.size() < 2 || tokens.size() > 3) {
+            fail(line, "*ELASTIC: expected 'E, nu[, temperature]'");
+          }
+          m.youngs_modulus = parse_double(tokens[0], line);
+          m.poisson_ratio = parse_double(tokens[1], line);
+        } else {
+          if (tokens.empty() || tokens.size() > 2) fail(line, "*DENSITY: expected 'rho[, temperature]'");
+          m.density = parse_double(tokens[0], line);
         }
         return;
       }
@@ -718,8 +771,33 @@ class InpParser {
       mesh.equations.push_back(std::move(c));
     }
     resolve_discretes(mesh, node_index, element_index);
+    resolve_sections(mesh);
     check_mesh(mesh);
     return mesh;
+  }
+
+  // *SOLID SECTION: each element of the set gets the material (Mesh::element_material).
+  void resolve_sections(Mesh& mesh) const {
+    mesh.materials = materials_;
+    if (sections_.empty()) return;
+    mesh.element_material.assign(static_cast<size_t>(mesh.num_elements()), -1);
+    for (const Section& sec : sections_) {
+      int index = -1;
+      for (size_t m = 0; m < materials_.size(); ++m) {
+        if (materials_[m].name == sec.material) index = static_cast<int>(m);
+      }
+      if (index < 0) fail(sec.line, "*SOLID SECTION: unknown material " + sec.material);
+      const auto set = mesh.element_sets.find(sec.elset);
+      if (set == mesh.element_sets.end()) fail(sec.line, "*SOLID SECTION: unknown element set " + sec.elset);
+      for (int e : set->second) {
+        if (mesh.element_material[e] >= 0 && mesh.element_material[e] != index) {
+          fail(sec.line, "*SOLID SECTION: element " + std::to_string(mesh.element_ids[e]) +
+                             " is already in a section of material " +
+                             materials_[mesh.element_material[e]].name);
+        }
+        mesh.element_material[e] = index;
+      }
+    }
   }
 
   static const char* discrete_name(DiscreteKind k) {
@@ -825,7 +903,17 @@ class InpParser {
     }
   }
 
-  enum class Mode { kNone, kSkip, kNode, kElement, kSet, kEquation, kDiscrete, kProperty };
+  enum class Mode {
+    kNone, kSkip, kNode, kElement, kSet, kEquation, kDiscrete, kProperty, kElastic, kDensity
+  };
+  struct Section {
+    std::string elset, material;
+    int line;
+  };
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::vector<MeshMaterial> materials_;
+  std::vector<Section> sections_;
+  int property_lines_ = 0;
 
   std::string file_;
   std::vector<std::string>* warnings_;

@@ -127,6 +127,18 @@ void check_mesh(const Mesh& mesh) {
       if (e < 0 || e >= ne) throw InvalidInput("mesh: element set " + name + " has an index out of range");
     }
   }
+  if (!mesh.element_material.empty()) {
+    if (static_cast<int>(mesh.element_material.size()) != ne) {
+      throw InvalidInput("mesh: element_material has " +
+                         std::to_string(mesh.element_material.size()) + " entries for " +
+                         std::to_string(ne) + " elements");
+    }
+    for (int m : mesh.element_material) {
+      if (m < -1 || m >= static_cast<int>(mesh.materials.size())) {
+        throw InvalidInput("mesh: an element's material index is out of range");
+      }
+    }
+  }
   for (const DiscreteSpring& k : mesh.springs) {
     const std::string where = "mesh: spring " + std::to_string(k.id) +
                               (k.origin.empty() ? "" : " at " + k.origin);

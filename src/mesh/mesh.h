@@ -9,6 +9,7 @@
 // formats (Gmsh) reorder to it.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <span>
 #include <string>
@@ -68,6 +69,19 @@ struct PointMass {
   std::string origin;
 };
 
+// A linear elastic isotropic material given in a mesh file (.inp: *MATERIAL with *ELASTIC and
+// *DENSITY, assigned by *SOLID SECTION; .cdb: MPDATA by material number). Constants the file does
+// not give are NaN; `problem` says why the material cannot be used ("" when it can be, if
+// complete), e.g. anisotropic elasticity. SI units as IsotropicMaterial.
+struct MeshMaterial {
+  std::string name;
+  double youngs_modulus = std::numeric_limits<double>::quiet_NaN();
+  double poisson_ratio = std::numeric_limits<double>::quiet_NaN();
+  double density = std::numeric_limits<double>::quiet_NaN();
+  std::string origin;   // "file:line" where it is defined
+  std::string problem;  // why it cannot be used, or ""
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -85,6 +99,11 @@ struct Mesh {
 
   // --- linear constraints between DOFs (*EQUATION), in file order ---
   std::vector<LinearConstraint> equations;
+
+  // --- materials of the file: element_material is empty (none assigned) or holds, per element,
+  //     an index into materials or -1 (no material assigned to that element) ---
+  std::vector<MeshMaterial> materials;
+  std::vector<int> element_material;
 
   // --- discrete springs and point masses (not elements: no stresses, not in element sets) ---
   std::vector<DiscreteSpring> springs;

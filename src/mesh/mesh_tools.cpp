@@ -70,6 +70,10 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
     new_element[e] = sub.mesh.add_element(mesh.element_ids[e], mesh.element_types[e], local);
   }
   sub.element_parent = kept_elements;
+  if (!mesh.element_material.empty()) {
+    sub.mesh.materials = mesh.materials;
+    for (int e : kept_elements) sub.mesh.element_material.push_back(mesh.element_material[e]);
+  }
 
   for (const auto& [name, set] : mesh.node_sets) {
     std::vector<int> r = restrict_set(set, new_node);
@@ -287,6 +291,15 @@ AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset, int 
   };
   merge(mesh.node_sets, part.node_sets, range.first_node);
   merge(mesh.element_sets, part.element_sets, range.first_element);
+  if (!mesh.element_material.empty() || !part.element_material.empty()) {
+    mesh.element_material.resize(static_cast<size_t>(range.first_element), -1);
+    const int shift = static_cast<int>(mesh.materials.size());
+    mesh.materials.insert(mesh.materials.end(), part.materials.begin(), part.materials.end());
+    for (int e = 0; e < part.num_elements(); ++e) {
+      const int m = part.element_material.empty() ? -1 : part.element_material[e];
+      mesh.element_material.push_back(m < 0 ? -1 : m + shift);
+    }
+  }
   for (LinearConstraint c : part.equations) {
     for (int& dof : c.dofs) dof += 3 * range.first_node;
     mesh.equations.push_back(std::move(c));

@@ -170,8 +170,6 @@ TEST(InpReader, EveryKeywordItDoesNotUseGivesOneWarningWithItsLines) {
   const std::string f = kDir + "sample_all_features.inp: ";
   EXPECT_EQ(warnings, (std::vector<std::string>{
                           f + "*HEADING ignored (not used by stickslip), line 3",
-                          f + "*MATERIAL ignored (the material comes from the case file), line 58",
-                          f + "*ELASTIC ignored (the material comes from the case file), line 59",
                           f + "*STEP ignored (analyses and loads come from the case file), line 75",
                           f + "*STATIC ignored (analyses and loads come from the case file), line 76",
                           f + "*END STEP ignored (analyses and loads come from the case file), "
@@ -218,6 +216,37 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
     } catch (const InvalidInput& e) {
       EXPECT_EQ(e.where().line, 8) << type;
       EXPECT_NE(e.message().find("unsupported element type"), std::string::npos) << e.message();
+    }
+  }
+}
+
+TEST(InpReader, MaterialsAndSolidSectionsGiveEachElementItsMaterial) {
+  std::istringstream in(tet_deck(
+      "*ELEMENT, TYPE=C3D4, ELSET=OTHER\n2, 1, 2, 3, 4\n*ELSET, ELSET=FIRST\n1\n"
+      "*MATERIAL, NAME=Steel\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n"
+      "*MATERIAL, NAME=ORTHO\n*ELASTIC, TYPE=ORTHO\n1, 2, 3, 4, 5, 6, 7, 8\n9\n"
+      "*SOLID SECTION, ELSET=FIRST, MATERIAL=STEEL\n*SOLID SECTION, ELSET=other, MATERIAL=ortho\n"));
+  const Mesh m = read_inp(in, "deck");
+  ASSERT_EQ(m.materials.size(), 2u);
+  EXPECT_EQ(m.materials[0].name, "STEEL");
+  EXPECT_EQ(m.materials[0].youngs_modulus, 2.1e11);
+  EXPECT_EQ(m.materials[0].poisson_ratio, 0.3);
+  EXPECT_EQ(m.materials[0].density, 7850.0);
+  EXPECT_EQ(m.materials[0].origin, "deck:12");
+  EXPECT_TRUE(m.materials[0].problem.empty());
+  EXPECT_NE(m.materials[1].problem.find("TYPE=ORTHO"), std::string::npos) << m.materials[1].problem;
+  EXPECT_EQ(m.element_material, (std::vector<int>{0, 1}));
+  // Errors at their line.
+  for (const auto& [tail, what] : std::vector<std::pair<std::string, std::string>>{
+           {"*SOLID SECTION, ELSET=E, MATERIAL=NONE\n", "unknown material NONE"},
+           {"*MATERIAL, NAME=A\n*SOLID SECTION, ELSET=NOPE, MATERIAL=A\n", "unknown element set"},
+           {"*ELASTIC\n1, 0.3\n", "before any *MATERIAL"}}) {
+    std::istringstream bad(tet_deck(tail));
+    try {
+      read_inp(bad, "deck");
+      ADD_FAILURE() << tail;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(e.message().find(what), std::string::npos) << e.message();
     }
   }
 }
@@ -336,9 +365,9 @@ TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
   // Skipped keywords are reported per file, with that file's line numbers.
   EXPECT_EQ(warnings,
             (std::vector<std::string>{
-                dir + "sub/../equations.inp: *MATERIAL ignored (the material comes from the case "
+                dir + "sub/../equations.inp: *SURFACE INTERACTION ignored (contacts come from the case "
                       "file), line 4",
-                dir + "sub/elements.inp: *MATERIAL ignored (the material comes from the case "
+                dir + "sub/elements.inp: *SURFACE INTERACTION ignored (contacts come from the case "
                       "file), line 5"}));
 }
 
