@@ -110,16 +110,20 @@ IsotropicMaterial body_material(const CaseDefinition& def, const std::string& na
   const SourceLocation where = def.where("bodies." + name);
   if (used.empty() || used.count(-1)) {
     throw InvalidInput(where, "body " + name + ": no 'material', and the mesh file assigns " +
-                                  (used.empty() ? "no material" : "no material to some of its "
-                                                                  "elements") +
+                                  (used.empty() ? "no material"
+                                                : "no material to some of its "
+                                                  "elements") +
                                   " (*SOLID SECTION in .inp, the element's MPDATA in .cdb): give "
-                                  "bodies." + name + ".material");
+                                  "bodies." +
+                                  name + ".material");
   }
   if (used.size() > 1) {
     std::string names;
     for (int i : used) names += (names.empty() ? "" : ", ") + mesh.materials[i].name;
-    throw InvalidInput(where, "body " + name + ": no 'material', and its elements have several in "
-                                  "the mesh file (" + names + "): give bodies." + name +
+    throw InvalidInput(where, "body " + name +
+                                  ": no 'material', and its elements have several in "
+                                  "the mesh file (" +
+                                  names + "): give bodies." + name +
                                   ".material, or one body per element set");
   }
   const MeshMaterial& f = mesh.materials[*used.begin()];
@@ -128,12 +132,12 @@ IsotropicMaterial body_material(const CaseDefinition& def, const std::string& na
                                   f.origin + ") cannot be used: " + f.problem);
   }
   if (std::isnan(f.youngs_modulus) || std::isnan(f.poisson_ratio) || std::isnan(f.density)) {
-    throw InvalidInput(where, "body " + name + ": the mesh file's material " + f.name + " (" +
-                                  f.origin + ") lacks " +
-                                  (std::isnan(f.youngs_modulus) || std::isnan(f.poisson_ratio)
-                                       ? "its elastic constants"
-                                       : "a density") +
-                                  ": give bodies." + name + ".material");
+    throw InvalidInput(
+        where,
+        "body " + name + ": the mesh file's material " + f.name + " (" + f.origin + ") lacks " +
+            (std::isnan(f.youngs_modulus) || std::isnan(f.poisson_ratio) ? "its elastic constants"
+                                                                         : "a density") +
+            ": give bodies." + name + ".material");
   }
   const IsotropicMaterial material{f.youngs_modulus, f.poisson_ratio, f.density};
   try {

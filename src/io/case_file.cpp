@@ -634,8 +634,7 @@ void parse_meshes(Parser& p, const MapView& top) {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
                            [](unsigned char c) { return std::tolower(c); });
-            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"),
-                    m.line("file"),
+            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"), m.line("file"),
                     "cannot tell the format from the extension '" + ext +
                         "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
             d.format = ext.substr(1);

@@ -352,8 +352,10 @@ class InpParser {
                          : t == "SPRINGA" ? DiscreteKind::kSpringA
                                           : DiscreteKind::kMass;
         const auto elset = param(k, "ELSET");
-        if (!elset) fail(k.line, "*ELEMENT, TYPE=" + t + " without ELSET= (its *SPRING or *MASS "
-                                 "names that set)");
+        if (!elset)
+          fail(k.line, "*ELEMENT, TYPE=" + t +
+                           " without ELSET= (its *SPRING or *MASS "
+                           "names that set)");
         discrete_elset_ = upper(*elset);
         mode_ = Mode::kDiscrete;
         return;
@@ -391,7 +393,8 @@ class InpParser {
         const auto type = param(k, "TYPE");
         if (type && upper(*type) != "ISO" && upper(*type) != "ISOTROPIC") {
           materials_.back().problem = "*ELASTIC, TYPE=" + upper(*type) + " on " +
-                                      line_text(k.line) + ": only isotropic elasticity is supported";
+                                      line_text(k.line) +
+                                      ": only isotropic elasticity is supported";
         }
       } else {
         check_params(k, {});
@@ -407,7 +410,8 @@ class InpParser {
     } else if (k.name == "*SPRING" || k.name == "*MASS") {
       const bool spring = k.name == "*SPRING";
       for (const auto& [key, value] : k.params) {
-        if (key == "NONLINEAR") fail(k.line, "*SPRING, NONLINEAR: nonlinear springs are not supported");
+        if (key == "NONLINEAR")
+          fail(k.line, "*SPRING, NONLINEAR: nonlinear springs are not supported");
         if (key == "ORIENTATION") {
           fail(k.line, k.name + ", ORIENTATION: springs in local axes are not supported");
         }
@@ -534,7 +538,8 @@ class InpParser {
           m.youngs_modulus = parse_double(tokens[0], line);
           m.poisson_ratio = parse_double(tokens[1], line);
         } else {
-          if (tokens.empty() || tokens.size() > 2) fail(line, "*DENSITY: expected 'rho[, temperature]'");
+          if (tokens.empty() || tokens.size() > 2)
+            fail(line, "*DENSITY: expected 'rho[, temperature]'");
           m.density = parse_double(tokens[0], line);
         }
         return;
@@ -542,14 +547,15 @@ class InpParser {
       case Mode::kDiscrete: {
         const auto tokens = data_tokens(t, line);
         const size_t needed =
-            discrete_kind_ == DiscreteKind::kSpring1 || discrete_kind_ == DiscreteKind::kMass ? 2 : 3;
+            discrete_kind_ == DiscreteKind::kSpring1 || discrete_kind_ == DiscreteKind::kMass ? 2
+                                                                                              : 3;
         if (tokens.size() != needed) {
           fail(line, "*ELEMENT, TYPE=" + std::string(discrete_name(discrete_kind_)) +
                          ": expected 'id, node" + (needed == 3 ? ", node'" : "'") + ", got " +
                          std::to_string(tokens.size()) + " values");
         }
-        RawDiscrete d{parse_id(tokens[0], line, "element id"), discrete_kind_, {}, discrete_elset_,
-                      line};
+        RawDiscrete d{
+            parse_id(tokens[0], line, "element id"), discrete_kind_, {}, discrete_elset_, line};
         for (size_t i = 1; i < tokens.size(); ++i) {
           d.node_ids.push_back(parse_id(tokens[i], line, "node id"));
         }
@@ -573,8 +579,9 @@ class InpParser {
           return;
         }
         if (p.has_value) {
-          fail(line, keyword_.name + ": a second data line (temperature-dependent data) is not "
-                     "supported");
+          fail(line, keyword_.name +
+                         ": a second data line (temperature-dependent data) is not "
+                         "supported");
         }
         if (tokens.size() != 1) {
           fail(line, keyword_.name + ": expected one value (" +
@@ -788,7 +795,8 @@ class InpParser {
       }
       if (index < 0) fail(sec.line, "*SOLID SECTION: unknown material " + sec.material);
       const auto set = mesh.element_sets.find(sec.elset);
-      if (set == mesh.element_sets.end()) fail(sec.line, "*SOLID SECTION: unknown element set " + sec.elset);
+      if (set == mesh.element_sets.end())
+        fail(sec.line, "*SOLID SECTION: unknown element set " + sec.elset);
       for (int e : set->second) {
         if (mesh.element_material[e] >= 0 && mesh.element_material[e] != index) {
           fail(sec.line, "*SOLID SECTION: element " + std::to_string(mesh.element_ids[e]) +
@@ -802,10 +810,14 @@ class InpParser {
 
   static const char* discrete_name(DiscreteKind k) {
     switch (k) {
-      case DiscreteKind::kSpring1: return "SPRING1";
-      case DiscreteKind::kSpring2: return "SPRING2";
-      case DiscreteKind::kSpringA: return "SPRINGA";
-      case DiscreteKind::kMass: return "MASS";
+      case DiscreteKind::kSpring1:
+        return "SPRING1";
+      case DiscreteKind::kSpring2:
+        return "SPRING2";
+      case DiscreteKind::kSpringA:
+        return "SPRINGA";
+      case DiscreteKind::kMass:
+        return "MASS";
     }
     return "?";
   }
@@ -816,7 +828,8 @@ class InpParser {
     std::unordered_map<int, int> ids;  // discrete element id -> line
     std::vector<char> used(properties_.size(), 0);
     for (const RawDiscrete& d : discretes_) {
-      const std::string what = std::string(discrete_name(d.kind)) + " element " + std::to_string(d.id);
+      const std::string what =
+          std::string(discrete_name(d.kind)) + " element " + std::to_string(d.id);
       if (element_index.count(d.id) || !ids.emplace(d.id, d.line).second) {
         fail(d.line, "duplicate element id " + std::to_string(d.id));
       }
@@ -837,12 +850,14 @@ class InpParser {
       }
       const DiscreteProperty& p = properties_[found];
       used[found] = 1;
-      if (!p.has_value) fail(p.line, std::string(spring ? "*SPRING" : "*MASS") + " without a value");
+      if (!p.has_value)
+        fail(p.line, std::string(spring ? "*SPRING" : "*MASS") + " without a value");
       if (!(p.value >= 0.0)) fail(p.line, "a negative spring constant or mass is not supported");
       std::vector<int> nodes;
       for (int id : d.node_ids) {
         const auto it = node_index.find(id);
-        if (it == node_index.end()) fail(d.line, what + " refers to unknown node " + std::to_string(id));
+        if (it == node_index.end())
+          fail(d.line, what + " refers to unknown node " + std::to_string(id));
         nodes.push_back(it->second);
       }
       if (d.kind == DiscreteKind::kMass) {
@@ -856,8 +871,10 @@ class InpParser {
       k.origin = origin(d.line);
       if (d.kind == DiscreteKind::kSpringA) {
         if (p.dof_a >= 0) fail(p.line, "*SPRING for SPRINGA elements takes no degrees of freedom");
-        if (nodes[0] == nodes[1]) fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
-        const Eigen::Vector3d axis = mesh.coordinates.col(nodes[1]) - mesh.coordinates.col(nodes[0]);
+        if (nodes[0] == nodes[1])
+          fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
+        const Eigen::Vector3d axis =
+            mesh.coordinates.col(nodes[1]) - mesh.coordinates.col(nodes[0]);
         if (!(axis.norm() > 0.0)) {
           fail(d.line, what + ": its nodes coincide, so it has no axis");
         }
@@ -872,7 +889,8 @@ class InpParser {
         }
         k.direction_a = Eigen::Vector3d::Unit(p.dof_a - 1);
         if (two) {
-          if (nodes[0] == nodes[1]) fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
+          if (nodes[0] == nodes[1])
+            fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
           k.node_b = nodes[1];
           k.direction_b = Eigen::Vector3d::Unit(p.dof_b - 1);
         }
@@ -904,7 +922,16 @@ class InpParser {
   }
 
   enum class Mode {
-    kNone, kSkip, kNode, kElement, kSet, kEquation, kDiscrete, kProperty, kElastic, kDensity
+    kNone,
+    kSkip,
+    kNode,
+    kElement,
+    kSet,
+    kEquation,
+    kDiscrete,
+    kProperty,
+    kElastic,
+    kDensity
   };
   struct Section {
     std::string elset, material;

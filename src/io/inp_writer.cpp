@@ -117,8 +117,8 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
       throw InvalidInput("inp writer: spring " + std::to_string(k.id) +
                          " to the ground acts along no global axis (no CalculiX element for it)");
     }
-    out << "*ELEMENT, TYPE=" << type << ", ELSET=" << set << '\n' << k.id << ", "
-        << mesh.node_ids[k.node_a];
+    out << "*ELEMENT, TYPE=" << type << ", ELSET=" << set << '\n'
+        << k.id << ", " << mesh.node_ids[k.node_a];
     if (k.node_b >= 0) out << ", " << mesh.node_ids[k.node_b];
     out << "\n*SPRING, ELSET=" << set << '\n';
     if (type[6] != 'A') out << da << (k.node_b >= 0 ? ", " + std::to_string(db) : "") << '\n';
@@ -126,8 +126,9 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
   }
   for (const PointMass& m : mesh.point_masses) {
     const std::string set = "SS_M" + std::to_string(m.id);
-    out << "*ELEMENT, TYPE=MASS, ELSET=" << set << '\n' << m.id << ", " << mesh.node_ids[m.node]
-        << "\n*MASS, ELSET=" << set << '\n' << real(m.mass) << '\n';
+    out << "*ELEMENT, TYPE=MASS, ELSET=" << set << '\n'
+        << m.id << ", " << mesh.node_ids[m.node] << "\n*MASS, ELSET=" << set << '\n'
+        << real(m.mass) << '\n';
   }
   out.precision(old_precision);
 }

@@ -3,8 +3,8 @@
 // and the springs and masses matter (ccx without them differs by far more than the tolerance).
 #include <gtest/gtest.h>
 
-#include "cli_test_support.h"
 #include "../ccx_dat.h"
+#include "cli_test_support.h"
 
 #include <cmath>
 #include <fstream>
@@ -103,7 +103,8 @@ output: {plots: false, vtu: false}
   const std::vector<double> plain = ccx_eigenvalues(dir / "plain");
   ASSERT_EQ(static_cast<int>(plain.size()), kModes);
   double shift = 0.0;
-  for (int j = 0; j < kModes; ++j) shift = std::max(shift, std::abs(std::sqrt(plain[j] / lambda[j]) - 1.0));
+  for (int j = 0; j < kModes; ++j)
+    shift = std::max(shift, std::abs(std::sqrt(plain[j] / lambda[j]) - 1.0));
   RecordProperty("max_relative_shift_without_springs_and_masses", std::to_string(shift));
   EXPECT_GT(shift, 1e3 * kFrequencyTolerance);
 }

@@ -168,12 +168,13 @@ TEST(InpReader, EveryKeywordItDoesNotUseGivesOneWarningWithItsLines) {
   read_inp(kDir + "sample_all_features.inp", &warnings);
   // In order of first appearance; lines of the sample counted by hand.
   const std::string f = kDir + "sample_all_features.inp: ";
-  EXPECT_EQ(warnings, (std::vector<std::string>{
-                          f + "*HEADING ignored (not used by stickslip), line 3",
-                          f + "*STEP ignored (analyses and loads come from the case file), line 75",
-                          f + "*STATIC ignored (analyses and loads come from the case file), line 76",
-                          f + "*END STEP ignored (analyses and loads come from the case file), "
-                              "line 77"}));
+  EXPECT_EQ(warnings,
+            (std::vector<std::string>{
+                f + "*HEADING ignored (not used by stickslip), line 3",
+                f + "*STEP ignored (analyses and loads come from the case file), line 75",
+                f + "*STATIC ignored (analyses and loads come from the case file), line 76",
+                f + "*END STEP ignored (analyses and loads come from the case file), "
+                    "line 77"}));
 }
 
 TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
@@ -191,11 +192,10 @@ TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
 }
 
 TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
-  for (const char* keyword :
-       {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
-        "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E", "*BEAM SECTION",
-        "*DASHPOT, ELSET=E", "*DISTRIBUTING COUPLING", "*Part, name=P",
-        "*NGEN", "*PRE-TENSION SECTION"}) {
+  for (const char* keyword : {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
+                              "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E",
+                              "*BEAM SECTION", "*DASHPOT, ELSET=E", "*DISTRIBUTING COUPLING",
+                              "*Part, name=P", "*NGEN", "*PRE-TENSION SECTION"}) {
     std::istringstream in(tet_deck("*MATERIAL, NAME=S\n" + std::string(keyword) + "\n1\n"));
     try {
       read_inp(in, "deck");
@@ -221,11 +221,12 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
 }
 
 TEST(InpReader, MaterialsAndSolidSectionsGiveEachElementItsMaterial) {
-  std::istringstream in(tet_deck(
-      "*ELEMENT, TYPE=C3D4, ELSET=OTHER\n2, 1, 2, 3, 4\n*ELSET, ELSET=FIRST\n1\n"
-      "*MATERIAL, NAME=Steel\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n"
-      "*MATERIAL, NAME=ORTHO\n*ELASTIC, TYPE=ORTHO\n1, 2, 3, 4, 5, 6, 7, 8\n9\n"
-      "*SOLID SECTION, ELSET=FIRST, MATERIAL=STEEL\n*SOLID SECTION, ELSET=other, MATERIAL=ortho\n"));
+  std::istringstream in(
+      tet_deck("*ELEMENT, TYPE=C3D4, ELSET=OTHER\n2, 1, 2, 3, 4\n*ELSET, ELSET=FIRST\n1\n"
+               "*MATERIAL, NAME=Steel\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n"
+               "*MATERIAL, NAME=ORTHO\n*ELASTIC, TYPE=ORTHO\n1, 2, 3, 4, 5, 6, 7, 8\n9\n"
+               "*SOLID SECTION, ELSET=FIRST, MATERIAL=STEEL\n*SOLID SECTION, ELSET=other, "
+               "MATERIAL=ortho\n"));
   const Mesh m = read_inp(in, "deck");
   ASSERT_EQ(m.materials.size(), 2u);
   EXPECT_EQ(m.materials[0].name, "STEEL");
@@ -253,11 +254,11 @@ TEST(InpReader, MaterialsAndSolidSectionsGiveEachElementItsMaterial) {
 
 TEST(InpReader, SpringsAndMassesTakeTheirSpringOrMassSection) {
   // SPRINGA from node 2 (1, 0, 0) to node 3 (0, 1, 0): along (-1, 1, 0)/sqrt 2.
-  std::istringstream in(tet_deck(
-      "*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A\n3\n1.5e3\n"
-      "*ELEMENT, TYPE=SPRING2, ELSET=B\n12, 1, 2\n*SPRING, ELSET=B\n2, 1\n2.5e3\n"
-      "*ELEMENT, TYPE=SPRINGA, ELSET=C\n13, 2, 3\n*SPRING, ELSET=C\n\n3.5e3\n"
-      "*ELEMENT, TYPE=MASS, ELSET=D\n14, 1\n15, 3\n*MASS, ELSET=D\n0.75\n"));
+  std::istringstream in(
+      tet_deck("*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A\n3\n1.5e3\n"
+               "*ELEMENT, TYPE=SPRING2, ELSET=B\n12, 1, 2\n*SPRING, ELSET=B\n2, 1\n2.5e3\n"
+               "*ELEMENT, TYPE=SPRINGA, ELSET=C\n13, 2, 3\n*SPRING, ELSET=C\n\n3.5e3\n"
+               "*ELEMENT, TYPE=MASS, ELSET=D\n14, 1\n15, 3\n*MASS, ELSET=D\n0.75\n"));
   const Mesh m = read_inp(in, "deck");
   ASSERT_EQ(m.springs.size(), 3u);
   ASSERT_EQ(m.point_masses.size(), 2u);
@@ -363,12 +364,13 @@ TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
   ASSERT_EQ(m.equations.size(), 1u);  // from ../equations.inp, included by sub/elements.inp
   EXPECT_EQ(m.equations[0].origin, dir + "sub/../equations.inp:2");
   // Skipped keywords are reported per file, with that file's line numbers.
-  EXPECT_EQ(warnings,
-            (std::vector<std::string>{
-                dir + "sub/../equations.inp: *SURFACE INTERACTION ignored (contacts come from the case "
-                      "file), line 4",
-                dir + "sub/elements.inp: *SURFACE INTERACTION ignored (contacts come from the case "
-                      "file), line 5"}));
+  EXPECT_EQ(
+      warnings,
+      (std::vector<std::string>{
+          dir + "sub/../equations.inp: *SURFACE INTERACTION ignored (contacts come from the case "
+                "file), line 4",
+          dir + "sub/elements.inp: *SURFACE INTERACTION ignored (contacts come from the case "
+                "file), line 5"}));
 }
 
 TEST(InpReader, IncludeErrorsNameTheIncludedFileAndLine) {
