@@ -83,6 +83,72 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
   }
 }
 
+// The material of a mesh body. The case file's `material` when it names one (a warning when the
+// mesh file assigns the body's elements a material with other constants: the file's is not used);
+// else the mesh file's, which must be one complete, usable material for all the body's elements.
+IsotropicMaterial body_material(const CaseDefinition& def, const std::string& name,
+                                const BodyDefinition& bd, const Mesh& mesh) {
+  std::set<int> used;
+  for (int m : mesh.element_material) used.insert(m);
+  if (!bd.material.empty()) {
+    const MaterialDefinition& m = def.materials.at(bd.material);
+    const IsotropicMaterial material{m.youngs_modulus, m.poisson_ratio, m.density};
+    for (int i : used) {
+      if (i < 0) continue;
+      const MeshMaterial& f = mesh.materials[i];
+      if (f.youngs_modulus != m.youngs_modulus || f.poisson_ratio != m.poisson_ratio ||
+          f.density != m.density) {
+        stderr_warning(fmt::format(
+            "body {}: the case file's material {} (E {:g}, nu {:g}, rho {:g}) is used, not the "
+            "mesh file's {} ({}: E {:g}, nu {:g}, rho {:g})",
+            name, bd.material, m.youngs_modulus, m.poisson_ratio, m.density, f.name, f.origin,
+            f.youngs_modulus, f.poisson_ratio, f.density));
+      }
+    }
+    return material;
+  }
+  const SourceLocation where = def.where("bodies." + name);
+  if (used.empty() || used.count(-1)) {
+    throw InvalidInput(where, "body " + name + ": no 'material', and the mesh file assigns " +
+                                  (used.empty() ? "no material"
+                                                : "no material to some of its "
+                                                  "elements") +
+                                  " (*SOLID SECTION in .inp, the element's MPDATA in .cdb): give "
+                                  "bodies." +
+                                  name + ".material");
+  }
+  if (used.size() > 1) {
+    std::string names;
+    for (int i : used) names += (names.empty() ? "" : ", ") + mesh.materials[i].name;
+    throw InvalidInput(where, "body " + name +
+                                  ": no 'material', and its elements have several in "
+                                  "the mesh file (" +
+                                  names + "): give bodies." + name +
+                                  ".material, or one body per element set");
+  }
+  const MeshMaterial& f = mesh.materials[*used.begin()];
+  if (!f.problem.empty()) {
+    throw InvalidInput(where, "body " + name + ": the mesh file's material " + f.name + " (" +
+                                  f.origin + ") cannot be used: " + f.problem);
+  }
+  if (std::isnan(f.youngs_modulus) || std::isnan(f.poisson_ratio) || std::isnan(f.density)) {
+    throw InvalidInput(
+        where,
+        "body " + name + ": the mesh file's material " + f.name + " (" + f.origin + ") lacks " +
+            (std::isnan(f.youngs_modulus) || std::isnan(f.poisson_ratio) ? "its elastic constants"
+                                                                         : "a density") +
+            ": give bodies." + name + ".material");
+  }
+  const IsotropicMaterial material{f.youngs_modulus, f.poisson_ratio, f.density};
+  try {
+    validate(material);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(where, "body " + name + ": the mesh file's material " + f.name + " (" +
+                                  f.origin + "): " + e.message());
+  }
+  return material;
+}
+
 // What loading a mesh depends on, as text (part of the reduction fingerprints: changing this text
 // makes every manifest of `reduce` stale).
 std::string mesh_description(const MeshDefinition& m) {
@@ -604,8 +670,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
           throw InvalidInput(def.where("bodies." + name + ".element_set"), e.message());
         }
       }();
-      const MaterialDefinition& m = def.materials.at(bd.material);
-      body.material = {m.youngs_modulus, m.poisson_ratio, m.density};
+      body.material = body_material(def, name, bd, body.mesh);
     }
     body_index[name] = static_cast<int>(out.bodies.size());
     out.bodies.push_back(std::move(body));

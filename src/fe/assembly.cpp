@@ -200,6 +200,39 @@ void assemble_stiffness_mass(const Mesh& mesh, const IsotropicMaterial& material
   std::vector<int> all(mesh.num_elements());
   std::iota(all.begin(), all.end(), 0);
   assemble_stiffness_mass(mesh, all, material, options, K, M);
+  add_discrete_springs_masses(mesh, K, M);
+}
+
+void add_discrete_springs_masses(const Mesh& mesh, SparseMatrix* K, SparseMatrix* M) {
+  const Eigen::Index n = mesh.num_dofs();
+  if (K != nullptr && !mesh.springs.empty()) {
+    // k g gᵀ with g = [d_a at node a; −d_b at node b] (DiscreteSpring's energy).
+    std::vector<Eigen::Triplet<double>> t;
+    for (const DiscreteSpring& s : mesh.springs) {
+      std::vector<std::pair<int, double>> g;
+      for (int d = 0; d < 3; ++d) {
+        if (s.direction_a(d) != 0.0) g.emplace_back(3 * s.node_a + d, s.direction_a(d));
+        if (s.node_b >= 0 && s.direction_b(d) != 0.0) {
+          g.emplace_back(3 * s.node_b + d, -s.direction_b(d));
+        }
+      }
+      for (const auto& [i, gi] : g) {
+        for (const auto& [j, gj] : g) t.emplace_back(i, j, s.stiffness * gi * gj);
+      }
+    }
+    SparseMatrix S(n, n);
+    S.setFromTriplets(t.begin(), t.end());
+    *K += S;
+  }
+  if (M != nullptr && !mesh.point_masses.empty()) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (const PointMass& p : mesh.point_masses) {
+      for (int d = 0; d < 3; ++d) t.emplace_back(3 * p.node + d, 3 * p.node + d, p.mass);
+    }
+    SparseMatrix P(n, n);
+    P.setFromTriplets(t.begin(), t.end());
+    *M += P;
+  }
 }
 
 void assemble_stiffness_mass(const Mesh& mesh, std::span<const int> elements,

@@ -36,16 +36,22 @@ void validate(const AssemblyOptions& options);
 // The element type actually integrated for a mesh element of type `type` under `options`.
 ElementType effective_element_type(ElementType type, const AssemblyOptions& options);
 
-// Assembles every element of the mesh. Either output pointer may be null (not assembled).
+// Assembles every element of the mesh, then its discrete springs and point masses
+// (add_discrete_springs_masses). Either output pointer may be null (not assembled).
 // Throws InvalidInput for an invalid material or options, or an element with a non-positive
 // Jacobian (naming the element id).
 void assemble_stiffness_mass(const Mesh& mesh, const IsotropicMaterial& material,
                              const AssemblyOptions& options, SparseMatrix* K, SparseMatrix* M);
 
 // Assembles only the listed element indices (e.g. one body of a multi-body mesh); the matrices
-// are still 3 num_nodes square. Indices must be in range and must not repeat.
+// are still 3 num_nodes square. Indices must be in range and must not repeat. Springs and point
+// masses are not added (they belong to no element list).
 void assemble_stiffness_mass(const Mesh& mesh, std::span<const int> elements,
                              const IsotropicMaterial& material, const AssemblyOptions& options,
                              SparseMatrix* K, SparseMatrix* M);
+
+// Adds Mesh::springs to K (k g gᵀ, g = [d_a; −d_b] on the DOFs of nodes a, b; the pattern grows
+// where needed) and Mesh::point_masses to M (m on the three translations). Null: skipped.
+void add_discrete_springs_masses(const Mesh& mesh, SparseMatrix* K, SparseMatrix* M);
 
 }  // namespace stickslip

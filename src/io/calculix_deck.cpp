@@ -110,10 +110,10 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
   }
   Mesh deck_mesh = mesh;
   // ccx has no B-bar brick: C3D8B is written as C3D8 (full integration), said in the deck.
-  const bool bbar = std::count(mesh.element_types.begin(), mesh.element_types.end(),
-                               ElementType::kC3D8B) > 0;
-  std::replace(deck_mesh.element_types.begin(), deck_mesh.element_types.end(),
-               ElementType::kC3D8B, ElementType::kC3D8);
+  const bool bbar =
+      std::count(mesh.element_types.begin(), mesh.element_types.end(), ElementType::kC3D8B) > 0;
+  std::replace(deck_mesh.element_types.begin(), deck_mesh.element_types.end(), ElementType::kC3D8B,
+               ElementType::kC3D8);
   std::vector<int> all_nodes(static_cast<size_t>(mesh.num_nodes()));
   std::iota(all_nodes.begin(), all_nodes.end(), 0);
   std::vector<int> all_elements(static_cast<size_t>(mesh.num_elements()));

@@ -634,8 +634,7 @@ void parse_meshes(Parser& p, const MapView& top) {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
                            [](unsigned char c) { return std::tolower(c); });
-            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"),
-                    m.line("file"),
+            p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"), m.line("file"),
                     "cannot tell the format from the extension '" + ext +
                         "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
             d.format = ext.substr(1);
@@ -747,7 +746,6 @@ void parse_bodies(Parser& p, const MapView& top) {
         } else {
           d.source = BodyDefinition::Source::kMesh;
           m.require("mesh", "or 'reduced'");
-          m.require("material");
           m.text("mesh", &d.mesh);
           if (!p.out().meshes.count(d.mesh)) {
             std::vector<std::string> names;
@@ -756,8 +754,8 @@ void parse_bodies(Parser& p, const MapView& top) {
                    "unknown mesh '" + d.mesh + "'" + suggestion(d.mesh, names) +
                        (names.empty() ? "; no meshes defined" : "; meshes: " + join(names, ", ")));
           }
-          m.text("material", &d.material);
-          if (!p.out().materials.count(d.material)) {
+          m.text("material", &d.material);  // none: the mesh file's (pipeline)
+          if (!d.material.empty() && !p.out().materials.count(d.material)) {
             std::vector<std::string> names;
             for (const auto& [n, _] : p.out().materials) names.push_back(n);
             p.fail(m.full("material"), m.line("material"),

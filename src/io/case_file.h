@@ -130,7 +130,8 @@ struct BodyDefinition {
   // kMesh: a part of a mesh, reduced by Craig–Bampton.
   std::string mesh;         // name in CaseDefinition::meshes (required)
   std::string element_set;  // elements of the body; empty = the whole mesh
-  std::string material;     // name in CaseDefinition::materials (required)
+  std::string material;     // name in CaseDefinition::materials; empty: the mesh file's material
+                            // of the body's elements (*SOLID SECTION / MPDATA)
   NodeSelection clamp;      // nodes fixed in x, y, z
   std::vector<SupportDefinition> supports;  // nodes held in some directions
   NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction

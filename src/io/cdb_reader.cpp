@@ -245,11 +245,13 @@ class CdbParser {
       // or element outside the blocks.
       if (f.size() > 1 && !f[1].empty() && std::toupper(static_cast<unsigned char>(f[1][0])) == 'R')
         return;
-      if (name == "N") fail(line_, "N command: nodes must be given in an NBLOCK (write with CDWRITE)");
+      if (name == "N")
+        fail(line_, "N command: nodes must be given in an NBLOCK (write with CDWRITE)");
     }
     if (const char* why = refusal(key)) {
-      fail(line_, name + " is not supported: " + why + "; it would change the stiffness or mass, "
-                  "so the file is refused");
+      fail(line_, name + " is not supported: " + why +
+                      "; it would change the stiffness or mass, "
+                      "so the file is refused");
     }
     if (is_structure(key)) return;
     ignore(name, ignore_reason(key));
@@ -347,8 +349,9 @@ class CdbParser {
   void eblock(const std::vector<std::string>& f) {
     const int header = line_;
     if (f.size() < 3 || upper(f[2]) != "SOLID") {
-      fail(header, "EBLOCK: only the solid-element form ('EBLOCK,19,SOLID,...') is supported "
-                   "(shells, beams and contact elements are not)");
+      fail(header,
+           "EBLOCK: only the solid-element form ('EBLOCK,19,SOLID,...') is supported "
+           "(shells, beams and contact elements are not)");
     }
     const std::vector<FortranField> format = parse_format(++line_);
     const int width = format[0].width;
@@ -373,9 +376,11 @@ class CdbParser {
       const int birth = parse_int(h[5], line_, "EBLOCK birth/death flag");
       const int n = parse_int(h[8], line_, "EBLOCK number of nodes");
       e.id = parse_int(h[10], line_, "EBLOCK element id");
-      if (e.id <= 0) fail(line_, "EBLOCK: element id " + std::to_string(e.id) + " must be positive");
-      if (n < 1 || n > 20) fail(line_, "EBLOCK: element " + std::to_string(e.id) + " has " +
-                                           std::to_string(n) + " nodes (1 to 20 expected)");
+      if (e.id <= 0)
+        fail(line_, "EBLOCK: element id " + std::to_string(e.id) + " must be positive");
+      if (n < 1 || n > 20)
+        fail(line_, "EBLOCK: element " + std::to_string(e.id) + " has " + std::to_string(n) +
+                        " nodes (1 to 20 expected)");
       if (birth != 0) {
         fail(line_, "EBLOCK: element " + std::to_string(e.id) +
                         " is killed (birth/death flag set): not supported");
@@ -481,7 +486,8 @@ class CdbParser {
     // Blocked: MPDATA,R5.0|UNBL,length,LAB,mat,stloc,values...; plain: MPDATA,LAB,mat,stloc,...
     const bool blocked = f.size() > 1 && (upper(f[1]) == "UNBL" || upper(f[1]).rfind("R5", 0) == 0);
     const size_t lab_at = blocked ? 3 : 1;
-    if (f.size() < lab_at + 4) fail(line_, "MPDATA: expected a label, a material, a location and a value");
+    if (f.size() < lab_at + 4)
+      fail(line_, "MPDATA: expected a label, a material, a location and a value");
     const std::string lab = upper(f[lab_at]);
     const int mat = parse_int(f[lab_at + 1], line_, "MPDATA material number");
     std::vector<double> values;
@@ -498,8 +504,8 @@ class CdbParser {
     if (lab == "EX") field = &DeckMaterial::youngs_modulus;
     if (lab == "NUXY" || lab == "PRXY") field = &DeckMaterial::poisson_ratio;
     if (lab == "DENS") field = &DeckMaterial::density;
-    static const char* kAnisotropic[] = {"EY", "EZ", "GXY", "GYZ", "GXZ", "NUYZ", "NUXZ",
-                                         "PRYZ", "PRXZ"};
+    static const char* kAnisotropic[] = {"EY",   "EZ",   "GXY",  "GYZ", "GXZ",
+                                         "NUYZ", "NUXZ", "PRYZ", "PRXZ"};
     for (const char* a : kAnisotropic) {
       if (lab == a) {
         fail(line_, "MPDATA " + lab + " of material " + std::to_string(mat) +
@@ -569,14 +575,15 @@ class CdbParser {
       const auto [it, inserted] = node_index.emplace(node_ids_[i], static_cast<int>(i));
       if (!inserted) {
         fail(node_lines_[i], "duplicate node id " + std::to_string(node_ids_[i]) +
-                                 " (first on line " +
-                                 std::to_string(node_lines_[it->second] + 1) + ")");
+                                 " (first on line " + std::to_string(node_lines_[it->second] + 1) +
+                                 ")");
       }
       mesh.coordinates.col(static_cast<Eigen::Index>(i)) = node_x_[i];
       mesh.node_ids.push_back(node_ids_[i]);
     }
     std::unordered_map<int, int> element_index;
     std::set<int> skipped_elements;
+    std::vector<int> element_numbers;  // material number of each element kept
     int mesh200 = 0, mesh200_line = -1;
     for (const RawElement& e : elements_) {
       std::vector<int> nodes;
@@ -593,12 +600,12 @@ class CdbParser {
       for (int id : nodes) {
         const auto it = node_index.find(id);
         if (it == node_index.end()) {
-          fail(e.line, "element " + std::to_string(e.id) + " refers to unknown node " +
-                           std::to_string(id));
+          fail(e.line,
+               "element " + std::to_string(e.id) + " refers to unknown node " + std::to_string(id));
         }
         if (std::find(local.begin(), local.end(), it->second) != local.end()) {
-          fail(e.line, "element " + std::to_string(e.id) + " uses node " + std::to_string(id) +
-                           " twice");
+          fail(e.line,
+               "element " + std::to_string(e.id) + " uses node " + std::to_string(id) + " twice");
         }
         local.push_back(it->second);
       }
@@ -609,15 +616,29 @@ class CdbParser {
       }
       const std::string problem = element_shape_problem(*type, X);
       if (!problem.empty()) {
-        fail(e.line, "element " + std::to_string(e.id) + " (" + element_type_name(*type) +
-                         "): " + problem);
+        fail(e.line,
+             "element " + std::to_string(e.id) + " (" + element_type_name(*type) + "): " + problem);
       }
-      used_materials_.insert(e.material);
+      element_numbers.push_back(e.material);
+    }
+    // Materials by number: MAT<n>; each element's from its material field.
+    std::map<int, int> material_index;
+    for (const auto& [number, dm] : deck_materials_) {
+      material_index[number] = static_cast<int>(mesh.materials.size());
+      mesh.materials.push_back({"MAT" + std::to_string(number), dm.youngs_modulus, dm.poisson_ratio,
+                                dm.density, dm.origin, ""});
+    }
+    if (!mesh.materials.empty()) {
+      for (int number : element_numbers) {
+        const auto it = material_index.find(number);
+        mesh.element_material.push_back(it == material_index.end() ? -1 : it->second);
+      }
     }
     if (mesh200 > 0) {
       notes_.push_back(file_ + ": " + std::to_string(mesh200) +
                        " MESH200 element(s) skipped (mesh-only, no stiffness or mass), first on "
-                       "line " + std::to_string(mesh200_line + 1));
+                       "line " +
+                       std::to_string(mesh200_line + 1));
     }
     for (const RawSet& s : sets_) {
       auto& target = s.node ? mesh.node_sets : mesh.element_sets;
@@ -692,8 +713,8 @@ class CdbParser {
       const auto kt = t.keyopts.find(k);
       return kt == t.keyopts.end() ? 0 : kt->second;
     };
-    const std::string what = id + " (SOLID" + std::to_string(t.number) + ", type " +
-                             std::to_string(e.type) + ")";
+    const std::string what =
+        id + " (SOLID" + std::to_string(t.number) + ", type " + std::to_string(e.type) + ")";
     auto refuse = [&](const std::string& why) -> std::optional<ElementType> {
       fail(e.line, what + ": " + why);
     };
@@ -705,9 +726,13 @@ class CdbParser {
     }
     for (const auto& [k, v] : t.keyopts) {
       if (v == 0 || k == 2) continue;
-      if (k == 3) return refuse("KEYOPT(3) = " + std::to_string(v) + ": layered solids are not supported");
-      if (k == 6) return refuse("KEYOPT(6) = " + std::to_string(v) + ": the mixed u-P formulation is not supported");
-      return refuse("KEYOPT(" + std::to_string(k) + ") = " + std::to_string(v) + " is not supported");
+      if (k == 3)
+        return refuse("KEYOPT(3) = " + std::to_string(v) + ": layered solids are not supported");
+      if (k == 6)
+        return refuse("KEYOPT(6) = " + std::to_string(v) +
+                      ": the mixed u-P formulation is not supported");
+      return refuse("KEYOPT(" + std::to_string(k) + ") = " + std::to_string(v) +
+                    " is not supported");
     }
     const std::vector<int>& n = e.nodes;
     if (std::find(n.begin(), n.end(), 0) != n.end()) {
@@ -748,8 +773,9 @@ class CdbParser {
         return refuse("a degenerate SOLID185 (" + shape + " shape) is not supported");
       }
       if (k2 == 1) {
-        return refuse("KEYOPT(2) = 1, uniform reduced integration with hourglass control: "
-                      "stickslip has no hourglass control");
+        return refuse(
+            "KEYOPT(2) = 1, uniform reduced integration with hourglass control: "
+            "stickslip has no hourglass control");
       }
       if (k2 == 2 || k2 == 3) {
         return refuse("KEYOPT(2) = " + std::to_string(k2) +
@@ -760,7 +786,8 @@ class CdbParser {
       *nodes = n;
       return ElementType::kC3D8B;
     }
-    if (k2 != 0 && k2 != 1) return refuse("KEYOPT(2) = " + std::to_string(k2) + " is not supported");
+    if (k2 != 0 && k2 != 1)
+      return refuse("KEYOPT(2) = " + std::to_string(k2) + " is not supported");
     if (shape == "tetrahedron") {
       // Corners I J K M; mid-side Q (IJ), R (JK), T (LI = KI), Y (IM), Z (JM), A (KM).
       *nodes = {n[0], n[1], n[2], n[4], n[8], n[9], n[11], n[16], n[17], n[18]};
@@ -786,7 +813,6 @@ class CdbParser {
   std::vector<RawSet> sets_;
   std::map<int, EType> etypes_;
   std::map<int, DeckMaterial> deck_materials_;
-  std::set<int> used_materials_;
   std::map<int, std::pair<int, int>> held_;  // node id -> (direction mask, first D line)
   // reason -> (command, first line), in order of first appearance
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> ignored_;
@@ -795,8 +821,8 @@ class CdbParser {
 
 }  // namespace
 
-Mesh read_cdb(std::istream& in, const std::string& source_name,
-              std::vector<std::string>* warnings, std::map<int, DeckMaterial>* materials) {
+Mesh read_cdb(std::istream& in, const std::string& source_name, std::vector<std::string>* warnings,
+              std::map<int, DeckMaterial>* materials) {
   return CdbParser(source_name, warnings, materials).parse(in);
 }
 

@@ -14,7 +14,9 @@
 //                           after a means the range a..b. Node components become node sets,
 //                           element components element sets (names upper-cased).
 //   MPDATA (blocked "MPDATA,R5.0,1,EX,mat,1,value" and "UNBL", or "MPDATA,EX,mat,1,value")
-//                           for EX, NUXY/PRXY, DENS: `materials` (when not null), by number.
+//                           for EX, NUXY/PRXY, DENS: Mesh::materials "MAT<n>" with each
+//                           element's by its material number (Mesh::element_material), and
+//                           `materials` (when not null), by number.
 //   D,node,UX|UY|UZ|ALL,0[,0,nend,ninc]  nodes held in all three directions form the node set
 //                           D_ALL (usable as a clamp; D itself clamps nothing).
 // Element types (KEYOPT(2) chooses the integration):

@@ -90,6 +90,27 @@ struct RawEquation {
   int line = 0;  // its first data line
 };
 
+// A SPRING1 / SPRING2 / SPRINGA / MASS element: its kind, nodes and the ELSET of its *ELEMENT
+// line (its *SPRING or *MASS is found through that set).
+enum class DiscreteKind { kSpring1, kSpring2, kSpringA, kMass };
+struct RawDiscrete {
+  int id;
+  DiscreteKind kind;
+  std::vector<int> node_ids;
+  std::string elset;
+  int line;
+};
+
+// *SPRING (directions 0-2, -1 = none given) or *MASS data for an element set.
+struct DiscreteProperty {
+  bool spring;
+  std::string elset;
+  int dof_a = -1, dof_b = -1;
+  bool has_value = false;
+  double value = 0.0;  // N/m or kg
+  int line;            // the keyword's line
+};
+
 struct SetDefinition {
   bool is_node_set;
   std::string name;
@@ -117,9 +138,7 @@ constexpr Refusal kRefused[] = {
     {"*MEMBRANE SECTION", "membrane elements are not supported (solids only)"},
     {"*BEAM SECTION", "beam elements are not supported (solids only)"},
     {"*BEAM GENERAL SECTION", "beam elements are not supported (solids only)"},
-    {"*SPRING", "spring elements are not supported yet"},
     {"*DASHPOT", "dashpot elements are not supported"},
-    {"*MASS", "point masses are not supported yet"},
     {"*ROTARY INERTIA", "rotary inertia is not supported"},
     {"*GAP", "gap elements are not supported"},
     {"*USER ELEMENT", "user elements are not supported"},
@@ -139,8 +158,9 @@ constexpr Refusal kRefused[] = {
 
 // Why a keyword the reader skips does not matter to stickslip (the warning's hint).
 const char* skip_hint(const std::string& name) {
-  if (name == "*MATERIAL" || name == "*ELASTIC" || name == "*DENSITY" || name == "*SOLID SECTION")
-    return "the material comes from the case file";
+  if (name == "*PLASTIC" || name == "*EXPANSION" || name == "*CONDUCTIVITY" ||
+      name == "*SPECIFIC HEAT" || name == "*HYPERELASTIC" || name == "*CREEP")
+    return "linear elastic materials only";
   if (name == "*BOUNDARY") return "clamps come from the case file";
   if (name == "*STEP" || name == "*END STEP" || name == "*STATIC" || name == "*FREQUENCY" ||
       name == "*CLOAD" || name == "*DLOAD" || name == "*STEADY STATE DYNAMICS")
@@ -325,6 +345,21 @@ class InpParser {
       check_params(k, {"TYPE", "ELSET"});
       const auto type = param(k, "TYPE");
       if (!type) fail(k.line, "*ELEMENT without TYPE=");
+      const std::string t = upper(*type);
+      if (t == "SPRING1" || t == "SPRING2" || t == "SPRINGA" || t == "MASS") {
+        discrete_kind_ = t == "SPRING1"   ? DiscreteKind::kSpring1
+                         : t == "SPRING2" ? DiscreteKind::kSpring2
+                         : t == "SPRINGA" ? DiscreteKind::kSpringA
+                                          : DiscreteKind::kMass;
+        const auto elset = param(k, "ELSET");
+        if (!elset)
+          fail(k.line, "*ELEMENT, TYPE=" + t +
+                           " without ELSET= (its *SPRING or *MASS "
+                           "names that set)");
+        discrete_elset_ = upper(*elset);
+        mode_ = Mode::kDiscrete;
+        return;
+      }
       if (!parse_element_type(*type, &element_type_)) {
         fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) +
                          " (supported: C3D8, C3D8I, C3D8B, C3D20, C3D20R, C3D4, C3D10)");
@@ -343,6 +378,49 @@ class InpParser {
     } else if (k.name == "*EQUATION") {
       check_params(k, {});
       mode_ = Mode::kEquation;
+    } else if (k.name == "*MATERIAL") {
+      check_params(k, {"NAME"});
+      const auto name = param(k, "NAME");
+      if (!name) fail(k.line, "*MATERIAL without NAME=");
+      for (const MeshMaterial& m : materials_) {
+        if (m.name == upper(*name)) fail(k.line, "*MATERIAL " + upper(*name) + " defined twice");
+      }
+      materials_.push_back({upper(*name), kNaN, kNaN, kNaN, origin(k.line), ""});
+    } else if (k.name == "*ELASTIC" || k.name == "*DENSITY") {
+      if (materials_.empty()) fail(k.line, k.name + " before any *MATERIAL");
+      if (k.name == "*ELASTIC") {
+        check_params(k, {"TYPE"});
+        const auto type = param(k, "TYPE");
+        if (type && upper(*type) != "ISO" && upper(*type) != "ISOTROPIC") {
+          materials_.back().problem = "*ELASTIC, TYPE=" + upper(*type) + " on " +
+                                      line_text(k.line) +
+                                      ": only isotropic elasticity is supported";
+        }
+      } else {
+        check_params(k, {});
+      }
+      property_lines_ = 0;
+      mode_ = k.name == "*ELASTIC" ? Mode::kElastic : Mode::kDensity;
+    } else if (k.name == "*SOLID SECTION") {
+      check_params(k, {"ELSET", "MATERIAL", "ORIENTATION"});
+      const auto elset = param(k, "ELSET"), material = param(k, "MATERIAL");
+      if (!elset || !material) fail(k.line, "*SOLID SECTION needs ELSET= and MATERIAL=");
+      sections_.push_back({upper(*elset), upper(*material), k.line});
+      mode_ = Mode::kSkip;  // a data line (2D thickness) does not matter for solids
+    } else if (k.name == "*SPRING" || k.name == "*MASS") {
+      const bool spring = k.name == "*SPRING";
+      for (const auto& [key, value] : k.params) {
+        if (key == "NONLINEAR")
+          fail(k.line, "*SPRING, NONLINEAR: nonlinear springs are not supported");
+        if (key == "ORIENTATION") {
+          fail(k.line, k.name + ", ORIENTATION: springs in local axes are not supported");
+        }
+      }
+      check_params(k, {"ELSET"});
+      const auto elset = param(k, "ELSET");
+      if (!elset) fail(k.line, k.name + " without ELSET=");
+      properties_.push_back({spring, upper(*elset), -1, -1, false, 0.0, k.line});
+      mode_ = Mode::kProperty;
     } else {
       skip(k);
     }
@@ -439,6 +517,79 @@ class InpParser {
           }
           pending_.reset();
         }
+        return;
+      }
+      case Mode::kElastic:
+      case Mode::kDensity: {
+        const auto tokens = data_tokens(t, line);
+        MeshMaterial& m = materials_.back();
+        if (mode_ == Mode::kElastic && !m.problem.empty()) return;  // anisotropic: not read
+        if (++property_lines_ > 1) {
+          if (m.problem.empty()) {
+            m.problem = keyword_.name + " with more than one line (temperature-dependent) on " +
+                        line_text(line) + ": not supported";
+          }
+          return;
+        }
+        if (mode_ == Mode::kElastic) {
+          if (tokens.size() < 2 || tokens.size() > 3) {
+            fail(line, "*ELASTIC: expected 'E, nu[, temperature]'");
+          }
+          m.youngs_modulus = parse_double(tokens[0], line);
+          m.poisson_ratio = parse_double(tokens[1], line);
+        } else {
+          if (tokens.empty() || tokens.size() > 2)
+            fail(line, "*DENSITY: expected 'rho[, temperature]'");
+          m.density = parse_double(tokens[0], line);
+        }
+        return;
+      }
+      case Mode::kDiscrete: {
+        const auto tokens = data_tokens(t, line);
+        const size_t needed =
+            discrete_kind_ == DiscreteKind::kSpring1 || discrete_kind_ == DiscreteKind::kMass ? 2
+                                                                                              : 3;
+        if (tokens.size() != needed) {
+          fail(line, "*ELEMENT, TYPE=" + std::string(discrete_name(discrete_kind_)) +
+                         ": expected 'id, node" + (needed == 3 ? ", node'" : "'") + ", got " +
+                         std::to_string(tokens.size()) + " values");
+        }
+        RawDiscrete d{
+            parse_id(tokens[0], line, "element id"), discrete_kind_, {}, discrete_elset_, line};
+        for (size_t i = 1; i < tokens.size(); ++i) {
+          d.node_ids.push_back(parse_id(tokens[i], line, "node id"));
+        }
+        discretes_.push_back(std::move(d));
+        return;
+      }
+      case Mode::kProperty: {
+        const auto tokens = data_tokens(t, line);
+        DiscreteProperty& p = properties_.back();
+        const bool integers = std::all_of(tokens.begin(), tokens.end(), [](const std::string& s) {
+          return s.find_first_of(".eEdD") == std::string::npos;
+        });
+        if (p.spring && integers && p.dof_a < 0 && !p.has_value) {
+          // SPRING1 / SPRING2: the DOF line (integers; ccx tells it from the stiffness line so).
+          if (tokens.size() > 2) fail(line, "*SPRING: expected 'first DOF[, second DOF]'");
+          p.dof_a = parse_id(tokens[0], line, "degree of freedom");
+          if (tokens.size() == 2) p.dof_b = parse_id(tokens[1], line, "degree of freedom");
+          if (p.dof_a > 3 || p.dof_b > 3) {
+            fail(line, "*SPRING: degree of freedom above 3 (solid nodes have translations only)");
+          }
+          return;
+        }
+        if (p.has_value) {
+          fail(line, keyword_.name +
+                         ": a second data line (temperature-dependent data) is not "
+                         "supported");
+        }
+        if (tokens.size() != 1) {
+          fail(line, keyword_.name + ": expected one value (" +
+                         (p.spring ? "the spring constant, N/m" : "the mass, kg") + "), got " +
+                         std::to_string(tokens.size()));
+        }
+        p.value = parse_double(tokens[0], line);
+        p.has_value = true;
         return;
       }
       case Mode::kEquation: {
@@ -626,8 +777,134 @@ class InpParser {
       }
       mesh.equations.push_back(std::move(c));
     }
+    resolve_discretes(mesh, node_index, element_index);
+    resolve_sections(mesh);
     check_mesh(mesh);
     return mesh;
+  }
+
+  // *SOLID SECTION: each element of the set gets the material (Mesh::element_material).
+  void resolve_sections(Mesh& mesh) const {
+    mesh.materials = materials_;
+    if (sections_.empty()) return;
+    mesh.element_material.assign(static_cast<size_t>(mesh.num_elements()), -1);
+    for (const Section& sec : sections_) {
+      int index = -1;
+      for (size_t m = 0; m < materials_.size(); ++m) {
+        if (materials_[m].name == sec.material) index = static_cast<int>(m);
+      }
+      if (index < 0) fail(sec.line, "*SOLID SECTION: unknown material " + sec.material);
+      const auto set = mesh.element_sets.find(sec.elset);
+      if (set == mesh.element_sets.end())
+        fail(sec.line, "*SOLID SECTION: unknown element set " + sec.elset);
+      for (int e : set->second) {
+        if (mesh.element_material[e] >= 0 && mesh.element_material[e] != index) {
+          fail(sec.line, "*SOLID SECTION: element " + std::to_string(mesh.element_ids[e]) +
+                             " is already in a section of material " +
+                             materials_[mesh.element_material[e]].name);
+        }
+        mesh.element_material[e] = index;
+      }
+    }
+  }
+
+  static const char* discrete_name(DiscreteKind k) {
+    switch (k) {
+      case DiscreteKind::kSpring1:
+        return "SPRING1";
+      case DiscreteKind::kSpring2:
+        return "SPRING2";
+      case DiscreteKind::kSpringA:
+        return "SPRINGA";
+      case DiscreteKind::kMass:
+        return "MASS";
+    }
+    return "?";
+  }
+
+  // Springs and masses into the mesh, each with the *SPRING / *MASS of its element set.
+  void resolve_discretes(Mesh& mesh, const std::unordered_map<int, int>& node_index,
+                         const std::unordered_map<int, int>& element_index) const {
+    std::unordered_map<int, int> ids;  // discrete element id -> line
+    std::vector<char> used(properties_.size(), 0);
+    for (const RawDiscrete& d : discretes_) {
+      const std::string what =
+          std::string(discrete_name(d.kind)) + " element " + std::to_string(d.id);
+      if (element_index.count(d.id) || !ids.emplace(d.id, d.line).second) {
+        fail(d.line, "duplicate element id " + std::to_string(d.id));
+      }
+      const bool spring = d.kind != DiscreteKind::kMass;
+      int found = -1;
+      for (size_t p = 0; p < properties_.size(); ++p) {
+        if (properties_[p].spring == spring && properties_[p].elset == d.elset) {
+          if (found >= 0) {
+            fail(properties_[p].line, (spring ? "*SPRING" : "*MASS") + std::string(", ELSET=") +
+                                          d.elset + " given twice");
+          }
+          found = static_cast<int>(p);
+        }
+      }
+      if (found < 0) {
+        fail(d.line, what + " (ELSET " + d.elset + ") has no " + (spring ? "*SPRING" : "*MASS") +
+                         ", ELSET=" + d.elset);
+      }
+      const DiscreteProperty& p = properties_[found];
+      used[found] = 1;
+      if (!p.has_value)
+        fail(p.line, std::string(spring ? "*SPRING" : "*MASS") + " without a value");
+      if (!(p.value >= 0.0)) fail(p.line, "a negative spring constant or mass is not supported");
+      std::vector<int> nodes;
+      for (int id : d.node_ids) {
+        const auto it = node_index.find(id);
+        if (it == node_index.end())
+          fail(d.line, what + " refers to unknown node " + std::to_string(id));
+        nodes.push_back(it->second);
+      }
+      if (d.kind == DiscreteKind::kMass) {
+        mesh.point_masses.push_back({d.id, nodes[0], p.value, origin(d.line)});
+        continue;
+      }
+      DiscreteSpring k;
+      k.id = d.id;
+      k.node_a = nodes[0];
+      k.stiffness = p.value;
+      k.origin = origin(d.line);
+      if (d.kind == DiscreteKind::kSpringA) {
+        if (p.dof_a >= 0) fail(p.line, "*SPRING for SPRINGA elements takes no degrees of freedom");
+        if (nodes[0] == nodes[1])
+          fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
+        const Eigen::Vector3d axis =
+            mesh.coordinates.col(nodes[1]) - mesh.coordinates.col(nodes[0]);
+        if (!(axis.norm() > 0.0)) {
+          fail(d.line, what + ": its nodes coincide, so it has no axis");
+        }
+        k.node_b = nodes[1];
+        k.direction_a = k.direction_b = axis.normalized();
+      } else {
+        const bool two = d.kind == DiscreteKind::kSpring2;
+        if (p.dof_a < 0 || (two && p.dof_b < 0) || (!two && p.dof_b >= 0)) {
+          fail(p.line, std::string("*SPRING for ") + discrete_name(d.kind) + " elements needs " +
+                           (two ? "two degrees of freedom" : "one degree of freedom") +
+                           " on its first data line");
+        }
+        k.direction_a = Eigen::Vector3d::Unit(p.dof_a - 1);
+        if (two) {
+          if (nodes[0] == nodes[1])
+            fail(d.line, what + " joins node " + std::to_string(d.node_ids[0]) + " to itself");
+          k.node_b = nodes[1];
+          k.direction_b = Eigen::Vector3d::Unit(p.dof_b - 1);
+        }
+      }
+      mesh.springs.push_back(std::move(k));
+    }
+    for (size_t p = 0; p < properties_.size(); ++p) {
+      if (!used[p]) {
+        fail(properties_[p].line, std::string(properties_[p].spring ? "*SPRING" : "*MASS") +
+                                      ", ELSET=" + properties_[p].elset + ": no " +
+                                      (properties_[p].spring ? "spring" : "MASS") +
+                                      " element has that ELSET");
+      }
+    }
   }
 
   // An element whose geometry cannot be integrated (inverted, flat, distorted) stops at its line.
@@ -644,7 +921,26 @@ class InpParser {
     }
   }
 
-  enum class Mode { kNone, kSkip, kNode, kElement, kSet, kEquation };
+  enum class Mode {
+    kNone,
+    kSkip,
+    kNode,
+    kElement,
+    kSet,
+    kEquation,
+    kDiscrete,
+    kProperty,
+    kElastic,
+    kDensity
+  };
+  struct Section {
+    std::string elset, material;
+    int line;
+  };
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::vector<MeshMaterial> materials_;
+  std::vector<Section> sections_;
+  int property_lines_ = 0;
 
   std::string file_;
   std::vector<std::string>* warnings_;
@@ -656,6 +952,10 @@ class InpParser {
   Keyword keyword_;
   Mode mode_ = Mode::kNone;
   ElementType element_type_ = ElementType::kC3D8;
+  DiscreteKind discrete_kind_ = DiscreteKind::kMass;
+  std::string discrete_elset_;
+  std::vector<RawDiscrete> discretes_;
+  std::vector<DiscreteProperty> properties_;
   bool generate_ = false;
   int current_set_ = -1;
   std::optional<RawElement> pending_;

@@ -16,9 +16,14 @@
 //                                        the keyword before the *INCLUDE); path relative to the
 //                                        including file's folder; nested; a cycle is an error
 // Supported TYPE: C3D8, C3D8I, C3D8B (B-bar), C3D20, C3D20R, C3D4, C3D10 (node order as in the
-// .inp, which is Mesh's). Any other element type is rejected.
+// .inp, which is Mesh's), and the discrete SPRING1, SPRING2, SPRINGA and MASS (ELSET= required):
+//   *SPRING, ELSET=name                  for SPRING1/SPRING2 a line of DOFs (1-3; integers), then
+//                                        the spring constant (N/m, a real); SPRINGA no DOF line
+//   *MASS, ELSET=name                    the mass (kg)
+// They become Mesh::springs and Mesh::point_masses (the element's line is their origin).
+// Any other element type is rejected.
 // Nothing vanishes silently: a keyword that would change the stiffness or mass and is not
-// supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *SPRING, *MASS,
+// supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *DASHPOT,
 // parts and instances, node/element generation, ...; list in inp_reader.cpp) is an
 // error at its line. Every other keyword (*MATERIAL, *BOUNDARY, *STEP, ...) is skipped with its
 // data lines and gives one warning per keyword name, "<file>: *NAME ignored (<why>), lines a, b",

@@ -95,6 +95,41 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
       out << (last ? "\n" : (k + 1) % kTermsPerEquationLine == 0 ? ",\n" : ", ");
     }
   }
+  // Springs and point masses, each in an element set of its own (SS_K<id>, SS_M<id>) named by
+  // its *SPRING / *MASS. A spring along global axes is SPRING1/SPRING2, one along its nodes'
+  // line SPRINGA. Reals are written with an exponent, so that ccx tells them from DOF lines.
+  const auto real = [](double v) {
+    std::string t = decimal_in_width(v, kFieldWidth);
+    if (t.find_first_of(".eE") == std::string::npos) t += ".";
+    return t;
+  };
+  const auto axis_of = [](const Eigen::Vector3d& d) {
+    for (int i = 0; i < 3; ++i) {
+      if (d == Eigen::Vector3d::Unit(i)) return i + 1;
+    }
+    return 0;
+  };
+  for (const DiscreteSpring& k : mesh.springs) {
+    const std::string set = "SS_K" + std::to_string(k.id);
+    const int da = axis_of(k.direction_a), db = axis_of(k.direction_b);
+    const char* type = k.node_b < 0 ? "SPRING1" : (da > 0 && db > 0) ? "SPRING2" : "SPRINGA";
+    if (k.node_b < 0 && da == 0) {
+      throw InvalidInput("inp writer: spring " + std::to_string(k.id) +
+                         " to the ground acts along no global axis (no CalculiX element for it)");
+    }
+    out << "*ELEMENT, TYPE=" << type << ", ELSET=" << set << '\n'
+        << k.id << ", " << mesh.node_ids[k.node_a];
+    if (k.node_b >= 0) out << ", " << mesh.node_ids[k.node_b];
+    out << "\n*SPRING, ELSET=" << set << '\n';
+    if (type[6] != 'A') out << da << (k.node_b >= 0 ? ", " + std::to_string(db) : "") << '\n';
+    out << real(k.stiffness) << '\n';
+  }
+  for (const PointMass& m : mesh.point_masses) {
+    const std::string set = "SS_M" + std::to_string(m.id);
+    out << "*ELEMENT, TYPE=MASS, ELSET=" << set << '\n'
+        << m.id << ", " << mesh.node_ids[m.node] << "\n*MASS, ELSET=" << set << '\n'
+        << real(m.mass) << '\n';
+  }
   out.precision(old_precision);
 }
 

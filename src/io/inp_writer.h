@@ -4,7 +4,9 @@
 //   *ELEMENT, TYPE=<type> blocks, one per element type present (in index order within a type;
 //     at most 16 numbers per line, a 20-node element continues on a second line),
 //   *NSET, NSET=<name> and *ELSET, ELSET=<name> for every set (external ids, 16 per line),
-//   *EQUATION for every Mesh::equations entry (4 terms a line, coefficients as coordinates).
+//   *EQUATION for every Mesh::equations entry (4 terms a line, coefficients as coordinates),
+//   every Mesh::springs entry as a SPRING1 / SPRING2 (along global axes) or SPRINGA element in
+//   an element set SS_K<id> with its *SPRING, every point mass as MASS in SS_M<id> with *MASS.
 // No material, section or step: the caller adds them (the stream form writes into a deck).
 // Set names must be non-empty and contain no comma, '*', quote or line break (InvalidInput).
 // The file form writes atomically (io/atomic_file.h).

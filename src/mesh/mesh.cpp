@@ -34,7 +34,8 @@ const char* element_type_name(ElementType type) {
     case ElementType::kC3D20R: return "C3D20R";
     case ElementType::kC3D4: return "C3D4";
     case ElementType::kC3D10: return "C3D10";
-    case ElementType::kC3D8B: return "C3D8B";
+    case ElementType::kC3D8B:
+      return "C3D8B";
   }
   return "?";
 }
@@ -126,6 +127,40 @@ void check_mesh(const Mesh& mesh) {
     for (int e : set) {
       if (e < 0 || e >= ne) throw InvalidInput("mesh: element set " + name + " has an index out of range");
     }
+  }
+  if (!mesh.element_material.empty()) {
+    if (static_cast<int>(mesh.element_material.size()) != ne) {
+      throw InvalidInput("mesh: element_material has " +
+                         std::to_string(mesh.element_material.size()) + " entries for " +
+                         std::to_string(ne) + " elements");
+    }
+    for (int m : mesh.element_material) {
+      if (m < -1 || m >= static_cast<int>(mesh.materials.size())) {
+        throw InvalidInput("mesh: an element's material index is out of range");
+      }
+    }
+  }
+  for (const DiscreteSpring& k : mesh.springs) {
+    const std::string where =
+        "mesh: spring " + std::to_string(k.id) + (k.origin.empty() ? "" : " at " + k.origin);
+    if (!seen.insert(k.id).second) throw InvalidInput(where + ": its element id appears twice");
+    if (k.node_a < 0 || k.node_a >= nn || k.node_b < -1 || k.node_b >= nn) {
+      throw InvalidInput(where + " refers to a node index out of range");
+    }
+    if (!(k.stiffness >= 0.0) || !std::isfinite(k.stiffness) ||
+        std::abs(k.direction_a.norm() - 1.0) > 1e-12 ||
+        std::abs(k.direction_b.norm() - 1.0) > 1e-12) {
+      throw InvalidInput(where + ": stiffness must be finite and >= 0, directions unit vectors");
+    }
+  }
+  for (const PointMass& m : mesh.point_masses) {
+    const std::string where =
+        "mesh: point mass " + std::to_string(m.id) + (m.origin.empty() ? "" : " at " + m.origin);
+    if (!seen.insert(m.id).second) throw InvalidInput(where + ": its element id appears twice");
+    if (m.node < 0 || m.node >= nn)
+      throw InvalidInput(where + " refers to a node index out of range");
+    if (!(m.mass >= 0.0) || !std::isfinite(m.mass))
+      throw InvalidInput(where + ": mass must be finite and >= 0");
   }
   for (const LinearConstraint& c : mesh.equations) {
     const std::string where = "mesh: equation" + (c.origin.empty() ? "" : " at " + c.origin);

@@ -9,6 +9,7 @@
 // formats (Gmsh) reorder to it.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <span>
 #include <string>
@@ -47,6 +48,40 @@ struct LinearConstraint {
   std::string origin;
 };
 
+// A linear discrete spring (Abaqus/CalculiX SPRING1, SPRING2, SPRINGA) of stiffness k (N/m):
+//   energy ½ k (d_aᵀ u_a − d_bᵀ u_b)²,  u_b = 0 for node_b = -1 (to the ground),
+// d_a, d_b unit vectors: SPRING1 and SPRING2 along global axes, SPRINGA along the line from a to
+// b in the undeformed mesh (d_a = d_b). Its stiffness is added to K in assembly (fe/assembly.h).
+struct DiscreteSpring {
+  int id = 0;       // element id in the file (shares the id space of elements)
+  int node_a = 0;   // node index
+  int node_b = -1;  // node index or -1
+  Eigen::Vector3d direction_a = Eigen::Vector3d::UnitX(), direction_b = Eigen::Vector3d::UnitX();
+  double stiffness = 0.0;  // N/m, >= 0
+  std::string origin;      // "file:line"
+};
+
+// A point mass m (kg) on the three translations of a node (Abaqus/CalculiX MASS), added to M.
+struct PointMass {
+  int id = 0;    // element id in the file
+  int node = 0;  // node index
+  double mass = 0.0;
+  std::string origin;
+};
+
+// A linear elastic isotropic material given in a mesh file (.inp: *MATERIAL with *ELASTIC and
+// *DENSITY, assigned by *SOLID SECTION; .cdb: MPDATA by material number). Constants the file does
+// not give are NaN; `problem` says why the material cannot be used ("" when it can be, if
+// complete), e.g. anisotropic elasticity. SI units as IsotropicMaterial.
+struct MeshMaterial {
+  std::string name;
+  double youngs_modulus = std::numeric_limits<double>::quiet_NaN();
+  double poisson_ratio = std::numeric_limits<double>::quiet_NaN();
+  double density = std::numeric_limits<double>::quiet_NaN();
+  std::string origin;   // "file:line" where it is defined
+  std::string problem;  // why it cannot be used, or ""
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -64,6 +99,15 @@ struct Mesh {
 
   // --- linear constraints between DOFs (*EQUATION), in file order ---
   std::vector<LinearConstraint> equations;
+
+  // --- materials of the file: element_material is empty (none assigned) or holds, per element,
+  //     an index into materials or -1 (no material assigned to that element) ---
+  std::vector<MeshMaterial> materials;
+  std::vector<int> element_material;
+
+  // --- discrete springs and point masses (not elements: no stresses, not in element sets) ---
+  std::vector<DiscreteSpring> springs;
+  std::vector<PointMass> point_masses;
 
   int num_nodes() const { return static_cast<int>(node_ids.size()); }
   int num_elements() const { return static_cast<int>(element_types.size()); }

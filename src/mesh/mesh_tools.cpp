@@ -70,6 +70,10 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
     new_element[e] = sub.mesh.add_element(mesh.element_ids[e], mesh.element_types[e], local);
   }
   sub.element_parent = kept_elements;
+  if (!mesh.element_material.empty()) {
+    sub.mesh.materials = mesh.materials;
+    for (int e : kept_elements) sub.mesh.element_material.push_back(mesh.element_material[e]);
+  }
 
   for (const auto& [name, set] : mesh.node_sets) {
     std::vector<int> r = restrict_set(set, new_node);
@@ -101,6 +105,26 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
                          "supported)");
     }
     sub.mesh.equations.push_back(std::move(kept));
+  }
+  // Springs and point masses: kept when all their nodes are, dropped when none is.
+  for (DiscreteSpring k : mesh.springs) {
+    const int a = new_node[k.node_a], b = k.node_b < 0 ? -1 : new_node[k.node_b];
+    const bool b_kept = k.node_b < 0 || b >= 0;
+    if (a < 0 && !b_kept) continue;
+    if (a < 0 || (k.node_b >= 0 && b < 0)) {
+      throw InvalidInput("the spring " + std::to_string(k.id) +
+                         (k.origin.empty() ? "" : " at " + k.origin) +
+                         " joins this part to a node on none of its elements (springs between "
+                         "bodies are contacts of the case file)");
+    }
+    k.node_a = a;
+    k.node_b = b;
+    sub.mesh.springs.push_back(std::move(k));
+  }
+  for (PointMass m : mesh.point_masses) {
+    if (new_node[m.node] < 0) continue;
+    m.node = new_node[m.node];
+    sub.mesh.point_masses.push_back(std::move(m));
   }
   return sub;
 }
@@ -267,9 +291,29 @@ AppendedRange append_mesh(Mesh& mesh, const Mesh& part, int node_id_offset, int 
   };
   merge(mesh.node_sets, part.node_sets, range.first_node);
   merge(mesh.element_sets, part.element_sets, range.first_element);
+  if (!mesh.element_material.empty() || !part.element_material.empty()) {
+    mesh.element_material.resize(static_cast<size_t>(range.first_element), -1);
+    const int shift = static_cast<int>(mesh.materials.size());
+    mesh.materials.insert(mesh.materials.end(), part.materials.begin(), part.materials.end());
+    for (int e = 0; e < part.num_elements(); ++e) {
+      const int m = part.element_material.empty() ? -1 : part.element_material[e];
+      mesh.element_material.push_back(m < 0 ? -1 : m + shift);
+    }
+  }
   for (LinearConstraint c : part.equations) {
     for (int& dof : c.dofs) dof += 3 * range.first_node;
     mesh.equations.push_back(std::move(c));
+  }
+  for (DiscreteSpring k : part.springs) {
+    k.id += element_id_offset;
+    k.node_a += range.first_node;
+    if (k.node_b >= 0) k.node_b += range.first_node;
+    mesh.springs.push_back(std::move(k));
+  }
+  for (PointMass m : part.point_masses) {
+    m.id += element_id_offset;
+    m.node += range.first_node;
+    mesh.point_masses.push_back(std::move(m));
   }
   check_mesh(mesh);  // throws on colliding ids
   return range;

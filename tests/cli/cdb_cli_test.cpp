@@ -6,8 +6,8 @@
 //   - Euler–Bernoulli cantilever theory, loosely (the beam is short: L/h = 5).
 #include <gtest/gtest.h>
 
-#include "cli_test_support.h"
 #include "../ccx_dat.h"
+#include "cli_test_support.h"
 
 #include <cmath>
 #include <fstream>
@@ -54,7 +54,8 @@ void write_ccx_deck(const fs::path& file, int num_modes) {
     for (int a = 0; a < 20; ++a) s << (a == 15 ? ",\n" : ", ") << f[11 + a];
     s << "\n";
   }
-  s << "*NSET, NSET=FIX\n" << fix.str() << "*MATERIAL, NAME=AL\n*ELASTIC\n7e10, 0.35\n*DENSITY\n2700\n"
+  s << "*NSET, NSET=FIX\n"
+    << fix.str() << "*MATERIAL, NAME=AL\n*ELASTIC\n7e10, 0.35\n*DENSITY\n2700\n"
     << "*SOLID SECTION, ELSET=EALL, MATERIAL=AL\n*STEP\n*FREQUENCY\n"
     << num_modes << "\n*BOUNDARY\nFIX, 1, 3\n*END STEP\n";
   std::ofstream(file) << s.str();
@@ -96,8 +97,7 @@ output: {plots: false, vtu: false}
       << log;
   const auto rows = read_csv(dir / "out" / "modes" / "frequencies.csv");
   ASSERT_GE(static_cast<int>(rows.size()), kModes);
-  ASSERT_EQ(shell("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i job", dir / "ccx.log"),
-            0)
+  ASSERT_EQ(shell("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i job", dir / "ccx.log"), 0)
       << slurp(dir / "ccx.log");
   const std::vector<double> lambda = stickslip::ccx_dat::eigenvalues(slurp(dir / "job.dat"));
   ASSERT_EQ(static_cast<int>(lambda.size()), kModes) << slurp(dir / "ccx.log");
@@ -114,11 +114,33 @@ output: {plots: false, vtu: false}
     EXPECT_NEAR(ours / theirs, 1.0, kMassRuleTolerance) << "mode " << j + 1;
   }
   RecordProperty("max_relative_frequency_difference_to_ccx", std::to_string(worst));
+  // The same case without `material`: the body takes the CDB's MPDATA (EX 7e10, NUXY 0.35,
+  // DENS 2700, the same numbers), so the same frequencies to the last bit.
+  std::string text = slurp(file);
+  const std::string with = ", material: aluminium";
+  ASSERT_NE(text.find(with), std::string::npos);
+  text.erase(text.find(with), with.size());
+  run_stage("modes", write_case(dir, "deck_material", text), dir / "deck_material");
+  const auto deck_rows = read_csv(dir / "deck_material" / "modes" / "frequencies.csv");
+  ASSERT_EQ(deck_rows.size(), rows.size());
+  for (size_t j = 0; j < rows.size(); ++j) {
+    EXPECT_EQ(deck_rows[j].at("frequency_hz"), rows[j].at("frequency_hz")) << j;
+  }
+  // Both given and different: the case file's is used, with a warning naming the file's.
+  text = slurp(file);
+  text.replace(text.find("poisson_ratio: 0.35"), 19, "poisson_ratio: 0.3");
+  const std::string both = run_stage("modes", write_case(dir, "both", text), dir / "both");
+  EXPECT_NE(both.find("body beam: the case file's material aluminium (E 7e+10, nu 0.3, rho 2700) "
+                      "is used, not the mesh file's MAT1"),
+            std::string::npos)
+      << both;
+
   // Euler–Bernoulli cantilever, square section h = 1, L = 5: f1 = (1.8751²/2π) sqrt(EI/(ρA L⁴)),
   // twice (bending in x and y): 32.9 Hz. Shear and rotary inertia lower the solid's value by a
   // few % at L/h = 5 (measured 32.45 Hz, -1.4 %).
   const double E = 7e10, rho = 2700, L = 5.0, I = 1.0 / 12.0, A = 1.0;
-  const double f1 = 1.8751040687 * 1.8751040687 / (2 * M_PI) * std::sqrt(E * I / (rho * A * L * L * L * L));
+  const double f1 =
+      1.8751040687 * 1.8751040687 / (2 * M_PI) * std::sqrt(E * I / (rho * A * L * L * L * L));
   for (int j = 0; j < 2; ++j) {
     const double ours = std::stod(rows[j].at("frequency_hz"));
     EXPECT_LT(ours, f1) << "mode " << j + 1;

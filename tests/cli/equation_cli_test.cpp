@@ -126,7 +126,7 @@ output: {plots: false, vtu: false}
 )");
   const std::string log = run_stage("modes", file, dir / "out");
   // Step 1 of the rules: what the reader skips is named, once per keyword, with its line.
-  EXPECT_NE(log.find("job.inp: *MATERIAL ignored (the material comes from the case file), line"),
+  EXPECT_NE(log.find("job.inp: *STEP ignored (analyses and loads come from the case file), line"),
             std::string::npos)
       << log;
   EXPECT_EQ(count(log, "*BOUNDARY ignored"), 1) << log;

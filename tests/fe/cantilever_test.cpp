@@ -124,11 +124,9 @@ TEST(Cantilever, BbarDoesNotLockForANearlyIncompressibleMaterial) {
   double previous_error = 1.0;
   for (int r : {1, 2}) {
     const double bbar =
-        fe_tip_deflection(ElementType::kC3D8B, 10 * r, 2 * r, 2 * r, nearly_incompressible) /
-        d_ref;
+        fe_tip_deflection(ElementType::kC3D8B, 10 * r, 2 * r, 2 * r, nearly_incompressible) / d_ref;
     const double full =
-        fe_tip_deflection(ElementType::kC3D8, 10 * r, 2 * r, 2 * r, nearly_incompressible) /
-        d_ref;
+        fe_tip_deflection(ElementType::kC3D8, 10 * r, 2 * r, 2 * r, nearly_incompressible) / d_ref;
     const double bbar_steel =
         fe_tip_deflection(ElementType::kC3D8B, 10 * r, 2 * r, 2 * r) / timoshenko_tip_deflection();
     RecordProperty("C3D8B_nu_0.4999_refinement_" + std::to_string(r), std::to_string(bbar));

@@ -115,6 +115,23 @@ TEST(CalculixDeck, StaticOnlyHasNoFrequencyStep) {
   EXPECT_NE(deck.find("108, 3, -10\n"), std::string::npos);
 }
 
+// ccx has no B-bar brick: C3D8B goes out as C3D8, and the deck says so.
+TEST(CalculixDeck, BbarBricksAreWrittenAsC3D8WithAComment) {
+  Mesh mesh = one_hex();
+  mesh.element_types[0] = ElementType::kC3D8B;
+  CalculixDeckOptions options = steel_options();
+  options.harmonics = {0};
+  options.frequency_hz = 0.0;
+  std::ostringstream out;
+  write_calculix_deck(out, mesh, Eigen::MatrixXcd::Zero(24, 1), options);
+  const std::string deck = out.str();
+  EXPECT_NE(deck.find("*ELEMENT, TYPE=C3D8\n7, "), std::string::npos) << deck;
+  EXPECT_EQ(deck.find("TYPE=C3D8B"), std::string::npos) << deck;
+  EXPECT_NE(deck.find("** C3D8B (B-bar, ANSYS SOLID185) elements are written as C3D8"),
+            std::string::npos)
+      << deck;
+}
+
 TEST(CalculixDeck, BadInputThrows) {
   Mesh mesh = one_hex();
   const Eigen::MatrixXcd loads = Eigen::MatrixXcd::Zero(24, 2);

@@ -69,15 +69,15 @@ TEST(CdbReader, ReadsHexBeamNodesElementsComponentsAndMaterial) {
   ASSERT_EQ(m.num_elements(), 40);
   for (ElementType t : m.element_types) EXPECT_EQ(t, ElementType::kC3D20R);  // no KEYOPT(2)
   const auto index = node_index_by_id(m);
-  EXPECT_EQ(m.coordinates.col(index.at(1)), Eigen::Vector3d(0, 0, 0));      // short line
-  EXPECT_EQ(m.coordinates.col(index.at(6)), Eigen::Vector3d(1, 1, 0));      // z left out
+  EXPECT_EQ(m.coordinates.col(index.at(1)), Eigen::Vector3d(0, 0, 0));  // short line
+  EXPECT_EQ(m.coordinates.col(index.at(6)), Eigen::Vector3d(1, 1, 0));  // z left out
   EXPECT_EQ(m.coordinates.col(index.at(22)), Eigen::Vector3d(0, 0, 5));
   EXPECT_EQ(m.coordinates.col(index.at(321)), Eigen::Vector3d(0.75, 0.5, 4.5));
   // Element 1 (lines 361-362): fields 12-19 of the first line, then the 12 of the second.
   const auto nodes = m.element_nodes(0);
   EXPECT_EQ(m.element_ids[0], 1);
-  const std::vector<int> expected{1,   4,   19,  15, 63, 91,  286, 240, 3,   18,
-                                  17,  16,  81,  276, 267, 258, 62,  90,  285, 239};
+  const std::vector<int> expected{1,  4,  19, 15,  63,  91,  286, 240, 3,   18,
+                                  17, 16, 81, 276, 267, 258, 62,  90,  285, 239};
   ASSERT_EQ(nodes.size(), expected.size());
   for (size_t a = 0; a < nodes.size(); ++a) EXPECT_EQ(m.node_ids[nodes[a]], expected[a]) << a;
   // Components with ranges: ECOMP1 = 17..18, 21..40; NCOMP2 starts 1..21, 43..47, ..., 230, ...
@@ -199,27 +199,28 @@ TEST(CdbReader, SkipsLoadBlocksItDoesNotRead) {
 
 // A small hand-made file in CDWRITE's layout: one SOLID185 or SOLID186 cube.
 std::string cube_file(const std::string& et_lines, const std::string& extra = "") {
-  std::string s = "/PREP7\n" + et_lines +
-                  "NBLOCK,6,SOLID,8,8\n(3i9,6e21.13e3)\n"
-                  "        1        0        0 0.0000000000000E+000\n"
-                  "        2        0        0 1.0000000000000E+000\n"
-                  "        3        0        0 1.0000000000000E+000 1.0000000000000E+000\n"
-                  "        4        0        0 0.0000000000000E+000 1.0000000000000E+000\n"
-                  "        5        0        0 0.0000000000000E+000 0.0000000000000E+000 "
-                  "1.0000000000000E+000\n"
-                  "        6        0        0 1.0000000000000E+000 0.0000000000000E+000 "
-                  "1.0000000000000E+000\n"
-                  "        7        0        0 1.0000000000000E+000 1.0000000000000E+000 "
-                  "1.0000000000000E+000\n"
-                  "        8        0        0 0.0000000000000E+000 1.0000000000000E+000 "
-                  "1.0000000000000E+000\n"
-                  "N,R5.3,LOC,       -1,\n"
-                  "EBLOCK,19,SOLID,1,1\n(19i9)\n"
-                  "        1        1        1        1        0        0        0        0        8"
-                  "        0        7        1        2        3        4        5        6        7"
-                  "        8\n"
-                  "       -1\n" +
-                  extra;
+  std::string s =
+      "/PREP7\n" + et_lines +
+      "NBLOCK,6,SOLID,8,8\n(3i9,6e21.13e3)\n"
+      "        1        0        0 0.0000000000000E+000\n"
+      "        2        0        0 1.0000000000000E+000\n"
+      "        3        0        0 1.0000000000000E+000 1.0000000000000E+000\n"
+      "        4        0        0 0.0000000000000E+000 1.0000000000000E+000\n"
+      "        5        0        0 0.0000000000000E+000 0.0000000000000E+000 "
+      "1.0000000000000E+000\n"
+      "        6        0        0 1.0000000000000E+000 0.0000000000000E+000 "
+      "1.0000000000000E+000\n"
+      "        7        0        0 1.0000000000000E+000 1.0000000000000E+000 "
+      "1.0000000000000E+000\n"
+      "        8        0        0 0.0000000000000E+000 1.0000000000000E+000 "
+      "1.0000000000000E+000\n"
+      "N,R5.3,LOC,       -1,\n"
+      "EBLOCK,19,SOLID,1,1\n(19i9)\n"
+      "        1        1        1        1        0        0        0        0        8"
+      "        0        7        1        2        3        4        5        6        7"
+      "        8\n"
+      "       -1\n" +
+      extra;
   return s;
 }
 
@@ -240,20 +241,20 @@ TEST(CdbReader, KeyoptTwoOfSolid185ChoosesOrRefuses) {
     EXPECT_EQ(e.where().line, 17);  // the element record
   }
   // KEYOPT also from the ET command's KOP fields: ET,1,185,,1 is KEYOPT(2) = 1.
-  EXPECT_TRUE(contains(error_of([&] { read_text(cube_file("ET,1,185,,1\n")); }).message(),
-                       "hourglass"));
-  EXPECT_TRUE(contains(error_of([&] { read_text(cube_file("ET,1,185\nKEYOPT,1,6,1\n")); })
-                           .message(),
-                       "mixed u-P"));
-  EXPECT_TRUE(contains(error_of([&] { read_text(cube_file("ET,1,45\n")); }).message(),
-                       "not supported"));
+  EXPECT_TRUE(
+      contains(error_of([&] { read_text(cube_file("ET,1,185,,1\n")); }).message(), "hourglass"));
+  EXPECT_TRUE(contains(
+      error_of([&] { read_text(cube_file("ET,1,185\nKEYOPT,1,6,1\n")); }).message(), "mixed u-P"));
+  EXPECT_TRUE(
+      contains(error_of([&] { read_text(cube_file("ET,1,45\n")); }).message(), "not supported"));
   EXPECT_TRUE(contains(error_of([&] { read_text(cube_file("")); }).message(), "no ET"));
 }
 
 TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   const std::string et = "ET,1,185\n";
   // Nodes held in all directions (ALL, and a range) form D_ALL.
-  const Mesh m = read_text(cube_file(et, "D,1,ALL,0\nD,2,UX,0,,4,2\nD,2,UY,0.0,,4,2\nD,2,UZ,0,,4,2\n"));
+  const Mesh m =
+      read_text(cube_file(et, "D,1,ALL,0\nD,2,UX,0,,4,2\nD,2,UY,0.0,,4,2\nD,2,UZ,0,,4,2\n"));
   EXPECT_EQ(ids_of(m, m.node_sets.at("D_ALL")), (std::vector<int>{1, 2, 4}));
   auto message = [&](const std::string& extra) {
     return error_of([&] { read_text(cube_file(et, extra)); }).message();
@@ -265,8 +266,8 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   EXPECT_TRUE(contains(message("MPTEMP,R5.0,2,1,0,100\nMPDATA,R5.0,2,EX,1,1,2e11,1.9e11,\n"),
                        "temperature-dependent"));
   EXPECT_TRUE(contains(message("MPDATA,R5.0,1,EY,1,1,2e11,\n"), "anisotropic"));
-  EXPECT_TRUE(contains(message("CMBLOCK,SIDE,NODE,2\n(8i10)\n         1         9\n"),
-                       "unknown node 9"));
+  EXPECT_TRUE(
+      contains(message("CMBLOCK,SIDE,NODE,2\n(8i10)\n         1         9\n"), "unknown node 9"));
   EXPECT_TRUE(contains(message("CMBLOCK,SIDE,NODE,2\n(8i10)\n        -3         4\n"),
                        "neither an id nor the end of a range"));
   // Plain MPDATA form and PRXY.
@@ -277,7 +278,8 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   EXPECT_EQ(materials.at(1).poisson_ratio, 0.29);
   EXPECT_TRUE(std::isnan(materials.at(1).density));
   // A component with a range ending in a negative number.
-  const Mesh c = read_text(cube_file(et, "CMBLOCK,SIDE,NODE,3\n(8i10)\n         1        -3         8\n"));
+  const Mesh c =
+      read_text(cube_file(et, "CMBLOCK,SIDE,NODE,3\n(8i10)\n         1        -3         8\n"));
   EXPECT_EQ(ids_of(c, c.node_sets.at("SIDE")), (std::vector<int>{1, 2, 3, 8}));
 }
 
@@ -299,8 +301,8 @@ TEST(CdbReader, Solid186FullIntegrationAndBrokenBlocks) {
   nodes += "N,R5.3,LOC,       -1,\n";
   std::string record = "EBLOCK,19,SOLID\n(19i9)\n";
   char buf[512];
-  std::snprintf(buf, sizeof buf, "%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d", 1, 1, 1, 1, 0, 0, 0, 0, 20,
-                0, 5);
+  std::snprintf(buf, sizeof buf, "%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d", 1, 1, 1, 1, 0, 0, 0, 0, 20, 0,
+                5);
   record += buf;
   for (int a = 0; a < 8; ++a) record += (std::snprintf(buf, sizeof buf, "%9d", a + 1), buf);
   record += "\n";
@@ -316,9 +318,10 @@ TEST(CdbReader, Solid186FullIntegrationAndBrokenBlocks) {
                        "does not end"));
   // A node line longer than its format.
   EXPECT_TRUE(contains(error_of([&] {
-                         read_text("NBLOCK,6,SOLID\n(3i9,3e21.13)\n"
-                                   "        1        0        0 0.0000000000000E+000 "
-                                   "0.0000000000000E+000 0.0000000000000E+000 1.0E+000\n-1\n");
+                         read_text(
+                             "NBLOCK,6,SOLID\n(3i9,3e21.13)\n"
+                             "        1        0        0 0.0000000000000E+000 "
+                             "0.0000000000000E+000 0.0000000000000E+000 1.0E+000\n-1\n");
                        }).message(),
                        "longer than its format"));
 }

@@ -168,14 +168,13 @@ TEST(InpReader, EveryKeywordItDoesNotUseGivesOneWarningWithItsLines) {
   read_inp(kDir + "sample_all_features.inp", &warnings);
   // In order of first appearance; lines of the sample counted by hand.
   const std::string f = kDir + "sample_all_features.inp: ";
-  EXPECT_EQ(warnings, (std::vector<std::string>{
-                          f + "*HEADING ignored (not used by stickslip), line 3",
-                          f + "*MATERIAL ignored (the material comes from the case file), line 58",
-                          f + "*ELASTIC ignored (the material comes from the case file), line 59",
-                          f + "*STEP ignored (analyses and loads come from the case file), line 75",
-                          f + "*STATIC ignored (analyses and loads come from the case file), line 76",
-                          f + "*END STEP ignored (analyses and loads come from the case file), "
-                              "line 77"}));
+  EXPECT_EQ(warnings,
+            (std::vector<std::string>{
+                f + "*HEADING ignored (not used by stickslip), line 3",
+                f + "*STEP ignored (analyses and loads come from the case file), line 75",
+                f + "*STATIC ignored (analyses and loads come from the case file), line 76",
+                f + "*END STEP ignored (analyses and loads come from the case file), "
+                    "line 77"}));
 }
 
 TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
@@ -193,11 +192,10 @@ TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
 }
 
 TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
-  for (const char* keyword :
-       {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
-        "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E", "*BEAM SECTION",
-        "*SPRING, ELSET=E", "*MASS, ELSET=E", "*DISTRIBUTING COUPLING", "*Part, name=P",
-        "*NGEN", "*PRE-TENSION SECTION"}) {
+  for (const char* keyword : {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
+                              "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E",
+                              "*BEAM SECTION", "*DASHPOT, ELSET=E", "*DISTRIBUTING COUPLING",
+                              "*Part, name=P", "*NGEN", "*PRE-TENSION SECTION"}) {
     std::istringstream in(tet_deck("*MATERIAL, NAME=S\n" + std::string(keyword) + "\n1\n"));
     try {
       read_inp(in, "deck");
@@ -209,7 +207,7 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
           << e.message();
     }
   }
-  for (const char* type : {"S4R", "B31", "SPRINGA", "MASS", "CPS4"}) {
+  for (const char* type : {"S4R", "B31", "DASHPOTA", "CPS4"}) {
     std::istringstream in(
         tet_deck("*ELEMENT, TYPE=" + std::string(type) + "\n2, 1, 2, 3, 4\n"));
     try {
@@ -218,6 +216,97 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
     } catch (const InvalidInput& e) {
       EXPECT_EQ(e.where().line, 8) << type;
       EXPECT_NE(e.message().find("unsupported element type"), std::string::npos) << e.message();
+    }
+  }
+}
+
+TEST(InpReader, MaterialsAndSolidSectionsGiveEachElementItsMaterial) {
+  std::istringstream in(
+      tet_deck("*ELEMENT, TYPE=C3D4, ELSET=OTHER\n2, 1, 2, 3, 4\n*ELSET, ELSET=FIRST\n1\n"
+               "*MATERIAL, NAME=Steel\n*ELASTIC\n2.1e11, 0.3\n*DENSITY\n7850.\n"
+               "*MATERIAL, NAME=ORTHO\n*ELASTIC, TYPE=ORTHO\n1, 2, 3, 4, 5, 6, 7, 8\n9\n"
+               "*SOLID SECTION, ELSET=FIRST, MATERIAL=STEEL\n*SOLID SECTION, ELSET=other, "
+               "MATERIAL=ortho\n"));
+  const Mesh m = read_inp(in, "deck");
+  ASSERT_EQ(m.materials.size(), 2u);
+  EXPECT_EQ(m.materials[0].name, "STEEL");
+  EXPECT_EQ(m.materials[0].youngs_modulus, 2.1e11);
+  EXPECT_EQ(m.materials[0].poisson_ratio, 0.3);
+  EXPECT_EQ(m.materials[0].density, 7850.0);
+  EXPECT_EQ(m.materials[0].origin, "deck:12");
+  EXPECT_TRUE(m.materials[0].problem.empty());
+  EXPECT_NE(m.materials[1].problem.find("TYPE=ORTHO"), std::string::npos) << m.materials[1].problem;
+  EXPECT_EQ(m.element_material, (std::vector<int>{0, 1}));
+  // Errors at their line.
+  for (const auto& [tail, what] : std::vector<std::pair<std::string, std::string>>{
+           {"*SOLID SECTION, ELSET=E, MATERIAL=NONE\n", "unknown material NONE"},
+           {"*MATERIAL, NAME=A\n*SOLID SECTION, ELSET=NOPE, MATERIAL=A\n", "unknown element set"},
+           {"*ELASTIC\n1, 0.3\n", "before any *MATERIAL"}}) {
+    std::istringstream bad(tet_deck(tail));
+    try {
+      read_inp(bad, "deck");
+      ADD_FAILURE() << tail;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(e.message().find(what), std::string::npos) << e.message();
+    }
+  }
+}
+
+TEST(InpReader, SpringsAndMassesTakeTheirSpringOrMassSection) {
+  // SPRINGA from node 2 (1, 0, 0) to node 3 (0, 1, 0): along (-1, 1, 0)/sqrt 2.
+  std::istringstream in(
+      tet_deck("*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A\n3\n1.5e3\n"
+               "*ELEMENT, TYPE=SPRING2, ELSET=B\n12, 1, 2\n*SPRING, ELSET=B\n2, 1\n2.5e3\n"
+               "*ELEMENT, TYPE=SPRINGA, ELSET=C\n13, 2, 3\n*SPRING, ELSET=C\n\n3.5e3\n"
+               "*ELEMENT, TYPE=MASS, ELSET=D\n14, 1\n15, 3\n*MASS, ELSET=D\n0.75\n"));
+  const Mesh m = read_inp(in, "deck");
+  ASSERT_EQ(m.springs.size(), 3u);
+  ASSERT_EQ(m.point_masses.size(), 2u);
+  EXPECT_EQ(m.springs[0].id, 11);
+  EXPECT_EQ(m.node_ids[m.springs[0].node_a], 4);
+  EXPECT_EQ(m.springs[0].node_b, -1);
+  EXPECT_EQ(m.springs[0].direction_a, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(m.springs[0].stiffness, 1.5e3);
+  EXPECT_EQ(m.node_ids[m.springs[1].node_b], 2);
+  EXPECT_EQ(m.springs[1].direction_a, Eigen::Vector3d::UnitY());
+  EXPECT_EQ(m.springs[1].direction_b, Eigen::Vector3d::UnitX());
+  EXPECT_LT((m.springs[2].direction_a - Eigen::Vector3d(-1, 1, 0) / std::sqrt(2.0)).norm(), 1e-15);
+  EXPECT_EQ(m.springs[2].direction_b, m.springs[2].direction_a);
+  EXPECT_EQ(m.springs[2].stiffness, 3.5e3);
+  EXPECT_EQ(m.node_ids[m.point_masses[1].node], 3);
+  EXPECT_EQ(m.point_masses[1].mass, 0.75);
+  EXPECT_EQ(m.springs[1].origin, "deck:14");  // its element line
+}
+
+TEST(InpReader, SpringAndMassErrorsNameTheirLine) {
+  struct Bad {
+    std::string tail;
+    int line;
+    std::string what;
+  };
+  const std::vector<Bad> cases{
+      {"*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n", 9, "has no *SPRING"},
+      {"*ELEMENT, TYPE=SPRING1\n11, 4\n", 8, "without ELSET"},
+      {"*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A, NONLINEAR\n1\n", 10, "nonlinear"},
+      {"*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A\n1.0e3\n", 10,
+       "one degree of freedom"},
+      {"*ELEMENT, TYPE=SPRING2, ELSET=A\n11, 4, 1\n*SPRING, ELSET=A\n1\n1.0e3\n", 10,
+       "two degrees of freedom"},
+      {"*ELEMENT, TYPE=SPRING1, ELSET=A\n11, 4\n*SPRING, ELSET=A\n4\n1.0e3\n", 11, "above 3"},
+      {"*ELEMENT, TYPE=SPRINGA, ELSET=A\n11, 4, 4\n*SPRING, ELSET=A\n1.0e3\n", 9, "to itself"},
+      {"*ELEMENT, TYPE=MASS, ELSET=M\n11, 4\n*MASS, ELSET=M\n1.0\n2.0\n", 12, "second data line"},
+      {"*ELEMENT, TYPE=MASS, ELSET=M\n1, 4\n*MASS, ELSET=M\n1.0\n", 9, "duplicate element id 1"},
+      {"*MASS, ELSET=M\n1.0\n", 8, "no MASS element"},
+      {"*ELEMENT, TYPE=MASS, ELSET=M\n11, 9\n*MASS, ELSET=M\n1.0\n", 9, "unknown node 9"},
+  };
+  for (const Bad& bad : cases) {
+    std::istringstream in(tet_deck(bad.tail));
+    try {
+      read_inp(in, "deck");
+      ADD_FAILURE() << bad.tail << " was accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(e.where().line, bad.line) << bad.tail << e.message();
+      EXPECT_NE(e.message().find(bad.what), std::string::npos) << e.message();
     }
   }
 }
@@ -275,12 +364,13 @@ TEST(InpReader, IncludesAreReadInPlaceRelativeToTheIncludingFile) {
   ASSERT_EQ(m.equations.size(), 1u);  // from ../equations.inp, included by sub/elements.inp
   EXPECT_EQ(m.equations[0].origin, dir + "sub/../equations.inp:2");
   // Skipped keywords are reported per file, with that file's line numbers.
-  EXPECT_EQ(warnings,
-            (std::vector<std::string>{
-                dir + "sub/../equations.inp: *MATERIAL ignored (the material comes from the case "
-                      "file), line 4",
-                dir + "sub/elements.inp: *MATERIAL ignored (the material comes from the case "
-                      "file), line 5"}));
+  EXPECT_EQ(
+      warnings,
+      (std::vector<std::string>{
+          dir + "sub/../equations.inp: *SURFACE INTERACTION ignored (contacts come from the case "
+                "file), line 4",
+          dir + "sub/elements.inp: *SURFACE INTERACTION ignored (contacts come from the case "
+                "file), line 5"}));
 }
 
 TEST(InpReader, IncludeErrorsNameTheIncludedFileAndLine) {

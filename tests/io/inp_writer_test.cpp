@@ -112,6 +112,39 @@ TEST(InpWriter, RoundTripReproducesTheMeshToThirteenDigitsInTwentyCharacterField
   EXPECT_EQ(r.node_sets, m.node_sets);  // node order is preserved, so indices agree
 }
 
+TEST(InpWriter, SpringsAndPointMassesRoundTrip) {
+  Mesh m;
+  m.add_node(1, {0, 0, 0});
+  m.add_node(2, {1, 0, 0});
+  m.add_node(3, {0, 1, 0});
+  m.add_node(4, {0, 0, 1});
+  m.add_element(1, ElementType::kC3D4, std::vector<int>{0, 1, 2, 3});
+  DiscreteSpring ground{7, 3, -1, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), 1e3, ""};
+  DiscreteSpring pair{8, 0, 1, Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX(), 2e3, ""};
+  const Eigen::Vector3d axis = Eigen::Vector3d(-1, 1, 0).normalized();
+  DiscreteSpring axial{9, 1, 2, axis, axis, 3e3, ""};
+  m.springs = {ground, pair, axial};
+  m.point_masses = {{10, 2, 4.0, ""}, {11, 3, 5.5, ""}};
+  const std::string path = temp_path("springs.inp");
+  write_inp(path, m);
+  const Mesh r = read_inp(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(r.springs.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(r.springs[i].id, m.springs[i].id);
+    EXPECT_EQ(r.springs[i].node_a, m.springs[i].node_a);
+    EXPECT_EQ(r.springs[i].node_b, m.springs[i].node_b);
+    EXPECT_EQ(r.springs[i].stiffness, m.springs[i].stiffness);
+    EXPECT_LT((r.springs[i].direction_a - m.springs[i].direction_a).norm(), 1e-15);
+    if (m.springs[i].node_b >= 0) {
+      EXPECT_LT((r.springs[i].direction_b - m.springs[i].direction_b).norm(), 1e-15);
+    }
+  }
+  ASSERT_EQ(r.point_masses.size(), 2u);
+  EXPECT_EQ(r.point_masses[1].node, 3);
+  EXPECT_EQ(r.point_masses[1].mass, 5.5);
+}
+
 TEST(InpWriter, LinesHoldAtMostSixteenEntries) {
   const Mesh m = mixed_mesh();
   std::ostringstream out;
