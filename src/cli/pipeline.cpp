@@ -1024,6 +1024,12 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   const auto t0 = Clock::now();
   SolvedCase solved;
   check_memory(model, def);
+  if (model.pairs.empty() && def.analysis.method == "continuation") {
+    throw InvalidInput(def.where("analysis.method"),
+                       "a model without contacts is linear: its response is computed at the "
+                       "frequencies of a stepped sweep (method: stepped, with step_hz), there is "
+                       "no nonlinear curve for the continuation to follow");
+  }
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
                                                           model.excitation, model.hbm);
   if (!solved.system->static_summary().converged() &&
