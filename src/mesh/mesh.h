@@ -45,6 +45,18 @@ struct LinearConstraint {
   std::string origin;
 };
 
+// One data line of a deck's *BOUNDARY: the displacements of `nodes` (indices) in directions
+// first..last (0-based) held at zero. A line the program cannot apply as such (a non-zero value,
+// rotational DOFs only, a TYPE= other than DISPLACEMENT) carries the reason in `unsupported`.
+// The mesh only records them: a body applies them when its case file says so
+// (bodies.B.supports: {from_mesh: true}, docs/case-file.md).
+struct MeshBoundary {
+  std::vector<int> nodes;
+  int first = 0, last = 2;
+  std::string unsupported;  // empty: applicable
+  std::string origin;       // "file:line"
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -62,6 +74,8 @@ struct Mesh {
 
   // --- linear constraints between DOFs (*EQUATION), in file order ---
   std::vector<LinearConstraint> equations;
+  // --- zero displacements of the deck (*BOUNDARY), in file order; applied only on request ---
+  std::vector<MeshBoundary> boundaries;
 
   int num_nodes() const { return static_cast<int>(node_ids.size()); }
   int num_elements() const { return static_cast<int>(element_types.size()); }

@@ -102,6 +102,12 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
     }
     sub.mesh.equations.push_back(std::move(kept));
   }
+  // Boundaries (*BOUNDARY): the part's own nodes of each line; lines on other parts only drop.
+  for (const MeshBoundary& b : mesh.boundaries) {
+    MeshBoundary kept = b;
+    kept.nodes = restrict_set(b.nodes, new_node);
+    if (!kept.nodes.empty()) sub.mesh.boundaries.push_back(std::move(kept));
+  }
   return sub;
 }
 
