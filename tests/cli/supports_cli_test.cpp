@@ -10,7 +10,8 @@
 // 3-2-1: a free C3D8 block 40 x 30 x 20 mm held only by supports on three corner nodes (x y z,
 // y z, z), loaded statically by two self-equilibrated pairs of collinear forces and one force P in
 // z: its displacements against CalculiX with the same *BOUNDARY lines (run by the test; skipped
-// when ccx is not installed), its reactions against the rigid-body statics by hand.
+// when ccx is not installed) and against ccx run on the deck stickslip exports, its reactions
+// against the rigid-body statics by hand.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -329,7 +330,7 @@ TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
        << ", harmonic: 0}\n"
        << "analysis:\n  frequency: {start_hz: 10.0, stop_hz: 20.0, step_hz: 10.0}\n"
           "  harmonics: 1\nrecovery: {points: [10.0], fields: [displacement]}\n"
-          "output: {vtu: false, plots: false}\n";
+          "output: {vtu: false, plots: false, calculix_deck: true}\n";
   const fs::path file = write_case(dir, "block", text.str());
   ASSERT_EQ(run("run " + file.string() + " -o " + (dir / "out").string() + " --quiet",
                 dir / "run.log"),
@@ -344,6 +345,34 @@ TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
     const auto got = response(dir / "out", node);
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(got.at({0, k}).real(), u[k], 1e-6 * scale) << "node " << node << " dof " << k;
+    }
+  }
+  // The CalculiX deck stickslip exports (output.calculix_deck: *BOUNDARY per supported DOF), run
+  // by ccx: its static step gives the same displacements.
+  ASSERT_EQ(shell("cd " + (dir / "out").string() + " && OMP_NUM_THREADS=1 " + *ccx +
+                      " -i recovery_p0_block",
+                  dir / "ccx_export.log"),
+            0)
+      << slurp(dir / "ccx_export.log");
+  {
+    std::ifstream dat(dir / "out" / "recovery_p0_block.dat");
+    std::string line;
+    int blocks = 0;
+    std::map<int, std::array<double, 3>> exported;
+    while (std::getline(dat, line) && blocks < 2) {
+      if (line.find("displacements") != std::string::npos) {
+        ++blocks;
+        continue;
+      }
+      std::istringstream in(line);
+      int node = 0;
+      std::array<double, 3> u{};
+      // (the first row of each node: later tables of the .dat have rows of the same shape)
+      if (blocks == 1 && in >> node >> u[0] >> u[1] >> u[2]) exported.emplace(node, u);
+    }
+    for (const auto& [node, u] : reference) {
+      ASSERT_TRUE(exported.count(node)) << node;
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(exported.at(node)[k], u[k], 1e-6 * scale) << node;
     }
   }
   // Reactions: the pairs are self-equilibrated; P on (L/2, W, H) is held by the z supports at
