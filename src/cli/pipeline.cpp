@@ -741,6 +741,23 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
       const SupportDefinition& sd = bd.supports[i];
       const std::string key = fmt::format("bodies.{}.supports[{}]", name, i);
       const SourceLocation where = def.where(key);
+      if (sd.from_mesh) {
+        // The deck's *BOUNDARY lines (all of them, model and step level alike).
+        if (body.mesh.boundaries.empty()) {
+          throw InvalidInput(where, "from_mesh: the mesh of body " + name +
+                                        " has no *BOUNDARY lines (only .inp meshes have them)");
+        }
+        for (const MeshBoundary& b : body.mesh.boundaries) {
+          if (!b.unsupported.empty()) {
+            throw InvalidInput(where, "from_mesh: the *BOUNDARY at " + b.origin +
+                                          " cannot be applied as a support: " + b.unsupported);
+          }
+          std::vector<Eigen::Vector3d> directions;
+          for (int d = b.first; d <= b.last; ++d) directions.push_back(Eigen::Vector3d::Unit(d));
+          for (int n : b.nodes) body.supports.push_back({n, directions, b.origin});
+        }
+        continue;
+      }
       const std::string origin = fmt::format("{}:{}", where.file, where.line);
       std::vector<Eigen::Vector3d> directions;
       const Eigen::Matrix3d R =
@@ -1173,6 +1190,12 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   SolvedCase solved;
   solved.warn_aft_fallback = def.analysis.aft == "event";
   check_memory(model, def);
+  if (model.pairs.empty() && def.analysis.method == "continuation") {
+    throw InvalidInput(def.where("analysis.method"),
+                       "a model without contacts is linear: its response is computed at the "
+                       "frequencies of a stepped sweep (method: stepped, with step_hz), there is "
+                       "no nonlinear curve for the continuation to follow");
+  }
   solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
                                                           model.excitation, model.hbm);
   if (!solved.system->static_summary().converged() &&

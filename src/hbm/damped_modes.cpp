@@ -40,7 +40,7 @@ constexpr double kProbeTolerance = 1e-8;
 
 // S += sign · C Cᵀ over the first `count` columns of C (lower triangle, BLAS dsyrk).
 void gram_add(const Eigen::MatrixXd& C, int count, double sign, Eigen::MatrixXd& S) {
-  if (count == 0) return;
+  if (count == 0 || S.rows() == 0) return;  // S.rows() = 0: no contact rows
   const int n = static_cast<int>(S.rows()), ld = static_cast<int>(C.rows());
   const double beta = 1.0;
   const char uplo = 'L', trans = 'N';

@@ -255,6 +255,9 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
             "FrequencyResponseOptions.history_pairs[" + std::to_string(i) + "]",
             std::to_string(options.history_pairs[i]), "in [0, " + std::to_string(npairs) + ")");
   }
+  require(system.size() > 0 || options.method == ContinuationMethod::kSteppedSweep,
+          "FrequencyResponseOptions.method", "arc-length",
+          "a stepped sweep when the system has no unknowns (no contact pairs: a linear response)");
   ContinuationResult result;
   const bool stuck = options.initial_guess == InitialGuess::kLinearStuck;
   // The outputs of each point are evaluated as soon as it is solved: the last residual evaluation

@@ -44,6 +44,7 @@ constexpr double kDampingDefinitenessTolerance = 1e-10;
 void weighted_gram(const Eigen::MatrixXd& Psi, const Eigen::VectorXd& d, Eigen::MatrixXd& S) {
   const int n = static_cast<int>(Psi.rows());
   S.setZero(n, n);
+  if (n == 0) return;  // no contact rows (BLAS refuses a leading dimension of 0)
   Eigen::MatrixXd scaled;
   for (const double sign : {1.0, -1.0}) {
     int count = 0;
@@ -267,7 +268,6 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
   const int nm = static_cast<int>(model_.Phi.cols());
   nc_ = aft_.basis().coefficient_count();
 
-  require(!pairs_.empty(), "pairs", "[]", "at least one contact pair");
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const ContactPair& c = pairs_[p];
     require(c.element != nullptr, idx("pairs", p) + ".element", "null", "an element");
@@ -1031,7 +1031,10 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(
     if (k == 0 && static_shift_.size() == 0) {
       const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
       const StaticResponseCache& cache = *static_response_cache_;
-      if (cache.force.size() == rows_ && cache.force == contact_force.col(c)) {
+      // (response.size() == ndof: a response is stored; without contact rows every force is
+      // the empty vector)
+      if (cache.response.size() == ndof && cache.force.size() == rows_ &&
+          cache.force == contact_force.col(c)) {
         x.col(c) = cache.response;
         continue;
       }

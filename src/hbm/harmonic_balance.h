@@ -32,6 +32,8 @@
 // ground) through a NonlinearElement of dimension m_p with frame R_p (m_p x k, k = DOFs per node):
 //   u_p = R_p (x_A − x_B);  the element force f_p acts on B as +R_pᵀ f_p, on A as −R_pᵀ f_p.
 // Stacking all pairs, u = B x (nu = Σ m_p rows) and the contact force on the structure is −Bᵀ f.
+// No pairs at all is allowed: a linear structure (nu = 0, size() = 0, R empty; master_response
+// gives the linear forced response). A stepped sweep solves it; arc-length has nothing to follow.
 //
 // Excitation: F(t) = Re Σ_k F_k e^{ikΩt} (complex nodal forces per harmonic; for k = 0 the real
 // part is the static load). Linear response x_lin,k = D_k⁻¹ F_k, u_lin,k = B x_lin,k.

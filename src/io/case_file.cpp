@@ -660,9 +660,16 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = body.full("supports") + "[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]) > 0 ? line_of(list[i]) : body.line("supports"),
-              {"nodes", "directions", "normal", "t1"});
+              {"from_mesh", "nodes", "directions", "normal", "t1"});
     p.record(path, m.line());
     SupportDefinition d;
+    m.boolean("from_mesh", &d.from_mesh);
+    if (d.from_mesh) {
+      for (const char* key : {"nodes", "directions", "normal", "t1"})
+        m.forbid(key, "with from_mesh (the *BOUNDARY lines of the mesh say which DOFs)");
+      out.push_back(std::move(d));
+      continue;
+    }
     m.require("nodes");
     m.require("directions", "x, y, z, or with 'normal' t1, t2, n");
     d.nodes = node_selection(p, m.value("nodes"), m.full("nodes"), m.line("nodes"));
@@ -1887,6 +1894,11 @@ std::string describe_case(const CaseDefinition& c) {
       if (!b.supports.empty()) {
         e << YAML::Key << "supports" << YAML::Value << YAML::BeginSeq;
         for (const SupportDefinition& sd : b.supports) {
+          if (sd.from_mesh) {
+            e << YAML::BeginMap << YAML::Key << "from_mesh" << YAML::Value << true
+              << YAML::EndMap;
+            continue;
+          }
           e << YAML::BeginMap << YAML::Key << "nodes" << YAML::Value;
           selection(sd.nodes);
           e << YAML::Key << "directions" << YAML::Value << YAML::Flow << sd.directions;

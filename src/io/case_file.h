@@ -109,7 +109,9 @@ struct NodeSelection {
 // A support (bodies.B.supports[i]): the displacement of each node along each direction is zero.
 // Directions are global axes x, y, z, or, with a local frame (`normal`, optional `t1` hint, the
 // contact frames' rule: core/frame.h), its rows t1, t2, n.
+// Or, with from_mesh, every *BOUNDARY line of the body's .inp mesh (Mesh::boundaries).
 struct SupportDefinition {
+  bool from_mesh = false;               // the mesh's *BOUNDARY lines (then nothing else)
   NodeSelection nodes;                  // required
   std::vector<std::string> directions;  // required, no name twice: x | y | z, or t1 | t2 | n
   bool local_frame = false;             // `normal` given

@@ -111,6 +111,14 @@ struct DiscreteProperty {
   int line;            // the keyword's line
 };
 
+// One *BOUNDARY data line: a node id or set name, DOFs first..last (0-based, capped at 2).
+struct RawBoundary {
+  std::string target;
+  int first = 0, last = 2;
+  std::string unsupported;
+  int line = 0;
+};
+
 struct SetDefinition {
   bool is_node_set;
   std::string name;
@@ -161,7 +169,8 @@ const char* skip_hint(const std::string& name) {
   if (name == "*PLASTIC" || name == "*EXPANSION" || name == "*CONDUCTIVITY" ||
       name == "*SPECIFIC HEAT" || name == "*HYPERELASTIC" || name == "*CREEP")
     return "linear elastic materials only";
-  if (name == "*BOUNDARY") return "clamps come from the case file";
+  if (name == "*BOUNDARY")
+    return "clamps come from the case file, unless a body's supports say from_mesh: true";
   if (name == "*STEP" || name == "*END STEP" || name == "*STATIC" || name == "*FREQUENCY" ||
       name == "*CLOAD" || name == "*DLOAD" || name == "*STEADY STATE DYNAMICS")
     return "analyses and loads come from the case file";
@@ -421,6 +430,20 @@ class InpParser {
       if (!elset) fail(k.line, k.name + " without ELSET=");
       properties_.push_back({spring, upper(*elset), -1, -1, false, 0.0, k.line});
       mode_ = Mode::kProperty;
+    } else if (k.name == "*BOUNDARY") {
+      skip(k);  // listed in the warning: recorded, applied only on request
+      mode_ = Mode::kBoundary;
+      boundary_type_.clear();
+      for (const auto& [key, value] : k.params) {
+        if (key == "TYPE" && upper(value) != "DISPLACEMENT") {
+          boundary_type_ = "*BOUNDARY, TYPE=" + value + " (only displacements are supports)";
+        } else if (key != "TYPE" && key != "OP" && key != "AMPLITUDE" && key != "FIXED" &&
+                   key != "USER" && key != "LOAD CASE" && key != "SUBMODEL" && key != "STEP") {
+          boundary_type_ = "*BOUNDARY parameter " + key;
+        } else if (key == "USER" || key == "SUBMODEL" || key == "FIXED") {
+          boundary_type_ = "*BOUNDARY, " + key;
+        }
+      }
     } else {
       skip(k);
     }
@@ -632,6 +655,38 @@ class InpParser {
         }
         return;
       }
+      case Mode::kBoundary: {
+        // "node or set, first[, last[, value]]" or "node or set, ENCASTRE|PINNED|XSYMM|...".
+        const auto tokens = data_tokens(t, line);
+        RawBoundary b{tokens[0], 0, 2, boundary_type_, line};
+        if (tokens.size() < 2 || tokens.size() > 4) {
+          fail(line, "*BOUNDARY: expected 'node or set, first DOF[, last DOF[, value]]'");
+        }
+        const std::string what = upper(tokens[1]);
+        if (what == "ENCASTRE" || what == "PINNED") {
+          b.first = 0, b.last = 2;
+        } else if (what == "XSYMM" || what == "YSYMM" || what == "ZSYMM") {
+          b.first = b.last = what[0] - 'X';
+        } else if (!std::isdigit(static_cast<unsigned char>(what[0]))) {
+          b.first = 0, b.last = 2;
+          if (b.unsupported.empty()) b.unsupported = "*BOUNDARY type " + what;
+        } else {
+          const int first = parse_id(tokens[1], line, "degree of freedom");
+          const int last = tokens.size() >= 3 ? parse_id(tokens[2], line, "degree of freedom")
+                                              : first;
+          if (last < first) fail(line, "*BOUNDARY: last DOF " + tokens[2] + " < first " + tokens[1]);
+          if (tokens.size() == 4 && parse_double(tokens[3], line) != 0.0 && b.unsupported.empty()) {
+            b.unsupported = "a prescribed non-zero displacement " + tokens[3];
+          }
+          if (first > 3 && b.unsupported.empty()) {
+            b.unsupported = "rotational DOFs (solid elements have none)";
+          }
+          b.first = std::min(first, 3) - 1;
+          b.last = std::min(last, 3) - 1;
+        }
+        boundaries_.push_back(std::move(b));
+        return;
+      }
       case Mode::kSet: {
         const auto tokens = data_tokens(t, line);
         SetDefinition& set = sets_[current_set_];
@@ -779,6 +834,21 @@ class InpParser {
     }
     resolve_discretes(mesh, node_index, element_index);
     resolve_sections(mesh);
+    for (const RawBoundary& b : boundaries_) {
+      MeshBoundary out{{}, b.first, b.last, b.unsupported, origin(b.line)};
+      const bool numeric = std::isdigit(static_cast<unsigned char>(b.target[0])) != 0;
+      if (numeric) {
+        const int id = parse_id(b.target, b.line, "node id");
+        const auto it = node_index.find(id);
+        if (it == node_index.end()) fail(b.line, "*BOUNDARY: unknown node " + b.target);
+        out.nodes.push_back(it->second);
+      } else {
+        const auto it = mesh.node_sets.find(upper(b.target));
+        if (it == mesh.node_sets.end()) fail(b.line, "*BOUNDARY: unknown node set " + b.target);
+        out.nodes = it->second;
+      }
+      mesh.boundaries.push_back(std::move(out));
+    }
     check_mesh(mesh);
     return mesh;
   }
@@ -931,7 +1001,8 @@ class InpParser {
     kDiscrete,
     kProperty,
     kElastic,
-    kDensity
+    kDensity,
+    kBoundary
   };
   struct Section {
     std::string elset, material;
@@ -964,6 +1035,8 @@ class InpParser {
   std::vector<SetDefinition> sets_;
   std::vector<RawEquation> equations_;
   int equation_terms_left_ = 0;
+  std::vector<RawBoundary> boundaries_;
+  std::string boundary_type_;  // why the current *BOUNDARY block cannot be applied (empty: it can)
 };
 
 }  // namespace

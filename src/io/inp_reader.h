@@ -12,6 +12,11 @@
 //                                        n terms "node id, direction (1-3), coefficient", any
 //                                        number per line: Σ c_k u_k = 0, the first term's DOF
 //                                        dependent (Mesh::equations, origin "file:line")
+//   *BOUNDARY                            lines "node or set, first[, last[, value]]" or "node or
+//                                        set, ENCASTRE|PINNED|XSYMM|YSYMM|ZSYMM", anywhere (also in
+//                                        steps): recorded in Mesh::boundaries (a line that is not a
+//                                        zero displacement carries why), applied only on request;
+//                                        also listed in the skipped-keyword warning
 //   *INCLUDE, INPUT=path                 the file's lines in place (textually: data lines continue
 //                                        the keyword before the *INCLUDE); path relative to the
 //                                        including file's folder; nested; a cycle is an error

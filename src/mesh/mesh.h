@@ -82,6 +82,18 @@ struct MeshMaterial {
   std::string problem;  // why it cannot be used, or ""
 };
 
+// One data line of a deck's *BOUNDARY: the displacements of `nodes` (indices) in directions
+// first..last (0-based) held at zero. A line the program cannot apply as such (a non-zero value,
+// rotational DOFs only, a TYPE= other than DISPLACEMENT) carries the reason in `unsupported`.
+// The mesh only records them: a body applies them when its case file says so
+// (bodies.B.supports: {from_mesh: true}, docs/case-file.md).
+struct MeshBoundary {
+  std::vector<int> nodes;
+  int first = 0, last = 2;
+  std::string unsupported;  // empty: applicable
+  std::string origin;       // "file:line"
+};
+
 struct Mesh {
   // --- nodes ---
   Eigen::Matrix3Xd coordinates;  // 3 x num_nodes, m
@@ -99,6 +111,8 @@ struct Mesh {
 
   // --- linear constraints between DOFs (*EQUATION), in file order ---
   std::vector<LinearConstraint> equations;
+  // --- zero displacements of the deck (*BOUNDARY), in file order; applied only on request ---
+  std::vector<MeshBoundary> boundaries;
 
   // --- materials of the file: element_material is empty (none assigned) or holds, per element,
   //     an index into materials or -1 (no material assigned to that element) ---

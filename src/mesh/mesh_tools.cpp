@@ -126,6 +126,12 @@ SubMesh extract_submesh(const Mesh& mesh, std::span<const int> elements) {
     m.node = new_node[m.node];
     sub.mesh.point_masses.push_back(std::move(m));
   }
+  // Boundaries (*BOUNDARY): the part's own nodes of each line; lines on other parts only drop.
+  for (const MeshBoundary& b : mesh.boundaries) {
+    MeshBoundary kept = b;
+    kept.nodes = restrict_set(b.nodes, new_node);
+    if (!kept.nodes.empty()) sub.mesh.boundaries.push_back(std::move(kept));
+  }
   return sub;
 }
 

@@ -6,13 +6,22 @@
 // the full bar's response (the loads and the bar are symmetric about that plane). The same half,
 // rotated by 30° about x with the plane's support given in a local frame (`normal`, direction n:
 // an equation over the plane nodes' y and z), gives the full bar's response rotated.
+//
+// 3-2-1: a free C3D8 block 40 x 30 x 20 mm held only by supports on three corner nodes (x y z,
+// y z, z), loaded statically by two self-equilibrated pairs of collinear forces and one force P in
+// z: its displacements against CalculiX with the same *BOUNDARY lines (run by the test; skipped
+// when ccx is not installed) and against ccx run on the deck stickslip exports, its reactions
+// against the rigid-body statics by hand.
 #include <gtest/gtest.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <complex>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -221,6 +230,194 @@ TEST(SupportsCli, HalfBarOnItsSymmetryPlaneGivesTheFullBarAlsoInALocalFrame) {
       EXPECT_NEAR(-sn * q[1] + c * q[2], 0.0, z_tolerance);  // along t = R e_z
       EXPECT_NEAR(c * q[1] + sn * q[2], r[1], z_tolerance);  // along n = R e_y: the same force
     }
+  fs::remove_all(dir);
+}
+
+std::optional<std::string> find_ccx() {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const fs::path candidate = fs::path(dir) / "ccx";
+    if (!dir.empty() && fs::exists(candidate)) return candidate.string();
+  }
+  return std::nullopt;
+}
+
+constexpr int kBx = 4, kBy = 3, kBz = 2;
+constexpr double kBlockL = 40.0, kBlockW = 30.0, kBlockH = 20.0;
+int block_node(int i, int j, int k) { return 1 + i + (kBx + 1) * (j + (kBy + 1) * k); }
+
+std::string block_mesh() {
+  std::ostringstream s;
+  s.precision(17);
+  s << "*NODE\n";
+  for (int k = 0; k <= kBz; ++k)
+    for (int j = 0; j <= kBy; ++j)
+      for (int i = 0; i <= kBx; ++i)
+        s << block_node(i, j, k) << "," << kBlockL * i / kBx << "," << kBlockW * j / kBy << ","
+          << kBlockH * k / kBz << "\n";
+  s << "*ELEMENT,TYPE=C3D8,ELSET=EALL\n";
+  int e = 1;
+  for (int k = 0; k < kBz; ++k)
+    for (int j = 0; j < kBy; ++j)
+      for (int i = 0; i < kBx; ++i)
+        s << e++ << "," << block_node(i, j, k) << "," << block_node(i + 1, j, k) << ","
+          << block_node(i + 1, j + 1, k) << "," << block_node(i, j + 1, k) << ","
+          << block_node(i, j, k + 1) << "," << block_node(i + 1, j, k + 1) << ","
+          << block_node(i + 1, j + 1, k + 1) << "," << block_node(i, j + 1, k + 1) << "\n";
+  return s.str();
+}
+
+TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
+  const std::optional<std::string> ccx = find_ccx();
+  if (!ccx) GTEST_SKIP() << "ccx (CalculiX) not installed";
+  const fs::path dir = fresh_dir("supports_321");
+  std::ofstream(dir / "block.inp") << block_mesh();
+  const int n1 = block_node(0, 0, 0), n2 = block_node(kBx, 0, 0), n3 = block_node(0, kBy, 0);
+  const int a = block_node(0, kBy, kBz), b = block_node(kBx, kBy, kBz);  // pair 1 along x
+  const int c = block_node(kBx, 0, kBz), d = block_node(kBx, kBy, 0);    // pair 2 along d -> c
+  const int e = block_node(kBx / 2, kBy, kBz);                            // P along z
+  constexpr double kPair1 = 10.0, kPair2 = 6.0, kP = 3.0;
+  const double dir_y = -kBlockW / std::hypot(kBlockW, kBlockH), dir_z = kBlockH / std::hypot(kBlockW, kBlockH);
+  // ccx: the same mesh, *BOUNDARY on the three nodes, the loads as *CLOAD.
+  {
+    std::ofstream deck(dir / "ccx_block.inp");
+    deck.precision(17);
+    deck << block_mesh() << "*NSET,NSET=LOADED\n" << a << "\n" << b << "\n" << c << "\n" << d
+         << "\n" << e << "\n*BOUNDARY\n" << n1 << ",1,3\n" << n2 << ",2,3\n" << n3 << ",3,3\n"
+         << "*MATERIAL,NAME=STEEL\n*ELASTIC\n210000,0.3\n*DENSITY\n7.85e-9\n"
+         << "*SOLID SECTION,ELSET=EALL,MATERIAL=STEEL\n*STEP\n*STATIC\n*CLOAD\n"
+         << a << ",1," << -kPair1 << "\n" << b << ",1," << kPair1 << "\n"
+         << c << ",2," << kPair2 * dir_y << "\n" << c << ",3," << kPair2 * dir_z << "\n"
+         << d << ",2," << -kPair2 * dir_y << "\n" << d << ",3," << -kPair2 * dir_z << "\n"
+         << e << ",3," << kP << "\n*NODE PRINT,NSET=LOADED\nU\n*END STEP\n";
+  }
+  ASSERT_EQ(shell("cd " + dir.string() + " && OMP_NUM_THREADS=1 " + *ccx + " -i ccx_block",
+                  dir / "ccx.log"),
+            0)
+      << slurp(dir / "ccx.log");
+  std::map<int, std::array<double, 3>> reference;
+  {
+    std::ifstream dat(dir / "ccx_block.dat");
+    std::string line;
+    while (std::getline(dat, line)) {
+      std::istringstream in(line);
+      int node = 0;
+      std::array<double, 3> u{};
+      if (in >> node >> u[0] >> u[1] >> u[2]) reference[node] = u;
+    }
+  }
+  ASSERT_EQ(reference.size(), 5u) << slurp(dir / "ccx_block.dat");
+
+  std::ostringstream text;
+  text.precision(17);
+  text << "stickslip: 1\nmaterials:\n  steel: {youngs_modulus: 210000, poisson_ratio: 0.3, "
+          "density: 7.85e-9}\nmeshes:\n  block: {file: block.inp}\nbodies:\n  block:\n"
+          "    mesh: block\n    material: steel\n    modes: 20000\n    supports:\n"
+       << "      - {nodes: " << n1 << ", directions: [x, y, z]}\n"
+       << "      - {nodes: " << n2 << ", directions: [y, z]}\n"
+       << "      - {nodes: " << n3 << ", directions: z}\nexcitation:\n"
+       << "  - {body: block, node: " << a << ", direction: [-1, 0, 0], amplitude: " << kPair1
+       << ", harmonic: 0}\n"
+       << "  - {body: block, node: " << b << ", direction: [1, 0, 0], amplitude: " << kPair1
+       << ", harmonic: 0}\n"
+       << "  - {body: block, node: " << c << ", direction: [0, " << dir_y << ", " << dir_z
+       << "], amplitude: " << kPair2 << ", harmonic: 0}\n"
+       << "  - {body: block, node: " << d << ", direction: [0, " << -dir_y << ", " << -dir_z
+       << "], amplitude: " << kPair2 << ", harmonic: 0}\n"
+       << "  - {body: block, node: " << e << ", direction: [0, 0, 1], amplitude: " << kP
+       << ", harmonic: 0}\n"
+       << "analysis:\n  frequency: {start_hz: 10.0, stop_hz: 20.0, step_hz: 10.0}\n"
+          "  harmonics: 1\nrecovery: {points: [10.0], fields: [displacement]}\n"
+          "output: {vtu: false, plots: false, calculix_deck: true}\n";
+  const fs::path file = write_case(dir, "block", text.str());
+  ASSERT_EQ(run("run " + file.string() + " -o " + (dir / "out").string() + " --quiet",
+                dir / "run.log"),
+            0)
+      << slurp(dir / "run.log");
+  // ccx prints 7 significant digits (.dat): 5e-7 relative of the largest displacement.
+  double scale = 0;
+  for (const auto& [node, u] : reference)
+    for (double v : u) scale = std::max(scale, std::abs(v));
+  ASSERT_GT(scale, 0.0);
+  for (const auto& [node, u] : reference) {
+    const auto got = response(dir / "out", node);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(got.at({0, k}).real(), u[k], 1e-6 * scale) << "node " << node << " dof " << k;
+    }
+  }
+  // The CalculiX deck stickslip exports (output.calculix_deck: *BOUNDARY per supported DOF), run
+  // by ccx: its static step gives the same displacements.
+  ASSERT_EQ(shell("cd " + (dir / "out").string() + " && OMP_NUM_THREADS=1 " + *ccx +
+                      " -i recovery_p0_block",
+                  dir / "ccx_export.log"),
+            0)
+      << slurp(dir / "ccx_export.log");
+  {
+    std::ifstream dat(dir / "out" / "recovery_p0_block.dat");
+    std::string line;
+    int blocks = 0;
+    std::map<int, std::array<double, 3>> exported;
+    while (std::getline(dat, line) && blocks < 2) {
+      if (line.find("displacements") != std::string::npos) {
+        ++blocks;
+        continue;
+      }
+      std::istringstream in(line);
+      int node = 0;
+      std::array<double, 3> u{};
+      // (the first row of each node: later tables of the .dat have rows of the same shape)
+      if (blocks == 1 && in >> node >> u[0] >> u[1] >> u[2]) exported.emplace(node, u);
+    }
+    for (const auto& [node, u] : reference) {
+      ASSERT_TRUE(exported.count(node)) << node;
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(exported.at(node)[k], u[k], 1e-6 * scale) << node;
+    }
+  }
+  // Reactions: the pairs are self-equilibrated; P on (L/2, W, H) is held by the z supports at
+  // (0, 0, 0), (L, 0, 0), (0, W, 0): Σ F_z = 0, moments about x and y through the origin give
+  // R1 = P/2, R2 = −P/2, R3 = −P; nothing in x and y.
+  const auto r = static_reactions(dir / "out");
+  ASSERT_EQ(r.size(), 3u);
+  const std::map<int, std::array<double, 3>> expected = {
+      {n1, {0, 0, kP / 2}}, {n2, {0, 0, -kP / 2}}, {n3, {0, 0, -kP}}};
+  for (const auto& [node, v] : expected)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(r.at(node)[k], v[k], 1e-9 * kPair1) << "node " << node << " dof " << k;
+
+  // The same supports read from the deck's *BOUNDARY lines (supports: [{from_mesh: true}]),
+  // written three ways (a node set with a DOF range, a node with a range, ZSYMM in a step): the
+  // same response to round-off. A prescribed non-zero value is refused at its line.
+  const auto with_boundary = [&](const std::string& third) {
+    std::ostringstream deck;
+    deck << block_mesh() << "*NSET,NSET=CORNER\n" << n1 << "\n*BOUNDARY\nCORNER, 1, 3\n" << n2
+         << ", 2, 3\n*STEP\n*STATIC\n*BOUNDARY\n" << third << "\n*END STEP\n";
+    return deck.str();
+  };
+  std::ofstream(dir / "block.inp") << with_boundary(std::to_string(n3) + ", ZSYMM");
+  std::string from_mesh = text.str();
+  const size_t at = from_mesh.find("    supports:\n");
+  from_mesh = from_mesh.substr(0, at) + "    supports: [{from_mesh: true}]\nexcitation:" +
+              from_mesh.substr(from_mesh.find("\nexcitation:") + 12);
+  const fs::path deck_file = write_case(dir, "deck", from_mesh);
+  ASSERT_EQ(run("run " + deck_file.string() + " -o " + (dir / "deck_out").string() + " --quiet",
+                dir / "deck.log"),
+            0)
+      << slurp(dir / "deck.log") << from_mesh;
+  for (const auto& [node, u] : reference) {
+    const auto by_case = response(dir / "out", node);
+    const auto by_deck = response(dir / "deck_out", node);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(by_deck.at({0, k}).real(), by_case.at({0, k}).real(), 1e-12 * scale);
+  }
+  std::ofstream(dir / "block.inp") << with_boundary(std::to_string(n3) + ", 3, 3, 0.01");
+  EXPECT_EQ(run("run " + deck_file.string() + " -o " + (dir / "bad_out").string() + " --quiet",
+                dir / "bad.log"),
+            2);
+  const std::string bad = slurp(dir / "bad.log");
+  EXPECT_NE(bad.find("non-zero"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("block.inp:"), std::string::npos) << bad;
   fs::remove_all(dir);
 }
 

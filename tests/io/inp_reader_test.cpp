@@ -183,12 +183,38 @@ TEST(InpReader, RepeatedSkippedKeywordsShareOneWarningListingEveryLine) {
       "*BOUNDARY\n3,1\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n*BOUNDARY\n"
       "*BOUNDARY\n*BOUNDARY\n"));
   std::vector<std::string> warnings;
-  read_inp(in, "deck", &warnings);
+  const Mesh mesh = read_inp(in, "deck", &warnings);
   EXPECT_EQ(warnings,
             (std::vector<std::string>{
-                "deck: *BOUNDARY ignored (clamps come from the case file), lines 8, 10, 14, 16, "
-                "17, 18, 19, 20, 21, 22 and 1 more",
+                "deck: *BOUNDARY ignored (clamps come from the case file, unless a body's "
+                "supports say from_mesh: true), lines 8, 10, 14, 16, 17, 18, 19, 20, 21, 22 and "
+                "1 more",
                 "deck: *FOO ignored (not used by stickslip), line 12"}));
+  // The data lines are recorded (Mesh::boundaries) for bodies that ask for them.
+  ASSERT_EQ(mesh.boundaries.size(), 3u);
+  EXPECT_EQ(mesh.boundaries[0].nodes, std::vector<int>{0});
+  EXPECT_EQ(mesh.boundaries[0].first, 0);
+  EXPECT_EQ(mesh.boundaries[0].last, 2);
+  EXPECT_EQ(mesh.boundaries[2].nodes, std::vector<int>{2});
+  EXPECT_EQ(mesh.boundaries[2].last, 0);
+  EXPECT_EQ(mesh.boundaries[2].origin, "deck:15");
+  for (const MeshBoundary& b : mesh.boundaries) EXPECT_TRUE(b.unsupported.empty());
+}
+
+TEST(InpReader, BoundaryLinesThatAreNotZeroDisplacementsCarryWhy) {
+  std::istringstream in(tet_deck(
+      "*NSET, NSET=TOP\n3, 4\n*BOUNDARY\nTOP, XSYMM\n2, 1, 1, 0.5\n4, 5, 6\n1, XASYMM\n"
+      "*BOUNDARY, TYPE=VELOCITY\n1, 1, 3\n"));
+  const Mesh mesh = read_inp(in, "deck", nullptr);
+  ASSERT_EQ(mesh.boundaries.size(), 5u);
+  EXPECT_TRUE(mesh.boundaries[0].unsupported.empty());
+  EXPECT_EQ(mesh.boundaries[0].nodes.size(), 2u);
+  EXPECT_EQ(mesh.boundaries[0].first, 0);
+  EXPECT_EQ(mesh.boundaries[0].last, 0);
+  EXPECT_NE(mesh.boundaries[1].unsupported.find("non-zero"), std::string::npos);
+  EXPECT_NE(mesh.boundaries[2].unsupported.find("rotational"), std::string::npos);
+  EXPECT_NE(mesh.boundaries[3].unsupported.find("XASYMM"), std::string::npos);
+  EXPECT_NE(mesh.boundaries[4].unsupported.find("VELOCITY"), std::string::npos);
 }
 
 TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
