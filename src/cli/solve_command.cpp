@@ -17,6 +17,7 @@
 #include "cli/pipeline.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
+#include "cli/stale_results.h"
 #include "cli/summary_file.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -128,8 +129,18 @@ std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& m
   return peaks;
 }
 
-void write_solve_results(const StageRun& run, const PreparedModel& model, const SolvedCase& solved,
-                         double seconds_total) {
+std::string describe_removed(const std::vector<std::string>& removed) {
+  if (removed.empty()) return "";
+  std::string list;
+  constexpr size_t kNamed = 5;  // the log names a few; summary.json lists them all
+  for (size_t i = 0; i < removed.size() && i < kNamed; ++i) list += (i ? ", " : "") + removed[i];
+  if (removed.size() > kNamed) list += fmt::format(" and {} more", removed.size() - kNamed);
+  return fmt::format("removed {} file(s) of an earlier run that this one does not write: {}",
+                     removed.size(), list);
+}
+
+std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,
+                                             const SolvedCase& solved, double seconds_total) {
   const fs::path& dir = run.dir;
   const CaseDefinition& def = run.definition;
   create_output_folder(dir);
@@ -233,6 +244,9 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
     });
   }
 
+  // Results of an earlier run in this folder: gone before this run's summary is written.
+  const std::vector<std::string> removed = remove_stale_results(dir, ResultFamily::kEverything);
+
   int converged = 0;
   for (const FrequencyPoint& p : fr.points) converged += p.converged ? 1 : 0;
   Json summary;
@@ -291,6 +305,7 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
   for (const fs::path& f : published_files_under(dir)) files.push_back(f.generic_string());
   files.push_back("summary.json");
   summary["files"] = files;
+  summary["removed_stale"] = removed;
   // This folder's analysis as a case file: one study value (no study), absolute file paths, the
   // output folder used; `stickslip run` on it makes these results again.
   CaseDefinition inputs = with_absolute_paths(def);
@@ -298,6 +313,7 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
   inputs.output.directory = summary["output_directory"].get<std::string>();
   summary["inputs"] = describe_case(inputs);
   write_summary(dir, summary);
+  return removed;
 }
 
 int report_solved(const SolvedCase& solved, const fs::path& dir, const ProgressFn& progress) {
@@ -355,8 +371,9 @@ int run_solve(const StageCommand& command) {
                             /*load_basis_if_present=*/false, &cache);
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     interruption_doing("writing the solve files in " + run.dir.string());
-    write_solve_results(run, model, solved,
-                        std::chrono::duration<double>(Clock::now() - t_run).count());
+    const auto removed = write_solve_results(
+        run, model, solved, std::chrono::duration<double>(Clock::now() - t_run).count());
+    if (!removed.empty()) progress(describe_removed(removed));
     interruption_done("solve files in " + run.dir.string());
     failed_points += report_solved(solved, run.dir, progress);
   }
