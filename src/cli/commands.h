@@ -154,6 +154,10 @@ int solve_exit_code(double seconds, int failed_points, const ProgressFn& progres
 // process has not written). Returns the removed files (also in summary.json's removed_stale).
 std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,
                                              const SolvedCase& solved, double seconds_total);
+// A warning (stderr, also when quiet) per output.frf DOF whose response peak is the first or the
+// last converged point of the sweep (frf_peaks: the true peak may lie outside the window).
+void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
+                              const SolvedCase& solved);
 // The log line about files write_solve_results removed ("" when none).
 std::string describe_removed(const std::vector<std::string>& removed);
 

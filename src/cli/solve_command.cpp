@@ -129,6 +129,20 @@ std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& m
   return peaks;
 }
 
+void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
+                              const SolvedCase& solved) {
+  const SweepWindow& w = solved.window;
+  for (const FrfPeak& peak : frf_peaks(run.definition, model, solved.response)) {
+    if (!peak.at_edge) continue;
+    stderr_warning(fmt::format(
+        "{}the response peak of {} node {} {} is at the edge of the sweep window (point {} at "
+        "{:.6g} Hz; window {:.6g} to {:.6g} Hz): the true peak may lie outside it; widen "
+        "analysis.frequency (summary.json: frf peak_at_window_edge)",
+        run.folder.empty() ? "" : run.folder + ": ", peak.dof.body, peak.dof.node,
+        kGlobalAxes[peak.dof.direction], peak.point, peak.frequency_hz, w.start_hz, w.stop_hz));
+  }
+}
+
 std::string describe_removed(const std::vector<std::string>& removed) {
   if (removed.empty()) return "";
   std::string list;
@@ -374,6 +388,7 @@ int run_solve(const StageCommand& command) {
     const auto removed = write_solve_results(
         run, model, solved, std::chrono::duration<double>(Clock::now() - t_run).count());
     if (!removed.empty()) progress(describe_removed(removed));
+    warn_peak_at_window_edge(run, model, solved);
     interruption_done("solve files in " + run.dir.string());
     failed_points += report_solved(solved, run.dir, progress);
   }
