@@ -161,14 +161,36 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   const FrequencyResponse& fr = solved.response;
   const std::vector<int>& harmonics = fr.harmonics;
 
+  // Friction energy per cycle is >= 0, and exactly 0 for a pair that never slips: what the
+  // cycle integral gives there is round-off (±1e-21 J). Written as 0: a pair without slip, and
+  // values within kEnergyRoundOff of the sweep's largest pair energy (docs/output-files.md).
+  constexpr double kEnergyRoundOff = 1e-12;
+  double largest_energy = 0;
+  for (const FrequencyPoint& p : fr.points) {
+    for (const PairResponse& r : p.pairs)
+      largest_energy = std::max(largest_energy, std::abs(r.cycle.dissipated_energy));
+  }
+  const auto energy = [&](const CycleStatistics& c) {
+    const double e = c.dissipated_energy;
+    return c.slip_fraction == 0 || std::abs(e) <= kEnergyRoundOff * largest_energy ? 0.0 : e;
+  };
+  // With a study, every row carries the studied parameter and its value: the folders' tables
+  // concatenate into one (pandas.concat) without losing which value a row belongs to.
+  const bool study = def.study.active();
+  const std::string study_cells =
+      study ? fmt::format(",{},{}", def.study.parameter, run.value) : std::string();
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative,"
-           "static_mismatch,static_warning\n";
+    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,"
+           "residual_relative,static_mismatch,static_warning"
+        << (study ? ",parameter,value" : "") << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
-      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}\n", i, rad_s_to_hz(p.omega),
-                 p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
-                 p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0);
+      double e = 0;
+      for (const PairResponse& r : p.pairs) e += energy(r.cycle);
+      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}{}\n", i, rad_s_to_hz(p.omega),
+                 p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
+                 p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0,
+                 study_cells);
     }
   });
 
@@ -231,7 +253,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
         fmt::print(out, "{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9e}\n", i,
                    def.contacts[info.contact].name, pair_in_contact[q], info.node_a_id,
                    info.node_b_id, c.stick_fraction, c.slip_fraction, c.separation_fraction,
-                   c.dissipated_energy);
+                   energy(c));
       }
     }
   });
