@@ -163,9 +163,17 @@ SolveOutcome report_solved(const SolvedCase& solved, const std::filesystem::path
 int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress);
 
 // Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
-// and summary.json (docs/output-files.md) atomically into run.dir.
-void write_solve_results(const StageRun& run, const PreparedModel& model, const SolvedCase& solved,
-                         double seconds_total);
+// and summary.json (docs/output-files.md) atomically into run.dir, after removing the result
+// files of an earlier run there (cli/stale_results.h: everything derived from a solve that this
+// process has not written). Returns the removed files (also in summary.json's removed_stale).
+std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,
+                                             const SolvedCase& solved, double seconds_total);
+// A warning (stderr, also when quiet) per output.frf DOF whose response peak is the first or the
+// last converged point of the sweep (frf_peaks: the true peak may lie outside the window).
+void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
+                              const SolvedCase& solved);
+// The log line about files write_solve_results removed ("" when none).
+std::string describe_removed(const std::vector<std::string>& removed);
 
 // Per output.frf DOF of the case, the largest amplitude of its first dynamic harmonic over the
 // converged points (as the FRF plot shows it), m, and where it is; at_edge when that point is the

@@ -50,6 +50,9 @@ int run_export(const ExportCommand& command) {
     for (const int point : points) {
       const FrequencyPoint& p = results.response.points[point];
       const double f_hz = rad_s_to_hz(p.omega);
+      // Each study folder has its own sweep: say which point of it (its own peak) is exported.
+      progress(fmt::format("{}{} {} at {:.6g} Hz", run.folder.empty() ? "" : run.folder + ": ",
+                           command.points == "peak" ? "peak: point" : "point", point, f_hz));
       for (const PreparedBody& body : model.bodies) {
         std::string path;
         if (body.from_mesh) {

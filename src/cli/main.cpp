@@ -18,6 +18,7 @@
 #include "cli/commands.h"
 #include "cli/interruption.h"
 #include "core/errors.h"
+#include "core/printable.h"
 
 #ifndef STICKSLIP_VERSION
 #define STICKSLIP_VERSION "unknown"
@@ -143,7 +144,34 @@ int main(int argc, char** argv) {
   plot_cmd->add_option("dir", plot.dir, "output folder of a solve")->required();
   plot_cmd->add_flag("-q,--quiet", plot.quiet, "print nothing but errors");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);  // --help: usage on stdout, exit 0
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    if (argc > 1 && argv[1][0] != '-' && app.get_subcommands({}).size() > 0) {
+      bool known = false;
+      std::string names;
+      for (const CLI::App* sub : app.get_subcommands({})) {
+        known = known || sub->get_name() == argv[1];
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+      }
+      if (!known) {
+        std::fprintf(stderr, "stickslip: error: unknown subcommand '%s' (one of %s; stickslip "
+                     "--help)\n", printable(argv[1]).c_str(), names.c_str());
+        return 2;
+      }
+    }
+    // A usage error (missing case file, unknown or missing subcommand or option) is bad input:
+    // exit 2 with the one error format of the program (CLI11's own codes 105-109 otherwise).
+    std::fprintf(stderr, "stickslip: error: %s (stickslip --help, docs/command-line.md)\n",
+                 e.what());
+    return 2;
+  }
   try {
     if (*run_cmd) return run_case(run);
     if (*mesh_cmd) return run_mesh(mesh);

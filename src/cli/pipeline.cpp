@@ -864,6 +864,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                         m.size(), bd.modes));
         reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
+        say(fmt::format("reduce {}: {} reduced DOFs in {:.1f} s", name, body.reduced.size(),
+                        body.seconds_reduction));
         cached_fingerprint.clear();  // no stale pair if the copy below throws
         cached.constraints = body.constraints;
         cached.K = body.K;
@@ -876,6 +878,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       say(fmt::format("reduce {} ({} nodes, {} masters, {} modes)", name, body.mesh.num_nodes(),
                       m.size(), bd.modes));
       reduce_mesh_body(def, name, bd, resolved.bodies[b], m, body);
+      say(fmt::format("reduce {}: {} reduced DOFs in {:.1f} s", name, body.reduced.size(),
+                      body.seconds_reduction));
     }
     body.offset = model.num_dofs;
     for (int j = 0; j < body.reduced.size(); ++j) {
@@ -924,9 +928,11 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   }
   say(fmt::format("modes of the reduced model ({} DOFs{})", model.num_dofs,
                   modal_ratio ? ", non-proportional damping" : ""));
+  const auto t_modes = Clock::now();
   model.linear = modal_ratio ? linear_model_from_matrices(model.K, model.M, model.C)
                              : linear_model_from_matrices(model.K, model.M, def.damping.alpha,
                                                           def.damping.beta);
+  say(fmt::format("reduced-model modes: done in {:.1f} s", seconds_since(t_modes)));
 
   // Contact elements on the reduced DOFs.
   for (size_t c = 0; c < def.contacts.size(); ++c) {

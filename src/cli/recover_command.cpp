@@ -15,6 +15,7 @@
 #include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
+#include "cli/stale_results.h"
 #include "core/errors.h"
 #include "hbm/harmonic_balance.h"
 #include "io/case_file.h"
@@ -190,6 +191,8 @@ int run_recover(const RecoverCommand& command) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
       plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
     }
+    const std::vector<std::string> removed = remove_stale_results(run.dir, ResultFamily::kRecovery);
+    if (!removed.empty()) progress(describe_removed(removed));
     progress(fmt::format("recovered {} point(s); results in {}", points.size(), run.dir.string()));
   }
   return plots_exit_code(plots, out_dir);

@@ -1,6 +1,7 @@
 #include "cli/recovery_stage.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -323,6 +324,26 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
   std::vector<RecoveredVtu> vtu_files;
   std::vector<VtmBlock> envelope_blocks;
+  if (def.output.vtu) {
+    // The size of the .vtu files before compression, said before writing more than kLargeOutput:
+    // per node and point 8-byte values of the displacement (3 × 2 × harmonics), the stress
+    // tensors (6 × 2 × harmonics) and the four envelope scalars.
+    constexpr double kLargeOutput = 1e9;  // bytes
+    double bytes = 0;
+    for (const PreparedBody& body : model.bodies) {
+      if (!body.from_mesh) continue;
+      const double per_node =
+          8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
+      bytes += per_node * body.mesh.num_nodes() * static_cast<double>(points.size());
+    }
+    if (bytes > kLargeOutput) {
+      stderr_warning(fmt::format(
+          "the recovery of {} points will write about {:.1f} GB of .vtu files in {} (before "
+          "zlib compression, which typically halves it); recovery.points: peak or a list of "
+          "frequencies writes fewer",
+          points.size(), bytes / 1e9, dir.string()));
+    }
+  }
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const PreparedBody& body = model.bodies[b];
     if (!body.from_mesh) {
@@ -387,7 +408,20 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     }
     any_reactions = any_reactions || !held_nodes.empty();
     RecoverySummary summary;
+    const auto t_body = std::chrono::steady_clock::now();
+    int done = 0, last_decile = 0;
     for (int pi : points) {
+      // A line at every tenth of the points (a long recovery is not silent).
+      const int decile = static_cast<int>(10 * done / static_cast<int>(points.size()));
+      if (points.size() >= 10 && decile > last_decile) {
+        last_decile = decile;
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_body).count();
+        progress(fmt::format("recovery of {}: {}/{} points, {:.1f} s, about {:.0f} s left",
+                             body.name, done, points.size(), elapsed,
+                             elapsed * (points.size() - done) / done));
+      }
+      ++done;
       const FrequencyPoint& p = response.points[pi];
       const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
       const double f_hz = rad_s_to_hz(p.omega);

@@ -49,8 +49,10 @@ int run_case(const StageCommand& command) {
     const PreparedModel model = prepare_model(def, progress, {}, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     interruption_doing("writing the solve files in " + where);
-    write_solve_results(run, model, solved,
-                        std::chrono::duration<double>(Clock::now() - t_run).count());
+    const auto removed = write_solve_results(
+        run, model, solved, std::chrono::duration<double>(Clock::now() - t_run).count());
+    if (!removed.empty()) progress(describe_removed(removed));
+    warn_peak_at_window_edge(run, model, solved);
     interruption_done("solve files in " + where);
     interruption_doing("recovering in " + where);
     const auto t_recovery = Clock::now();

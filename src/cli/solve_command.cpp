@@ -17,6 +17,7 @@
 #include "cli/pipeline.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
+#include "cli/stale_results.h"
 #include "cli/summary_file.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -127,22 +128,68 @@ std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& m
   return peaks;
 }
 
-void write_solve_results(const StageRun& run, const PreparedModel& model, const SolvedCase& solved,
-                         double seconds_total) {
+void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
+                              const SolvedCase& solved) {
+  const SweepWindow& w = solved.window;
+  for (const FrfPeak& peak : frf_peaks(run.definition, model, solved.response)) {
+    if (!peak.at_edge) continue;
+    stderr_warning(fmt::format(
+        "{}the response peak of {} node {} {} is at the edge of the sweep window (point {} at "
+        "{:.6g} Hz; window {:.6g} to {:.6g} Hz): the true peak may lie outside it; widen "
+        "analysis.frequency (summary.json: frf peak_at_window_edge)",
+        run.folder.empty() ? "" : run.folder + ": ", peak.dof.body, peak.dof.node,
+        kGlobalAxes[peak.dof.direction], peak.point, peak.frequency_hz, w.start_hz, w.stop_hz));
+  }
+}
+
+std::string describe_removed(const std::vector<std::string>& removed) {
+  if (removed.empty()) return "";
+  std::string list;
+  constexpr size_t kNamed = 5;  // the log names a few; summary.json lists them all
+  for (size_t i = 0; i < removed.size() && i < kNamed; ++i) list += (i ? ", " : "") + removed[i];
+  if (removed.size() > kNamed) list += fmt::format(" and {} more", removed.size() - kNamed);
+  return fmt::format("removed {} file(s) of an earlier run that this one does not write: {}",
+                     removed.size(), list);
+}
+
+std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,
+                                             const SolvedCase& solved, double seconds_total) {
   const fs::path& dir = run.dir;
   const CaseDefinition& def = run.definition;
   create_output_folder(dir);
   const FrequencyResponse& fr = solved.response;
   const std::vector<int>& harmonics = fr.harmonics;
 
+  // Friction energy per cycle is >= 0, and exactly 0 for a pair that never slips: what the
+  // cycle integral gives there is round-off (±1e-21 J). Written as 0: a pair without slip, and
+  // values within kEnergyRoundOff of the sweep's largest pair energy (docs/output-files.md).
+  constexpr double kEnergyRoundOff = 1e-12;
+  double largest_energy = 0;
+  for (const FrequencyPoint& p : fr.points) {
+    for (const PairResponse& r : p.pairs)
+      largest_energy = std::max(largest_energy, std::abs(r.cycle.dissipated_energy));
+  }
+  const auto energy = [&](const CycleStatistics& c) {
+    const double e = c.dissipated_energy;
+    return c.slip_fraction == 0 || std::abs(e) <= kEnergyRoundOff * largest_energy ? 0.0 : e;
+  };
+  // With a study, every row carries the studied parameter and its value: the folders' tables
+  // concatenate into one (pandas.concat) without losing which value a row belongs to.
+  const bool study = def.study.active();
+  const std::string study_cells =
+      study ? fmt::format(",{},{}", def.study.parameter, run.value) : std::string();
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,residual_relative,"
-           "static_mismatch,static_warning\n";
+    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,"
+           "residual_relative,static_mismatch,static_warning"
+        << (study ? ",parameter,value" : "") << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
-      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}\n", i, rad_s_to_hz(p.omega),
-                 p.converged ? 1 : 0, p.iterations, p.residual_norm, dissipated_energy(p),
-                 p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0);
+      double e = 0;
+      for (const PairResponse& r : p.pairs) e += energy(r.cycle);
+      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}{}\n", i, rad_s_to_hz(p.omega),
+                 p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
+                 p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0,
+                 study_cells);
     }
   });
 
@@ -205,7 +252,7 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
         fmt::print(out, "{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9e}\n", i,
                    def.contacts[info.contact].name, pair_in_contact[q], info.node_a_id,
                    info.node_b_id, c.stick_fraction, c.slip_fraction, c.separation_fraction,
-                   c.dissipated_energy);
+                   energy(c));
       }
     }
   });
@@ -231,6 +278,9 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
       }
     });
   }
+
+  // Results of an earlier run in this folder: gone before this run's summary is written.
+  const std::vector<std::string> removed = remove_stale_results(dir, ResultFamily::kEverything);
 
   int converged = 0;
   for (const FrequencyPoint& p : fr.points) converged += p.converged ? 1 : 0;
@@ -290,6 +340,7 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
   for (const fs::path& f : published_files_under(dir)) files.push_back(f.generic_string());
   files.push_back("summary.json");
   summary["files"] = files;
+  summary["removed_stale"] = removed;
   // This folder's analysis as a case file: one study value (no study), absolute file paths, the
   // output folder used; `stickslip run` on it makes these results again.
   CaseDefinition inputs = with_absolute_paths(def);
@@ -297,6 +348,7 @@ void write_solve_results(const StageRun& run, const PreparedModel& model, const 
   inputs.output.directory = summary["output_directory"].get<std::string>();
   summary["inputs"] = describe_case(inputs);
   write_summary(dir, summary);
+  return removed;
 }
 
 SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
@@ -394,8 +446,10 @@ int run_solve(const StageCommand& command) {
                             /*load_basis_if_present=*/false, &cache);
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     interruption_doing("writing the solve files in " + run.dir.string());
-    write_solve_results(run, model, solved,
-                        std::chrono::duration<double>(Clock::now() - t_run).count());
+    const auto removed = write_solve_results(
+        run, model, solved, std::chrono::duration<double>(Clock::now() - t_run).count());
+    if (!removed.empty()) progress(describe_removed(removed));
+    warn_peak_at_window_edge(run, model, solved);
     interruption_done("solve files in " + run.dir.string());
     outcome += report_solved(solved, run.dir, progress);
   }

@@ -82,6 +82,15 @@ void complete_summary(const fs::path& dir, const SummaryTimings& timings) {
   if (std::find(files.begin(), files.end(), "summary.json") == files.end())
     files.push_back("summary.json");
   summary["files"] = files;
+  if (summary.contains("removed_stale") && summary["removed_stale"].is_array()) {
+    // Files of an earlier run removed by the solve and written again since are not stale.
+    Json removed = Json::array();
+    for (const auto& f : summary["removed_stale"]) {
+      if (std::find(files.begin(), files.end(), f.get<std::string>()) == files.end())
+        removed.push_back(f);
+    }
+    summary["removed_stale"] = removed;
+  }
   write_summary(dir, summary);
 }
 

@@ -22,7 +22,9 @@ using namespace stickslip::cli_test;
 
 const fs::path kExamples = fs::path(STICKSLIP_TEST_DATA_DIR) / ".." / ".." / "examples";
 
-fs::path ex03_case_path(const fs::path& copy) { return copy / "03_imported_hbmat" / "case.yaml"; }
+fs::path ex03_case_path(const fs::path& copy) {
+  return copy / "examples" / "03_imported_hbmat" / "case.yaml";
+}
 
 std::complex<double> value(const std::map<std::string, std::string>& r) {
   return {std::stod(r.at("real")), std::stod(r.at("imag"))};
@@ -79,12 +81,14 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
   // Example 03: the same beams as HBMAT matrices. Copy the example (it writes its matrices next
   // to the case file) and run its script with this build's program.
   const fs::path ex03 = fresh_dir("example_03");
-  fs::copy(kExamples / "03_imported_hbmat", ex03 / "03_imported_hbmat",
+  fs::create_directories(ex03 / "examples");
+  fs::copy(kExamples / "03_imported_hbmat", ex03 / "examples" / "03_imported_hbmat",
            fs::copy_options::recursive);
-  fs::copy(kExamples / "02_two_beam_joint", ex03 / "02_two_beam_joint",
+  fs::copy(kExamples / "02_two_beam_joint", ex03 / "examples" / "02_two_beam_joint",
            fs::copy_options::recursive);
   ASSERT_EQ(
-      shell("STICKSLIP=" + kProgram + " " + (ex03 / "03_imported_hbmat/run.sh").string() + " -q",
+      shell("STICKSLIP=" + kProgram + " " +
+                (ex03 / "examples" / "03_imported_hbmat/run.sh").string() + " -q",
             ex03 / "log.txt"),
       0)
       << slurp(ex03 / "log.txt");
@@ -95,7 +99,9 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
   };
   for (const auto& r : read_csv(out02 / "preload_150" / "master_response.csv"))
     a[key(r)] = value(r);
-  for (const auto& r : read_csv(ex03 / "03_imported_hbmat/results/master_response.csv")) {
+  // The example writes into the repository's out/, never into examples/.
+  EXPECT_FALSE(fs::exists(ex03 / "examples" / "03_imported_hbmat" / "results"));
+  for (const auto& r : read_csv(ex03 / "out" / "03_imported_hbmat" / "master_response.csv")) {
     b[key(r)] = value(r);
   }
   ASSERT_FALSE(b.empty());
@@ -118,7 +124,7 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
                 ex03 / "export.log"),
             0)
       << slurp(ex03 / "export.log");
-  const fs::path results03 = ex03 / "03_imported_hbmat" / "results";
+  const fs::path results03 = ex03 / "out" / "03_imported_hbmat";
   for (int point : {0, 2}) {
     std::map<int, std::array<std::complex<double>, 3>> expected;  // beam1 node -> (x, y, z)
     expected[11][2] += 50.0;
@@ -170,7 +176,7 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
       << slurp(ex03 / "export.log");
   // Bodies given by matrices have no full model: `recover` says so at the case's `bodies` line
   // (it used to report "recovered 1 point(s)" and write an empty file).
-  const fs::path ex03_case = ex03 / "03_imported_hbmat" / "case.yaml";
+  const fs::path ex03_case = ex03_case_path(ex03);
   EXPECT_EQ(run("recover -q " + ex03_case.string() + " --point 0", ex03 / "recover.log"), 2);
   const std::string recover_log = slurp(ex03 / "recover.log");
   EXPECT_NE(recover_log.find(ex03_case.string() + ":10: bodies"), std::string::npos) << recover_log;

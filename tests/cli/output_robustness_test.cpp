@@ -226,7 +226,8 @@ TEST_F(OutputRobustness, SigintToTheGroupWhileGnuplotDrawsStopsWith130AndLeavesO
   const std::string log = slurp(c.log);
   EXPECT_NE(log.find("interrupted by SIGINT while plotting in"), std::string::npos) << log;
   EXPECT_NE(log.find("complete: solve files in"), std::string::npos) << log;
-  EXPECT_EQ(log.find("warning"), std::string::npos) << log;
+  // No warning but the case's own (its narrow window ends at the slipping joint's peak).
+  EXPECT_EQ(count(log, "warning"), count(log, "is at the edge of the sweep window")) << log;
   const size_t left = expect_complete_subset(clean_, out);
   EXPECT_LT(left, files_under(clean_).size());  // it did stop
   for (pid_t k : kids) EXPECT_FALSE(alive_not_zombie(k)) << "gnuplot " << k << " still runs";
