@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -288,6 +289,18 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
   o.harmonics = harmonics;
   o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
   const std::string path = (dir / fmt::format("recovery_p{}_{}.inp", point, body.name)).string();
+  // CalculiX has no B-bar brick: the deck's C3D8 (full integration) is stiffer than our C3D8B,
+  // most of all as ν → ½ where it locks. Said once per body and run, not only inside the deck.
+  static std::set<std::string> warned;
+  const auto bbar = std::count(body.mesh.element_types.begin(), body.mesh.element_types.end(),
+                               ElementType::kC3D8B);
+  if (bbar > 0 && warned.insert(body.name).second) {
+    stderr_warning(fmt::format(
+        "the CalculiX deck {} writes the {} C3D8B (B-bar, ANSYS SOLID185) elements of body {} as "
+        "C3D8: CalculiX has no B-bar element and its full-integration C3D8 is stiffer (it locks "
+        "as the Poisson ratio nears 0.5, here {}), so ccx's results will differ from stickslip's",
+        path, bbar, body.name, body.material.poisson_ratio));
+  }
   if (body.constraints.has_dependents()) {
     // *EQUATION and supports in local frames, as the resolved equations of the body's DofMap.
     Mesh mesh = body.mesh;

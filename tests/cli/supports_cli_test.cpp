@@ -421,5 +421,28 @@ TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
   fs::remove_all(dir);
 }
 
+// A body of C3D8B (B-bar) elements exported for CalculiX: ccx has no B-bar element, so the deck
+// holds C3D8, and the run says so on stderr (once), not only in a comment inside the deck.
+TEST(SupportsCliExport, BbarBodiesExportedToCalculixAreWarnedAbout) {
+  const fs::path dir = fresh_dir("bbar_export");
+  std::string mesh = bar_mesh(Bar{});
+  const std::string c3d8 = "*ELEMENT,TYPE=C3D8,";
+  mesh.replace(mesh.find(c3d8), c3d8.size(), "*ELEMENT,TYPE=C3D8B,");
+  std::ofstream(dir / "bar.inp") << mesh;
+  std::string text = bar_case(Bar{}, "");
+  const std::string out = "output: {vtu: false, plots: false}";
+  text.replace(text.find(out), out.size(), "output: {vtu: false, plots: false, calculix_deck: true}");
+  std::ofstream(dir / "case.yaml") << text;
+  ASSERT_EQ(run("run -q " + (dir / "case.yaml").string() + " -o " + (dir / "out").string(),
+                dir / "log.txt"),
+            0)
+      << slurp(dir / "log.txt");
+  const std::string log = slurp(dir / "log.txt");
+  EXPECT_EQ(count(log, "C3D8B (B-bar"), 1) << log;
+  const std::string deck = slurp(dir / "out" / "recovery_p0_bar.inp");
+  EXPECT_NE(deck.find("*ELEMENT, TYPE=C3D8\n"), std::string::npos) << deck.substr(0, 400);
+  EXPECT_EQ(deck.find("TYPE=C3D8B"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace stickslip::cli_test
