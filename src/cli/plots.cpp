@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <complex>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -270,7 +272,12 @@ void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotL
               series, log);
 }
 
-std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix) {
+namespace {
+
+// One series per output.frf DOF over the converged points: value(X1) of the first dynamic
+// harmonic's complex coefficient, labelled "<prefix><body> node <id> <axis>".
+std::vector<PlotSeries> frf_channels(const SolveResults& results, const std::string& prefix,
+                                     const std::function<double(std::complex<double>)>& value) {
   static const char* kAxes[3] = {"x", "y", "z"};
   std::vector<PlotSeries> out;
   const FrequencyResponse& fr = results.response;
@@ -283,41 +290,29 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
     for (size_t i = 0; i < fr.points.size(); ++i) {
       if (!fr.points[i].converged) continue;
       s.x.push_back(rad_s_to_hz(fr.points[i].omega));
-      s.y.push_back(std::abs(it->second(static_cast<Eigen::Index>(i), h)));
+      s.y.push_back(value(it->second(static_cast<Eigen::Index>(i), h)));
     }
     out.push_back(std::move(s));
   }
   return out;
 }
 
-namespace {
-
-// Phase of the first dynamic harmonic of each output.frf DOF (degrees, x(t) = Re X e^{iΩt}: the
-// phase relative to a force of phase 0), unwrapped along the sweep so that a resonance shows as one
-// continuous drop of 180° rather than a jump at ±180°.
+// Phase in degrees (x(t) = Re X e^{iΩt}: relative to a force of phase 0), unwrapped along the
+// sweep so that a resonance shows as one continuous drop of 180° rather than a jump at ±180°.
 std::vector<PlotSeries> frf_phase_series(const SolveResults& results) {
-  static const char* kAxes[3] = {"x", "y", "z"};
-  std::vector<PlotSeries> out;
-  const FrequencyResponse& fr = results.response;
-  const int h = fr.harmonics.size() > 1 ? 1 : 0;
-  for (const ResponseDofDefinition& r : results.frf) {
-    const auto it = results.master.find(MasterDofKey{r.body, r.node, r.direction});
-    if (it == results.master.end()) continue;
-    PlotSeries s;
-    s.label = fmt::format("{} node {} {}", r.body, r.node, kAxes[r.direction]);
-    for (size_t i = 0; i < fr.points.size(); ++i) {
-      if (!fr.points[i].converged) continue;
-      double deg = std::arg(it->second(static_cast<Eigen::Index>(i), h)) * 180.0 / kPi;
-      if (!s.y.empty()) deg += 360.0 * std::round((s.y.back() - deg) / 360.0);
-      s.x.push_back(rad_s_to_hz(fr.points[i].omega));
-      s.y.push_back(deg);
-    }
-    out.push_back(std::move(s));
+  std::vector<PlotSeries> out =
+      frf_channels(results, "", [](std::complex<double> x) { return std::arg(x) * 180.0 / kPi; });
+  for (PlotSeries& s : out) {
+    for (size_t i = 1; i < s.y.size(); ++i) s.y[i] += 360.0 * std::round((s.y[i - 1] - s.y[i]) / 360.0);
   }
   return out;
 }
 
 }  // namespace
+
+std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix) {
+  return frf_channels(results, prefix, [](std::complex<double> x) { return std::abs(x); });
+}
 
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
                         const std::vector<PlotSeries>& frf, PlotLog* log) {
