@@ -84,6 +84,44 @@ analysis:
   return s.str();
 }
 
+// The coarse two-beam joint of the quick CLI tests (C3D8, box 4 x 2 x 2, end block 2 x 2 x 1, 4
+// modes per beam, friction mu 0.3 with `preload` N per pair, +-50 N along y at FORCE1/FORCE2,
+// alpha = 5), from the first line to the analysis: a window of +-half_width_hz around stuck mode
+// 4 in steps of step_hz, harmonics 1, 32 samples. `title`: a YAML value, or empty for none. The
+// caller appends the rest (study, recovery, output).
+inline std::string coarse_joint_head(double half_width_hz, double step_hz,
+                                     const std::string& preload = "50",
+                                     const std::string& title = "") {
+  std::ostringstream s;
+  s << "stickslip: 1\n";
+  if (!title.empty()) s << "title: " << title << "\n";
+  s << R"(materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  joint: {generate: two_beam, arrangement: butt, element: C3D8, box: [4, 2, 2], end_block: [2, 2, 1]}
+bodies:
+  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, masters: [FORCE1], modes: 4}
+  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 4}
+contacts:
+  - name: joint
+    law: friction
+    between: {beam1: CONTACT1, beam2: CONTACT2}
+    normal: [1, 0, 0]
+    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.3, preload: )"
+    << preload << R"(}
+excitation:
+  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}
+  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}
+damping: {alpha: 5.0, beta: 0.0}
+analysis:
+  frequency: {around_mode: 4, half_width_hz: )"
+    << half_width_hz << ", step_hz: " << step_hz << R"(}
+  harmonics: 1
+  time_samples: 32
+)";
+  return s.str();
+}
+
 // Rows of a CSV file (no quoting) as maps column -> text.
 inline std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
   const auto split = [](const std::string& s) {

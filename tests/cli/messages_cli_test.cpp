@@ -40,35 +40,7 @@ TEST(MessagesCli, UsageErrorsExitTwoWithTheProgramsErrorFormat) {
 
 // The two-beam joint, a window [around mode 4 - w, + w] in 1 Hz steps, `preload` N per pair.
 std::string joint(double half_width_hz, double preload, const std::string& recovery) {
-  return "stickslip: 1\n"
-         "materials:\n"
-         "  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}\n"
-         "meshes:\n"
-         "  joint: {generate: two_beam, arrangement: butt, element: C3D8, box: [4, 2, 2], "
-         "end_block: [2, 2, 1]}\n"
-         "bodies:\n"
-         "  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1, "
-         "masters: [FORCE1], modes: 4}\n"
-         "  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, "
-         "masters: [FORCE2], modes: 4}\n"
-         "contacts:\n"
-         "  - name: joint\n"
-         "    law: friction\n"
-         "    between: {beam1: CONTACT1, beam2: CONTACT2}\n"
-         "    normal: [1, 0, 0]\n"
-         "    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.3, preload: " +
-         std::to_string(preload) +
-         "}\n"
-         "excitation:\n"
-         "  - {body: beam1, node_set: FORCE1, direction: y, amplitude: 50}\n"
-         "  - {body: beam2, node_set: FORCE2, direction: -y, amplitude: 50}\n"
-         "damping: {alpha: 5.0, beta: 0.0}\n"
-         "analysis:\n"
-         "  frequency: {around_mode: 4, half_width_hz: " +
-         std::to_string(half_width_hz) +
-         ", step_hz: 1}\n"
-         "  harmonics: 1\n"
-         "  time_samples: 32\n"
+  return coarse_joint_head(half_width_hz, 1, std::to_string(preload)) +
          "recovery: {points: " +
          recovery +
          "}\n"
