@@ -1023,6 +1023,31 @@ void parse_contacts(Parser& p, const MapView& top) {
   }
 }
 
+// `node` (an id or a list of ids, > 0) or `node_set` (a name or a list of names), exactly one,
+// into *out; returns which key was given.
+std::string parse_node_or_node_set(Parser& p, MapView& m, NodeSelection* out) {
+  m.exclusive("node_set", "node");
+  if (!m.has("node")) m.require("node_set", "or 'node'");
+  if (m.has("node")) {
+    const YAML::Node& v = m.value("node");
+    if (v.IsSequence()) {
+      p.check(v.size() > 0, m.full("node"), m.line("node"), "expected at least one node id");
+      for (const YAML::Node& id : v) out->ids.push_back(p.integer(id, m.full("node"), m.line("node")));
+    } else {
+      out->ids.push_back(p.integer(v, m.full("node"), m.line("node")));
+    }
+    for (int id : out->ids) p.check(id > 0, m.full("node"), m.line("node"), "node ids are positive");
+    return "node";
+  }
+  const YAML::Node& v = m.value("node_set");
+  if (v.IsSequence()) {
+    for (const YAML::Node& s : v) out->sets.push_back(p.text(s, m.full("node_set"), m.line("node_set")));
+  } else {
+    out->sets.push_back(p.text(v, m.full("node_set"), m.line("node_set")));
+  }
+  return "node_set";
+}
+
 void parse_excitation(Parser& p, const MapView& top) {
   if (!top.has("excitation")) return;
   const YAML::Node& list = top.value("excitation");
@@ -1037,28 +1062,8 @@ void parse_excitation(Parser& p, const MapView& top) {
     m.require("body");
     m.text("body", &d.body);
     check_body(p, d.body, m.full("body"), m.line("body"), false);
-    m.exclusive("node_set", "node");
-    if (!m.has("node")) m.require("node_set", "or 'node'");
-    const std::string where = m.has("node") ? "node" : "node_set";
-    if (where == "node") {
-      const YAML::Node& v = m.value("node");
-      if (v.IsSequence()) {
-        p.check(v.size() > 0, m.full("node"), m.line("node"), "expected at least one node id");
-        for (const YAML::Node& id : v)
-          d.nodes.ids.push_back(p.integer(id, m.full("node"), m.line("node")));
-      } else {
-        d.nodes.ids.push_back(p.integer(v, m.full("node"), m.line("node")));
-      }
-      for (int id : d.nodes.ids)
-        p.check(id > 0, m.full("node"), m.line("node"), "node ids are positive");
-    } else {
-      const YAML::Node& v = m.value("node_set");
-      if (v.IsSequence()) {
-        for (const YAML::Node& s : v)
-          d.nodes.sets.push_back(p.text(s, m.full("node_set"), m.line("node_set")));
-      } else {
-        d.nodes.sets.push_back(p.text(v, m.full("node_set"), m.line("node_set")));
-      }
+    const std::string where = parse_node_or_node_set(p, m, &d.nodes);
+    if (where == "node_set") {
       check_selection_on_body(p, d.body, d.nodes, m.full("node_set"), m.line("node_set"));
     }
     m.integer("harmonic", &d.harmonic, 0);
@@ -1126,28 +1131,7 @@ void parse_static_loads(Parser& p, const MapView& top) {
             "body '" + d.body +
                 "' is given by reduced matrices: static loads act on bodies given by a mesh "
                 "(their full model is recovered with them)");
-    m.exclusive("node_set", "node");
-    if (!m.has("node")) m.require("node_set", "or 'node'");
-    if (m.has("node")) {
-      const YAML::Node& v = m.value("node");
-      if (v.IsSequence()) {
-        p.check(v.size() > 0, m.full("node"), m.line("node"), "expected at least one node id");
-        for (const YAML::Node& id : v)
-          d.nodes.ids.push_back(p.integer(id, m.full("node"), m.line("node")));
-      } else {
-        d.nodes.ids.push_back(p.integer(v, m.full("node"), m.line("node")));
-      }
-      for (int id : d.nodes.ids)
-        p.check(id > 0, m.full("node"), m.line("node"), "node ids are positive");
-    } else {
-      const YAML::Node& v = m.value("node_set");
-      if (v.IsSequence()) {
-        for (const YAML::Node& s : v)
-          d.nodes.sets.push_back(p.text(s, m.full("node_set"), m.line("node_set")));
-      } else {
-        d.nodes.sets.push_back(p.text(v, m.full("node_set"), m.line("node_set")));
-      }
-    }
+    parse_node_or_node_set(p, m, &d.nodes);
     const int kinds = int{m.has("force")} + int{m.has("total_force")} + int{m.has("pressure")};
     p.check(kinds == 1, path, m.line(),
             kinds == 0 ? "expected one of 'force: [fx, fy, fz]' (N on each node), "
