@@ -1827,6 +1827,15 @@ std::string describe_case(const CaseDefinition& c) {
     for (int x : s.ids) e << x;
     e << YAML::EndSeq;
   };
+  // `node: [ids]` or `node_set: [names]`, as the parser of excitation and static_loads takes it.
+  auto node_or_node_set = [&](const NodeSelection& s) {
+    e << YAML::Key << (s.sets.empty() ? "node" : "node_set") << YAML::Value;
+    if (s.sets.empty()) {
+      vec(s.ids);
+    } else {
+      vec(s.sets);
+    }
+  };
   e << YAML::BeginMap;
   e << YAML::Key << "stickslip" << YAML::Value << c.version;
   e << YAML::Key << "title" << YAML::Value << c.title;
@@ -1970,13 +1979,7 @@ std::string describe_case(const CaseDefinition& c) {
   for (const ExcitationDefinition& x : c.excitation) {
     e << YAML::Flow << YAML::BeginMap;
     e << YAML::Key << "body" << YAML::Value << x.body;
-    if (x.nodes.sets.empty()) {
-      e << YAML::Key << "node" << YAML::Value;
-      vec(x.nodes.ids);
-    } else {
-      e << YAML::Key << "node_set" << YAML::Value;
-      vec(x.nodes.sets);
-    }
+    node_or_node_set(x.nodes);
     e << YAML::Key << "harmonic" << YAML::Value << x.harmonic;
     if (x.by_direction) {  // as given, so that a study of its amplitude still applies
       e << YAML::Key << "direction" << YAML::Value;
@@ -1996,13 +1999,7 @@ std::string describe_case(const CaseDefinition& c) {
     for (const StaticLoadDefinition& l : c.static_loads) {
       e << YAML::Flow << YAML::BeginMap;
       e << YAML::Key << "body" << YAML::Value << l.body;
-      if (l.nodes.sets.empty()) {
-        e << YAML::Key << "node" << YAML::Value;
-        vec(l.nodes.ids);
-      } else {
-        e << YAML::Key << "node_set" << YAML::Value;
-        vec(l.nodes.sets);
-      }
+      node_or_node_set(l.nodes);
       if (l.kind == StaticLoadDefinition::Kind::kPressure) {
         e << YAML::Key << "pressure" << YAML::Value << num(l.pressure);
       } else {

@@ -19,19 +19,8 @@ namespace stickslip {
 namespace {
 
 using text::trim;
+using text::split_commas;
 using text::upper;
-
-std::vector<std::string> split_commas(const std::string& s) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = s.find(',', start);
-    out.push_back(trim(std::string_view(s).substr(start, comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
 
 // Why a command the reader does not use does not matter here (the warning's reason).
 const char* ignore_reason(const std::string& key) {

@@ -23,6 +23,7 @@ namespace {
 using text::lower;
 using text::rtrim;
 using text::split_whitespace;
+using text::split_commas;
 using text::trim;
 using text::upper;
 
@@ -38,18 +39,6 @@ std::string normalize_name(const std::string& s) {
     if (blank && !out.empty()) out += ' ';
     blank = false;
     out += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  }
-  return out;
-}
-
-std::vector<std::string> split_commas(const std::string& s) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = s.find(',', start);
-    out.push_back(trim(std::string_view(s).substr(start, comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return out;
 }

@@ -14,5 +14,7 @@ std::string upper(std::string s);
 std::string lower(std::string s);
 // The white-space separated words of s (none for a blank line).
 std::vector<std::string> split_whitespace(std::string_view s);
+// The comma-separated fields of s, each trimmed ("a, ,b" -> "a", "", "b"; "" -> one empty field).
+std::vector<std::string> split_commas(std::string_view s);
 
 }  // namespace stickslip::text

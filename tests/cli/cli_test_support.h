@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "../ccx_dat.h"
+
 namespace stickslip::cli_test {
 
 namespace fs = std::filesystem;
@@ -148,6 +150,82 @@ inline std::vector<std::map<std::string, std::string>> read_csv(const fs::path& 
 // Same arithmetic in the same order gives the same bits; this only allows for a library that
 // would reorder a sum. Relative to the largest magnitude of the column, so that round-off noise
 // in a column of tiny values (forces of separated pairs) is measured against the column's scale.
+// Node id of grid point (i, j, k) of an nx x ny x nz grid of hexahedra (i fastest, ids from 1).
+inline int grid_node(int nx, int ny, int i, int j, int k) {
+  return 1 + i + (nx + 1) * (j + (ny + 1) * k);
+}
+
+// *NODE and *ELEMENT (C3D8, ELSET=EALL, ids from 1) of that grid over [0, lx] x [0, ly] x [0, lz].
+inline std::string hex_grid_inp(int nx, int ny, int nz, double lx, double ly, double lz) {
+  const auto node = [&](int i, int j, int k) { return grid_node(nx, ny, i, j, k); };
+  std::ostringstream s;
+  s.precision(17);
+  s << "*NODE\n";
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i)
+        s << node(i, j, k) << "," << lx * i / nx << "," << ly * j / ny << "," << lz * k / nz << "\n";
+  s << "*ELEMENT,TYPE=C3D8,ELSET=EALL\n";
+  int e = 1;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        s << e++ << "," << node(i, j, k) << "," << node(i + 1, j, k) << "," << node(i + 1, j + 1, k)
+          << "," << node(i, j + 1, k) << "," << node(i, j, k + 1) << "," << node(i + 1, j, k + 1)
+          << "," << node(i + 1, j + 1, k + 1) << "," << node(i, j + 1, k + 1) << "\n";
+  return s.str();
+}
+
+// ccx run on dir/job.inp (a *FREQUENCY deck): the eigenvalues ω² of its .dat, empty when ccx
+// fails (its log in dir/ccx.log).
+inline std::vector<double> ccx_job_eigenvalues(const fs::path& dir) {
+  if (shell("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i job", dir / "ccx.log") != 0)
+    return {};
+  return ccx_dat::eigenvalues(slurp(dir / "job.dat"));
+}
+
+// The modes of a steel bar meshed in `mesh_file` (clamped set FIX, master set TIP, every
+// fixed-interface mode kept), through `stickslip modes`: the case needs a contact, so a spring of
+// 1e-3 N/m holds TIP along z, which moves eigenvalues of ≥ 1e4 rad²/s² (1 kg) by < 1e-9.
+inline std::string tip_spring_bar_case(const std::string& mesh_file) {
+  return R"(stickslip: 1
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  bar: {file: )" + mesh_file + R"(}
+bodies:
+  bar: {mesh: bar, material: steel, clamp: FIX, masters: [TIP], modes: 1000}
+contacts:
+  - name: tiny
+    law: linear
+    between: {bar: TIP}
+    direction: [0, 0, 1]
+    per_pair: {k: 1.0e-3}
+excitation:
+  - {body: bar, node_set: TIP, direction: z, amplitude: 1}
+damping: {alpha: 5.0, beta: 0.0}
+analysis:
+  frequency: {around_mode: 1, half_width_hz: 1, step_hz: 1}
+  harmonics: 1
+recovery: {points: none}
+output: {plots: false, vtu: false}
+)";
+}
+
+// The first n rows of frequencies.csv against √λ_j / 2π, each within `tolerance` relative
+// (EXPECT); returns the largest relative difference.
+inline double expect_frequencies_match(const std::vector<std::map<std::string, std::string>>& rows,
+                                       const std::vector<double>& lambda, int n, double tolerance) {
+  double worst = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double ours = std::stod(rows[j].at("frequency_hz"));
+    const double theirs = std::sqrt(lambda[j]) / (2 * M_PI);
+    worst = std::max(worst, std::abs(ours / theirs - 1.0));
+    EXPECT_NEAR(ours / theirs, 1.0, tolerance) << "mode " << j + 1;
+  }
+  return worst;
+}
+
 inline constexpr double kSameResultTolerance = 1e-12;
 
 // Writes `text` to DIR/NAME.yaml; returns that path.

@@ -23,27 +23,13 @@ namespace {
 
 constexpr int kNx = 16, kNy = 4, kNz = 4;
 constexpr double kL = 160.0, kB = 20.0, kH = 20.0;
-int bar_node(int i, int j, int k) { return 1 + i + (kNx + 1) * (j + (kNy + 1) * k); }
+int bar_node(int i, int j, int k) { return grid_node(kNx, kNy, i, j, k); }
 constexpr int kTipNode = 1 + kNx + (kNx + 1) * (kNy + (kNy + 1) * kNz);  // (L, B, H): id 425
 
 std::string bar_mesh() {
   std::ostringstream s;
   s.precision(17);
-  s << "*NODE\n";
-  for (int k = 0; k <= kNz; ++k)
-    for (int j = 0; j <= kNy; ++j)
-      for (int i = 0; i <= kNx; ++i)
-        s << bar_node(i, j, k) << "," << kL * i / kNx << "," << kB * j / kNy << "," << kH * k / kNz
-          << "\n";
-  s << "*ELEMENT,TYPE=C3D8,ELSET=EALL\n";
-  int e = 1;
-  for (int k = 0; k < kNz; ++k)
-    for (int j = 0; j < kNy; ++j)
-      for (int i = 0; i < kNx; ++i)
-        s << e++ << "," << bar_node(i, j, k) << "," << bar_node(i + 1, j, k) << ","
-          << bar_node(i + 1, j + 1, k) << "," << bar_node(i, j + 1, k) << ","
-          << bar_node(i, j, k + 1) << "," << bar_node(i + 1, j, k + 1) << ","
-          << bar_node(i + 1, j + 1, k + 1) << "," << bar_node(i, j + 1, k + 1) << "\n";
+  s << hex_grid_inp(kNx, kNy, kNz, kL, kB, kH);
   for (const auto& [name, i] : {std::pair<std::string, int>{"BASE", 0}, {"TIP", kNx}}) {
     s << "*NSET,NSET=" << name << "\n";
     for (int k = 0; k <= kNz; ++k)

@@ -114,22 +114,9 @@ output:
 
 std::string bar_mesh() {
   constexpr int nx = 6, ny = 2, nz = 2;
-  const auto node = [](int i, int j, int k) { return 1 + i + (nx + 1) * (j + (ny + 1) * k); };
+  const auto node = [](int i, int j, int k) { return grid_node(nx, ny, i, j, k); };
   std::ostringstream s;
-  s << "*NODE\n";
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i)
-        s << node(i, j, k) << "," << 10.0 * i << "," << 5.0 * j << "," << 5.0 * k << "\n";
-  s << "*ELEMENT,TYPE=C3D8,ELSET=EALL\n";
-  int e = 1;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        s << e++ << "," << node(i, j, k) << "," << node(i + 1, j, k) << ","
-          << node(i + 1, j + 1, k) << "," << node(i, j + 1, k) << "," << node(i, j, k + 1) << ","
-          << node(i + 1, j, k + 1) << "," << node(i + 1, j + 1, k + 1) << ","
-          << node(i, j + 1, k + 1) << "\n";
+  s << hex_grid_inp(nx, ny, nz, 10.0 * nx, 5.0 * ny, 5.0 * nz);
   s << "*NSET,NSET=BASE\n";
   for (int k = 0; k <= nz; ++k)
     for (int j = 0; j <= ny; ++j) s << node(0, j, k) << "\n";

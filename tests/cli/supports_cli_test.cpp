@@ -246,28 +246,9 @@ std::optional<std::string> find_ccx() {
 
 constexpr int kBx = 4, kBy = 3, kBz = 2;
 constexpr double kBlockL = 40.0, kBlockW = 30.0, kBlockH = 20.0;
-int block_node(int i, int j, int k) { return 1 + i + (kBx + 1) * (j + (kBy + 1) * k); }
+int block_node(int i, int j, int k) { return grid_node(kBx, kBy, i, j, k); }
 
-std::string block_mesh() {
-  std::ostringstream s;
-  s.precision(17);
-  s << "*NODE\n";
-  for (int k = 0; k <= kBz; ++k)
-    for (int j = 0; j <= kBy; ++j)
-      for (int i = 0; i <= kBx; ++i)
-        s << block_node(i, j, k) << "," << kBlockL * i / kBx << "," << kBlockW * j / kBy << ","
-          << kBlockH * k / kBz << "\n";
-  s << "*ELEMENT,TYPE=C3D8,ELSET=EALL\n";
-  int e = 1;
-  for (int k = 0; k < kBz; ++k)
-    for (int j = 0; j < kBy; ++j)
-      for (int i = 0; i < kBx; ++i)
-        s << e++ << "," << block_node(i, j, k) << "," << block_node(i + 1, j, k) << ","
-          << block_node(i + 1, j + 1, k) << "," << block_node(i, j + 1, k) << ","
-          << block_node(i, j, k + 1) << "," << block_node(i + 1, j, k + 1) << ","
-          << block_node(i + 1, j + 1, k + 1) << "," << block_node(i, j + 1, k + 1) << "\n";
-  return s.str();
-}
+std::string block_mesh() { return hex_grid_inp(kBx, kBy, kBz, kBlockL, kBlockW, kBlockH); }
 
 TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
   const std::optional<std::string> ccx = find_ccx();
