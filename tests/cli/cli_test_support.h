@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -174,6 +175,18 @@ inline std::string hex_grid_inp(int nx, int ny, int nz, double lx, double ly, do
           << "," << node(i, j + 1, k) << "," << node(i, j, k + 1) << "," << node(i + 1, j, k + 1)
           << "," << node(i + 1, j + 1, k + 1) << "," << node(i, j + 1, k + 1) << "\n";
   return s.str();
+}
+
+// The path of CalculiX's ccx on PATH, if there is one.
+inline std::optional<std::string> find_ccx() {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path ? path : "");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    const fs::path candidate = fs::path(dir) / "ccx";
+    if (!dir.empty() && fs::exists(candidate)) return candidate.string();
+  }
+  return std::nullopt;
 }
 
 // ccx run on dir/job.inp (a *FREQUENCY deck): the eigenvalues ω² of its .dat, empty when ccx

@@ -38,17 +38,6 @@ std::string bar_mesh() {
   return s.str();
 }
 
-std::optional<std::string> find_ccx() {
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    const fs::path candidate = fs::path(dir) / "ccx";
-    if (!dir.empty() && fs::exists(candidate)) return candidate.string();
-  }
-  return std::nullopt;
-}
-
 struct CalculixBar {
   double tip_uy = 0.0;             // static y displacement of the tip node, mm
   std::vector<double> frequencies;  // Hz, ascending

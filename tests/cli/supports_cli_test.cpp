@@ -233,17 +233,6 @@ TEST(SupportsCli, HalfBarOnItsSymmetryPlaneGivesTheFullBarAlsoInALocalFrame) {
   fs::remove_all(dir);
 }
 
-std::optional<std::string> find_ccx() {
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    const fs::path candidate = fs::path(dir) / "ccx";
-    if (!dir.empty() && fs::exists(candidate)) return candidate.string();
-  }
-  return std::nullopt;
-}
-
 constexpr int kBx = 4, kBy = 3, kBz = 2;
 constexpr double kBlockL = 40.0, kBlockW = 30.0, kBlockH = 20.0;
 int block_node(int i, int j, int k) { return grid_node(kBx, kBy, i, j, k); }
