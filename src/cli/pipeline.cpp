@@ -15,8 +15,8 @@
 
 #include "cli/progress.h"
 #include "cli/results_files.h"
-#include "contact/friction_contact.h"
-#include "contact/springs.h"
+#include "contact/contact_law.h"
+#include "contact/linear_springs.h"
 #include "core/errors.h"
 #include "core/frame.h"
 #include "core/types.h"
@@ -298,63 +298,27 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   return rc;
 }
 
-// Parameters of a pair that carries `share` of the contact's totals (per_pair: as given; mu and
-// gap are never split).
+// Parameters of a pair that carries `share` of the contact's totals (per_pair: as given; the
+// law's keys that are not `split`, mu, and the gap are never split).
 ContactParametersDefinition pair_parameters(const ContactDefinition& cd, double share) {
   ContactParametersDefinition p = cd.parameters;
   if (cd.parameters_given == ContactDefinition::Parameters::kTotal) {
-    p.kt *= share;
-    p.kn *= share;
-    p.preload *= share;
-    p.k *= share;
-    p.k1 *= share;
-    p.k3 *= share;
+    for (const LawParameter& key : contact_law(cd.law, cd.uses_frame).parameters) {
+      if (key.split) *p.field(key.key) *= share;
+    }
   }
   return p;
 }
 
-// Law linear in 3D: independent linear springs on the local rows, f_d = k_d u_d (N/m), e.g.
-// (kt, kt, kn) on (t1, t2, n). Elastic: no memory, no dissipation; exact derivative
-// ∂f_d(t_j)/∂p = k_d ∂u_d(t_j)/∂p (row j·m + d of the NonlinearElement layout).
-class DiagonalLinearSprings final : public NonlinearElement {
- public:
-  explicit DiagonalLinearSprings(Eigen::VectorXd k) : k_(std::move(k)) {}
-  int dimension() const override { return static_cast<int>(k_.size()); }
-  std::string name() const override { return "linear_springs"; }
-  CycleStatistics march(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp, Eigen::MatrixXd& f,
-                        Eigen::MatrixXd* df_dp) const override {
-    const Eigen::Index m = k_.size(), n = u.cols();
-    if (u.rows() != m || (du_dp == nullptr) != (df_dp == nullptr) ||
-        (du_dp && du_dp->rows() != m * n)) {
-      throw InvalidInput("linear_springs: u must have " + std::to_string(m) +
-                         " rows and du_dp (m·N rows) and df_dp must be given together");
-    }
-    f = k_.asDiagonal() * u;
-    if (df_dp) {
-      df_dp->resize(du_dp->rows(), du_dp->cols());
-      for (Eigen::Index j = 0; j < n; ++j) {
-        for (Eigen::Index d = 0; d < m; ++d) df_dp->row(j * m + d) = k_(d) * du_dp->row(j * m + d);
-      }
-    }
-    CycleStatistics stats;
-    stats.stick_fraction = 1.0;
-    stats.periods = 1;
-    return stats;
-  }
-
- private:
-  Eigen::VectorXd k_;
-};
-
-// Stiffness of a pair's local rows when stuck: friction and 3D linear (kt, kt, kn), jenkins kt,
-// gap kn, cubic k1 (the tangent at rest), 1D linear k.
-Eigen::VectorXd stuck_stiffness(const ContactDefinition& cd, const ContactParametersDefinition& p) {
-  if (cd.law == "friction" || (cd.law == "linear" && cd.spring_3d))
-    return Eigen::Vector3d(p.kt, p.kt, p.kn);
-  if (cd.law == "jenkins") return Eigen::VectorXd::Constant(1, p.kt);
-  if (cd.law == "gap") return Eigen::VectorXd::Constant(1, p.kn);
-  if (cd.law == "cubic") return Eigen::VectorXd::Constant(1, p.k1);
-  return Eigen::VectorXd::Constant(1, p.k);  // linear
+// The values the law's functions receive (contact/contact_law.h): its keys, `preload` the pair's
+// N0, `gap` the contact's g0.
+LawValues law_values(const ContactLaw& law, const ContactParametersDefinition& p, double preload,
+                     double gap) {
+  LawValues values;
+  for (const std::string& key : law.parameter_keys()) values[key] = p.value(key);
+  if (law.has_preload) values["preload"] = preload;
+  if (law.has_gap) values["gap"] = gap;
+  return values;
 }
 
 // The fraction of the contact's totals each pair carries: 1/n (equal), or its tributary area over
@@ -943,9 +907,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const std::vector<double> shares = pair_shares(def, cd, rc, model.bodies, geometry, &areas);
     const std::map<int, double> preload_by_node(cd.preloads.begin(), cd.preloads.end());
     const PreparedBody& A = model.bodies[rc.body_a];
+    const ContactLaw& law = contact_law(cd.law, cd.uses_frame);
     Eigen::MatrixXd row_frame;  // m x 3
     try {
-      if (cd.law == "friction" || (cd.law == "linear" && cd.spring_3d)) {
+      if (law.uses_frame) {
         row_frame = vec3(cd.t1).squaredNorm() > 0 ? frame_from_normal(vec3(cd.normal), vec3(cd.t1))
                                                   : frame_from_normal(vec3(cd.normal));
       } else {
@@ -965,7 +930,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       info.share = shares[i];
       info.area = areas[i];
       info.parameters = p;
-      info.stuck_stiffness = stuck_stiffness(cd, p);
+
       info.node_a_id = node_id_of(A, a);
       info.node_b_id = rc.body_b >= 0 ? node_id_of(model.bodies[rc.body_b], b) : 0;
       for (int dir = 0; dir < 3; ++dir) {
@@ -985,23 +950,9 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         }
         preload = it->second;
       }
-      if (cd.law == "friction") {
-        pair.element = std::make_shared<FrictionContact3D>(
-            FrictionContactParameters{p.kt, p.kn, p.mu, preload, cd.gap});
-      } else if (cd.law == "jenkins") {
-        pair.element = std::make_shared<Jenkins1D>(JenkinsParameters{p.kt, p.mu, preload});
-      } else if (cd.law == "gap") {
-        pair.element =
-            std::make_shared<UnilateralSpring>(UnilateralSpringParameters{p.kn, cd.gap, preload});
-      } else if (cd.law == "cubic") {
-        pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k1, p.k3});
-      } else if (cd.law == "linear" && cd.spring_3d) {
-        pair.element = make_linear_springs(info.stuck_stiffness);
-      } else if (cd.law == "linear") {
-        pair.element = std::make_shared<CubicSpring>(CubicSpringParameters{p.k, 0.0});
-      } else {
-        throw InvalidInput(def.where("contacts." + cd.name + ".law"), "unknown law " + cd.law);
-      }
+      const LawValues values = law_values(law, p, preload, cd.gap);
+      info.stuck_stiffness = law.stuck_stiffness(values);
+      pair.element = law.make_element(values);
       model.pairs.push_back(std::move(pair));
       model.pair_info.push_back(info);
     }
@@ -1088,10 +1039,6 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
   return model;
-}
-
-ElementPtr make_linear_springs(const Eigen::VectorXd& k) {
-  return std::make_shared<DiagonalLinearSprings>(k);
 }
 
 Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {

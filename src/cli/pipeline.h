@@ -14,10 +14,10 @@
 // assembled model keeps the diagonal modal damping c_r = α + βω_r²; with it the full modal damping
 // matrix ΦᵀCΦ of the assembly is passed to the harmonic balance (non-proportional damping).
 //
-// Contact laws: friction (FrictionContact3D), jenkins, gap, cubic, and linear: a 1D linear spring
-// f = k u along `direction` (a CubicSpring with k3 = 0), or in 3D springs (kt, kt, kn) on the rows
-// (t1, t2, n) of the frame normal/t1 (make_linear_springs); either enters the harmonic balance
-// like any other element and its force is reported and recovered like a contact force.
+// Contact laws: those of the registry (contact/contact_law.h: friction, jenkins, gap, cubic,
+// linear, and any the program registers), each pair's element made by its law's factory; every
+// element enters the harmonic balance alike and its force is reported and recovered like a
+// contact force.
 // Totals (`total:`) are split over the pairs equally or, with split: area, in proportion to the
 // tributary area of each pair's A node on the A body's contact face (mesh/surface_area.h: faces
 // of the A body whose nodes are all A nodes of the contact; automatic rule); the B body's face is
@@ -191,10 +191,6 @@ PreparedModel prepare_model(const CaseDefinition& definition, CaseBodies resolve
 // BᵀkB with B its relative-displacement rows and k its stuck stiffness (friction pairs as springs
 // (kt, kt, kn) in their frame, 1D laws by their tangent at rest: PreparedPair::stuck_stiffness).
 Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model);
-
-// The element of a 3D linear contact: independent linear springs on the m = k.size() local rows,
-// f_d = k_d u_d (N/m, N); elastic (stick fraction 1, no dissipation, one period).
-ElementPtr make_linear_springs(const Eigen::VectorXd& k);
 
 // The nodal forces (N, global axes) of one static_loads entry on `nodes` (indices in `mesh`, as
 // CaseBodies::static_load_nodes): `force` on each node; `total_force` split in proportion to the

@@ -17,10 +17,34 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "contact/contact_law.h"
 #include "core/printable.h"
 #include "io/ansys_mapping.h"
 
 namespace stickslip {
+
+double* ContactParametersDefinition::field(const std::string& key) {
+  if (key == "kt") return &kt;
+  if (key == "kn") return &kn;
+  if (key == "mu") return &mu;
+  if (key == "preload") return &preload;
+  if (key == "k") return &k;
+  if (key == "k1") return &k1;
+  if (key == "k3") return &k3;
+  return &other[key];  // a key of a law registered by the program
+}
+
+double ContactParametersDefinition::value(const std::string& key) const {
+  if (key == "kt") return kt;
+  if (key == "kn") return kn;
+  if (key == "mu") return mu;
+  if (key == "preload") return preload;
+  if (key == "k") return k;
+  if (key == "k1") return k1;
+  if (key == "k3") return k3;
+  const auto it = other.find(key);
+  return it == other.end() ? 0.0 : it->second;
+}
 
 SourceLocation CaseDefinition::where(const std::string& path) const {
   std::string p = path;
@@ -65,52 +89,38 @@ std::string numeric_rule_violation(const std::string& key, double value) {
     if (!(value >= 0)) return "must be >= 0";
   } else if (key == "modal_damping_ratio") {
     if (!(value >= 0 && value < 1)) return "must be in [0, 1)";
+  } else if (LawParameter::Rule rule; key != "k3" && contact_parameter_rule(key, &rule)) {
+    // A parameter of a law registered by the program (contact/contact_law.h).
+    if (rule == LawParameter::Rule::kPositive && !(value > 0)) return "must be > 0";
+    if (rule == LawParameter::Rule::kNonNegative && !(value >= 0)) return "must be >= 0";
   }
   return {};
 }
 
-// Parameter keys of each contact law.
-const std::map<std::string, std::vector<std::string>>& law_parameters() {
-  static const std::map<std::string, std::vector<std::string>> laws{
-      {"friction", {"kt", "kn", "mu", "preload"}},
-      {"jenkins", {"kt", "mu", "preload"}},
-      {"gap", {"kn", "preload"}},
-      {"cubic", {"k1", "k3"}},
-      {"linear", {"k", "kt", "kn"}},  // 1D: k; 3D: kt, kn (parameter_keys)
-  };
-  return laws;
-}
-const std::map<std::string, std::vector<std::string>>& law_required() {
-  static const std::map<std::string, std::vector<std::string>> laws{
-      {"friction", {"kt", "kn", "mu"}},
-      {"jenkins", {"kt", "mu"}},
-      {"gap", {"kn"}},
-      {"cubic", {"k1", "k3"}},  // linear: its parameter_keys, 1D or 3D
-  };
-  return laws;
+// The law variant a parsed contact has (contact/contact_law.h).
+const ContactLaw& law_of(const ContactDefinition& d) { return contact_law(d.law, d.uses_frame); }
+
+// Every parameter key of a law name, over its variants (1D and frame), in registration order.
+std::vector<std::string> law_name_keys(const std::string& law) {
+  std::vector<std::string> keys;
+  for (const ContactLaw* l : find_contact_laws(law)) {
+    for (const std::string& key : l->parameter_keys()) {
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    }
+  }
+  return keys;
 }
 
-// The parameters a parsed contact has: its law's, the 1D or the 3D set for law linear.
+// The parameters a parsed contact has: its law variant's.
 std::vector<std::string> parameter_keys(const ContactDefinition& d) {
-  if (d.law == "linear")
-    return d.spring_3d ? std::vector<std::string>{"kt", "kn"} : std::vector<std::string>{"k"};
-  return law_parameters().at(d.law);
+  return law_of(d).parameter_keys();
 }
 
 // Whether the contact acts in the frame normal/t1 (3D) rather than along `direction` (1D).
-bool uses_frame(const ContactDefinition& d) {
-  return d.law == "friction" || (d.law == "linear" && d.spring_3d);
-}
+bool uses_frame(const ContactDefinition& d) { return d.uses_frame; }
 
 double* contact_parameter(ContactParametersDefinition& p, const std::string& key) {
-  if (key == "kt") return &p.kt;
-  if (key == "kn") return &p.kn;
-  if (key == "mu") return &p.mu;
-  if (key == "preload") return &p.preload;
-  if (key == "k") return &p.k;
-  if (key == "k1") return &p.k1;
-  if (key == "k3") return &p.k3;
-  return nullptr;
+  return p.field(key);
 }
 
 // Optimal string alignment distance: insertions, deletions, substitutions and transpositions of
@@ -827,9 +837,7 @@ void parse_contacts(Parser& p, const MapView& top) {
     p.check(names.insert(d.name).second, m.full("name"), m.line("name"),
             "duplicate contact name '" + d.name + "'");
     m.require("law");
-    std::vector<std::string> laws;
-    for (const auto& [law, _] : law_parameters()) laws.push_back(law);
-    m.choice("law", &d.law, laws);
+    m.choice("law", &d.law, contact_law_names());
 
     // Nodes: between (coincidence) or listed pairs.
     const int given = int(m.has("between")) + int(m.has("pairs")) + int(m.has("pairs_file"));
@@ -917,10 +925,21 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
     }
 
-    // law linear: one spring k along direction (1D) or springs kt, kt, kn in the frame normal/t1
-    // (3D), decided by the keys given, never keys of both. The parameter block is only looked at
-    // here (checked below, after the frame, like every law's).
-    if (d.law == "linear") {
+    // A law registered both along a direction (1D) and in a frame (e.g. linear: one spring k
+    // along direction, or springs kt, kt, kn in the frame normal/t1), decided by the keys given,
+    // never keys of both. The parameter block is only looked at here (checked below, after the
+    // frame, like every law's).
+    const std::vector<const ContactLaw*> variants = find_contact_laws(d.law);
+    d.uses_frame = variants.front()->uses_frame;
+    if (variants.size() > 1) {
+      // The parameter keys only one variant has.
+      const ContactLaw& framed = contact_law(d.law, true);
+      const ContactLaw& along = contact_law(d.law, false);
+      std::vector<std::string> keys_3d, keys_1d;
+      for (const std::string& key : framed.parameter_keys())
+        if (!along.parameter(key)) keys_3d.push_back(key);
+      for (const std::string& key : along.parameter_keys())
+        if (!framed.parameter(key)) keys_1d.push_back(key);
       struct Given {
         std::string key, path;
         int line = 0;
@@ -943,15 +962,23 @@ void parse_contacts(Parser& p, const MapView& top) {
         }
         return std::nullopt;
       };
-      const std::optional<Given> given_3d = find({"normal", "t1"}, {"kt", "kn"});
-      const std::optional<Given> given_1d = find({"direction"}, {"k"});
-      d.spring_3d = given_3d.has_value();
+      const std::optional<Given> given_3d = find({"normal", "t1"}, keys_3d);
+      const std::optional<Given> given_1d = find({"direction"}, keys_1d);
+      d.uses_frame = given_3d.has_value();
       if (given_3d && given_1d) {
+        const auto quoted = [](const std::vector<std::string>& keys) {
+          std::string text;
+          for (size_t i = 0; i < keys.size(); ++i) {
+            text += (i == 0 ? "'" : "', '") + keys[i];
+          }
+          return text + "'";
+        };
         p.fail(given_1d->path, given_1d->line,
-               "law linear is either one spring 'k' along 'direction' (1D) or springs 'kt', 'kn' "
-               "in the frame 'normal'/'t1' (3D), not both: '" +
-                   given_1d->key + "' here, '" + given_3d->key + "' on line " +
-                   std::to_string(given_3d->line));
+               "law " + d.law + " is either " + (keys_1d.size() == 1 ? "one spring " : "") +
+                   quoted(keys_1d) + " along 'direction' (1D) or " +
+                   (keys_3d.size() > 1 ? "springs " : "") + quoted(keys_3d) +
+                   " in the frame 'normal'/'t1' (3D), not both: '" + given_1d->key +
+                   "' here, '" + given_3d->key + "' on line " + std::to_string(given_3d->line));
       }
     }
 
@@ -979,17 +1006,23 @@ void parse_contacts(Parser& p, const MapView& top) {
     const std::string block = m.has("per_pair") ? "per_pair" : "total";
     d.parameters_given = block == "per_pair" ? ContactDefinition::Parameters::kPerPair
                                              : ContactDefinition::Parameters::kTotal;
-    std::vector<std::string> known = law_parameters().at(d.law);
+    std::vector<std::string> known = law_name_keys(d.law);
     if (block == "total") known.push_back("split");
     MapView params(p, m.value(block), m.full(block), m.line(block), known, " for law " + d.law);
-    const std::vector<std::string> required =
-        d.law == "linear" ? parameter_keys(d) : law_required().at(d.law);
-    for (const std::string& key : required) params.require(key);
+    const ContactLaw& law = law_of(d);
+    for (const std::string& key : law.required_keys()) params.require(key);
     for (const std::string& key : parameter_keys(d)) {
       if (key == "preload" && params.has(key) && params.value(key).IsScalar() &&
           params.value(key).Scalar() == "computed") {
-        p.check(d.law == "friction" || d.law == "gap", params.full(key), params.line(key),
-                "law " + d.law + " cannot compute its preload (laws friction and gap only)");
+        std::string computing;
+        for (const std::string& name : contact_law_names()) {
+          for (const ContactLaw* l : find_contact_laws(name)) {
+            if (l->can_compute_preload && computing.find(" " + name) == std::string::npos)
+              computing += (computing.empty() ? " " : " and ") + name;
+          }
+        }
+        p.check(law.can_compute_preload, params.full(key), params.line(key),
+                "law " + d.law + " cannot compute its preload (laws" + computing + " only)");
         d.preload_computed = true;  // from the static contact problem under static_loads
         continue;
       }
@@ -1001,8 +1034,8 @@ void parse_contacts(Parser& p, const MapView& top) {
     if (m.has("preload_file")) {
       p.check(!params.has("preload"), params.full("preload"), params.line("preload"),
               "give either 'preload' or 'preload_file', not both");
-      p.check(d.law == "friction" || d.law == "gap" || d.law == "jenkins", m.full("preload_file"),
-              m.line("preload_file"), "law " + d.law + " has no preload");
+      p.check(law.has_preload, m.full("preload_file"), m.line("preload_file"),
+              "law " + d.law + " has no preload");
       m.file("preload_file", &d.preload_file);
       std::vector<int> lines;
       d.preloads = with_key(m.full("preload_file"),
@@ -1013,8 +1046,7 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
     }
     if (m.has("gap")) {
-      p.check(d.law == "friction" || d.law == "gap", m.full("gap"), m.line("gap"),
-              "law " + d.law + " has no gap");
+      p.check(law.has_gap, m.full("gap"), m.line("gap"), "law " + d.law + " has no gap");
       p.check(!params.has("preload") && !m.has("preload_file"), m.full("gap"), m.line("gap"),
               "give either a preload or a gap, not both");
       m.number("gap", &d.gap);
@@ -1707,7 +1739,7 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
                            [&](const ContactDefinition& d) { return d.name == parts[1]; });
     if (it == c.contacts.end()) fail("no contact '" + parts[1] + "'");
     if (parts.size() == 3 && key == "gap") {
-      if (it->law != "friction" && it->law != "gap") fail("law " + it->law + " has no gap");
+      if (!law_of(*it).has_gap) fail("law " + it->law + " has no gap");
       const std::string base = "contacts." + it->name + ".";
       if (c.locations.count(base + "per_pair.preload") ||
           c.locations.count(base + "total.preload") || !it->preload_file.empty())
@@ -1958,7 +1990,7 @@ std::string describe_case(const CaseDefinition& c) {
       << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
     // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
-    const bool gap = (d.law == "friction" || d.law == "gap") && d.gap != 0;
+    const bool gap = law_of(d).has_gap && d.gap != 0;
     for (const std::string& key : parameter_keys(d)) {
       if (key == "preload" && !d.preload_computed && (gap || !d.preload_file.empty())) continue;
       e << YAML::Key << key << YAML::Value;

@@ -143,8 +143,9 @@ struct BodyDefinition {
   ReducedMatricesDefinition reduced;  // kReduced
 };
 
-// Contact parameters; which apply depends on the law (docs/case-file.md). Per pair, or totals
-// over all pairs of the contact (kt, kn, k, k1, k3, preload split; mu, gap not).
+// Contact parameters; which apply depends on the law (docs/case-file.md; the laws and their keys:
+// contact/contact_law.h). Per pair, or totals over all pairs of the contact (kt, kn, k, k1, k3,
+// preload split; mu, gap not).
 struct ContactParametersDefinition {
   double kt = 0.0;       // tangential stiffness, N/m (friction, jenkins, 3D linear)
   double kn = 0.0;       // normal stiffness, N/m (friction, gap, 3D linear)
@@ -153,11 +154,16 @@ struct ContactParametersDefinition {
   double k = 0.0;        // stiffness, N/m (1D linear)
   double k1 = 0.0;       // linear part, N/m (cubic)
   double k3 = 0.0;       // cubic coefficient, N/m³ (cubic)
+  std::map<std::string, double> other;  // keys of registered laws that have no field above
+  // The field of a parameter key (kt, ..., or a registered law's key in `other`).
+  double* field(const std::string& key);
+  double value(const std::string& key) const;  // 0 for a key not given
 };
 
 struct ContactDefinition {
   std::string name;  // unique (required)
-  std::string law;   // friction | jenkins | gap | cubic | linear (required)
+  std::string law;   // a registered law (contact/contact_law.h): friction | jenkins | gap |
+                     // cubic | linear, or one registered by the program (required)
   // The two bodies, A then B (B may be "ground" for a node-to-ground element).
   std::string body_a, body_b;
   // Pairs found by coincidence between two node selections (`between`) ...
@@ -172,9 +178,10 @@ struct ContactDefinition {
   std::array<double, 3> normal{0, 0, 0};
   std::array<double, 3> t1{0, 0, 0};
   std::array<double, 3> direction{0, 0, 0};
-  // law linear: false = one spring k along `direction` (1D); true = springs (kt, kt, kn) along
-  // (t1, t2, n) of the frame `normal`/`t1`, like a stuck friction contact (3D).
-  bool spring_3d = false;
+  // The law's variant (contact_law(law, uses_frame)): true = it acts on the rows (t1, t2, n) of
+  // the frame `normal`/`t1` (friction; law linear's springs kt, kt, kn), false = along
+  // `direction` (1D). A law registered both ways (linear) is chosen by the keys given.
+  bool uses_frame = false;
   enum class Parameters { kPerPair, kTotal };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;

@@ -329,7 +329,7 @@ excitation:
            analysis_sections();
   };
   const CaseDefinition linear = parse_case(text("linear", ""), "linear.yaml", dir.string());
-  ASSERT_TRUE(linear.contacts[0].spring_3d);
+  ASSERT_TRUE(linear.contacts[0].uses_frame);
   // Preload 1e6 N in total: each pair's static normal force (≥ 1e6 · 0.0025 / 0.0018 / 24 ~
   // 5e4 N) far exceeds its dynamic normal force (~10 N), so the contact never opens.
   const CaseDefinition friction =
@@ -392,46 +392,6 @@ excitation:
   for (const FrequencyPoint& p : solved_f.response.points) {
     for (const PairResponse& q : p.pairs) EXPECT_EQ(q.cycle.stick_fraction, 1.0);
   }
-}
-
-// The 3D linear contact's element: f = diag(k) u against the closed form, and its exact
-// derivative against central differences of march() in random directions p (u = u0 + Σ p_q U_q).
-TEST(PipelineFeatures, LinearSpringsElementForceAndDerivativeMatchFiniteDifferences) {
-  const Eigen::Vector3d k(2.0e8, 2.0e8, 5.0e8);
-  const ElementPtr e = make_linear_springs(k);
-  ASSERT_EQ(e->dimension(), 3);
-  constexpr int kSamples = 8, kParameters = 4;
-  std::srand(7);  // Eigen's Random draws from std::rand
-  const Eigen::MatrixXd u0 = 1e-6 * Eigen::MatrixXd::Random(3, kSamples);
-  const Eigen::MatrixXd du_dp = 1e-6 * Eigen::MatrixXd::Random(3 * kSamples, kParameters);
-  Eigen::MatrixXd f, df_dp;
-  const CycleStatistics stats = e->march(u0, &du_dp, f, &df_dp);
-  EXPECT_EQ(stats.stick_fraction, 1.0);
-  EXPECT_EQ(stats.dissipated_energy, 0.0);
-  for (int j = 0; j < kSamples; ++j) {
-    for (int d = 0; d < 3; ++d) EXPECT_DOUBLE_EQ(f(d, j), k(d) * u0(d, j));
-  }
-  // Central differences are exact for a linear map up to rounding: relative 1e-7 at step h.
-  constexpr double kFdTolerance = 1e-7, h = 1e-3;
-  for (int q = 0; q < kParameters; ++q) {
-    Eigen::MatrixXd up = u0, um = u0, fp, fm;
-    for (int j = 0; j < kSamples; ++j) {
-      for (int d = 0; d < 3; ++d) {
-        up(d, j) += h * du_dp(j * 3 + d, q);
-        um(d, j) -= h * du_dp(j * 3 + d, q);
-      }
-    }
-    e->march(up, nullptr, fp, nullptr);
-    e->march(um, nullptr, fm, nullptr);
-    const Eigen::MatrixXd fd = (fp - fm) / (2 * h);
-    for (int j = 0; j < kSamples; ++j) {
-      for (int d = 0; d < 3; ++d) {
-        EXPECT_NEAR(df_dp(j * 3 + d, q), fd(d, j),
-                    kFdTolerance * df_dp.col(q).cwiseAbs().maxCoeff());
-      }
-    }
-  }
-  EXPECT_THROW(e->march(Eigen::MatrixXd::Zero(2, kSamples), nullptr, f, nullptr), InvalidInput);
 }
 
 // A body of one node (id 5, its x, y, z DOFs) given by matrices, written as HBMAT files.

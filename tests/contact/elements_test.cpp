@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "contact/friction_contact.h"
+#include "contact/linear_springs.h"
 #include "contact/springs.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -144,6 +145,23 @@ TEST(Springs, UnilateralAndCubicLaws) {
   EXPECT_NEAR(f(0, 2), 2.0 * 0.2 - 5.0 * 0.008, 1e-15);
 }
 
+TEST(LinearSprings, ForceIsDiagonalStiffnessTimesDisplacementWithoutDissipation) {
+  const Eigen::Vector3d k(2.0e8, 2.0e8, 5.0e8);
+  const LinearSprings springs(k);
+  ASSERT_EQ(springs.dimension(), 3);
+  const Eigen::MatrixXd u = orbit(16, {1e-7, 0, -2e-7}, {1e-6, 2e-6, 5e-7}, {0.2, 1.3, 0.1});
+  Eigen::MatrixXd f;
+  const CycleStatistics stats = springs.march(u, nullptr, f, nullptr);
+  EXPECT_EQ(stats.stick_fraction, 1.0);
+  EXPECT_EQ(stats.dissipated_energy, 0.0);
+  for (int j = 0; j < u.cols(); ++j) {
+    for (int d = 0; d < 3; ++d) EXPECT_DOUBLE_EQ(f(d, j), k(d) * u(d, j));
+  }
+  EXPECT_THROW(springs.march(Eigen::MatrixXd::Zero(2, 16), nullptr, f, nullptr), InvalidInput);
+  EXPECT_THROW(LinearSprings(Eigen::VectorXd()), InvalidInput);
+  EXPECT_THROW(LinearSprings(Eigen::Vector2d(1.0, -1.0)), InvalidInput);
+}
+
 TEST(Elements, InvalidParametersThrow) {
   EXPECT_THROW(FrictionContact3D({.kt = -1, .kn = 1, .mu = 0.1}), InvalidInput);
   EXPECT_THROW(FrictionContact3D({.kt = 1, .kn = 1, .mu = -0.1}), InvalidInput);
@@ -185,6 +203,8 @@ std::vector<Case> contract_cases() {
   cases.push_back({"unilateral", gap, orbit(n, {1e-3}, {2e-3}, {0.3})});
   auto cubic = std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = 1e3, .k3 = 1e9});
   cases.push_back({"cubic", cubic, orbit(n, {1e-4}, {1e-3}, {0.3})});
+  cases.push_back({"linear_springs", make_linear_springs(Eigen::Vector3d(2e8, 2e8, 5e8)),
+                   orbit(n, {1e-7, 0, -2e-7}, {1e-6, 2e-6, 5e-7}, {0.2, 1.3, 0.1})});
   return cases;
 }
 

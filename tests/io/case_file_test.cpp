@@ -364,7 +364,7 @@ TEST(CaseFile, LinearLawIn3DTakesKtKnAndTheContactFrame) {
   text.replace(text.find("law: friction"), 13, "law: linear");
   const CaseDefinition c = parse(text);
   const ContactDefinition& d = c.contacts[0];
-  EXPECT_TRUE(d.spring_3d);
+  EXPECT_TRUE(d.uses_frame);
   EXPECT_EQ(d.parameters.kt, 1.5e9);
   EXPECT_EQ(d.parameters.kn, 2.5e9);
   EXPECT_EQ(d.parameters.k, 0.0);
@@ -383,7 +383,7 @@ TEST(CaseFile, LinearLawIn3DTakesKtKnAndTheContactFrame) {
                              "total: {kt: 3.0e9, kn: 4.0e9, split: area}");
   total.replace(total.find("law: friction"), 13, "law: linear");
   const CaseDefinition t = parse(total);
-  EXPECT_TRUE(t.contacts[0].spring_3d);
+  EXPECT_TRUE(t.contacts[0].uses_frame);
   EXPECT_EQ(t.contacts[0].parameters_given, ContactDefinition::Parameters::kTotal);
   EXPECT_EQ(t.contacts[0].split, "area");
   EXPECT_EQ(t.contacts[0].parameters.kt, 3.0e9);
@@ -394,7 +394,7 @@ TEST(CaseFile, LinearLawIn3DTakesKtKnAndTheContactFrame) {
       "direction: y\n    per_pair: {k: 2.0e9}");
   one_d.replace(one_d.find("law: friction"), 13, "law: linear");
   const CaseDefinition o = parse(one_d);
-  EXPECT_FALSE(o.contacts[0].spring_3d);
+  EXPECT_FALSE(o.contacts[0].uses_frame);
   EXPECT_EQ(o.contacts[0].parameters.k, 2.0e9);
   EXPECT_EQ(o.contacts[0].direction, (std::array<double, 3>{0, 1, 0}));
   EXPECT_THROW(with_parameter(o, "contacts.joint.per_pair.kt", 1), InvalidInput);  // 3D key
