@@ -11,7 +11,7 @@
 #include "cli/commands.h"
 #include "cli/pipeline.h"
 #include "cli/progress.h"
-#include "cli/stuck_assembly.h"
+#include "model/stuck_assembly.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "io/atomic_file.h"
@@ -57,10 +57,7 @@ int run_case_modes(const ModesCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true, &cache);
-    const ModalResult eig = dense_modes(stuck_stiffness_matrix(model), model.M);
-    if (!eig.summary.ok()) {
-      throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
-    }
+    const ModalResult eig = stuck_modes(model, def);
     const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues.size()));
     const Eigen::VectorXd f = eig.eigenvalues.head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
     const fs::path dir = run.dir / "modes";
@@ -72,7 +69,7 @@ int run_case_modes(const ModesCommand& command) {
     std::vector<VtmBlock> shapes;  // modes.vtm: the bodies' mode shapes as one multiblock
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;
-      if (body.T.size() == 0) {
+      if (!body.T) {
         progress("mode shapes of " + body.name +
                  " not written: the reused reduced matrices carry no Craig–Bampton basis "
                  "(`stickslip reduce --basis` writes it)");
@@ -81,7 +78,7 @@ int run_case_modes(const ModesCommand& command) {
       VtuData data;
       for (int j = 0; j < n; ++j) {
         add_mode_shape(data, j,
-                       body.T * eig.modes.col(j).segment(body.offset, body.reduced.size()),
+                       *body.T * eig.modes.col(j).segment(body.offset, body.reduced.size()),
                        f(j));
       }
       // One folder per body: ParaView would group modes_beam1.vtu and modes_beam2.vtu into one

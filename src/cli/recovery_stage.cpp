@@ -31,26 +31,6 @@ namespace {
 
 const char* kAxes[3] = {"x", "y", "z"};
 
-// Response measure of a point for "peak": the norm of harmonic-1 (first dynamic harmonic)
-// amplitudes of the FRF DOFs, or of every physical master DOF when none is listed.
-double peak_measure(const CaseDefinition& def, const PreparedModel& model,
-                    const FrequencyPoint& p) {
-  const int h = p.master.cols() > 1 ? 1 : 0;
-  double s = 0;
-  if (!def.output.frf.empty()) {
-    for (const ResponseDofDefinition& r : def.output.frf) {
-      const int b = model.body_index(r.body);
-      const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
-      if (g >= 0) s += std::norm(p.master(g, h));
-    }
-    return s;
-  }
-  for (const PreparedBody& body : model.bodies) {
-    for (const auto& [key, g] : body.master_dof) s += std::norm(p.master(g, h));
-  }
-  return s;
-}
-
 // The physical (master) DOFs of a body in the order of body.reduced: their full-model DOF and
 // their DOF in the assembled reduced model.
 struct MasterDofs {
@@ -112,42 +92,6 @@ void write_vtk_collections(const std::filesystem::path& dir, const FrequencyResp
 
 }  // namespace
 
-std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel& model,
-                                 const FrequencyResponse& response) {
-  const auto& points = response.points;
-  std::vector<int> out;
-  const std::string& mode = def.recovery.points;
-  if (mode == "none" || points.empty()) return out;
-  if (mode == "all") {
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (points[i].converged) out.push_back(static_cast<int>(i));
-    }
-    return out;
-  }
-  if (mode == "peak") {
-    int best = -1;
-    double best_value = -1;
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (!points[i].converged) continue;
-      const double v = peak_measure(def, model, points[i]);
-      if (v > best_value) best_value = v, best = static_cast<int>(i);
-    }
-    if (best >= 0) out.push_back(best);
-    return out;
-  }
-  // A list of frequencies: the nearest converged point to each.
-  for (double hz : def.recovery.frequencies_hz) {
-    int best = -1;
-    double best_distance = std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i < points.size(); ++i) {
-      const double d = std::abs(rad_s_to_hz(points[i].omega) - hz);
-      if (points[i].converged && d < best_distance) best_distance = d, best = static_cast<int>(i);
-    }
-    if (best >= 0 && (out.empty() || out.back() != best)) out.push_back(best);
-  }
-  return out;
-}
-
 std::vector<int> numbered_points(const std::string& spec, const FrequencyResponse& response,
                                  const std::string& points_csv) {
   const auto& points = response.points;
@@ -185,72 +129,6 @@ std::vector<int> points_from_option(const std::string& spec, const CaseDefinitio
     throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
   }
   return out;
-}
-
-Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
-                              const std::vector<int>& harmonics, const FrequencyPoint& p) {
-  const int nh = static_cast<int>(harmonics.size());
-  const int n = body.reduced.size();
-  // Excitation (and preload loads) on the master DOFs.
-  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(n, nh);
-  for (int h = 0; h < nh; ++h) {
-    const auto it = model.excitation.harmonics.find(harmonics[h]);
-    if (it == model.excitation.harmonics.end()) continue;
-    for (int j = 0; j < n; ++j) {
-      if (body.reduced.dofs[j].kind == ReducedDof::Kind::kPhysical) {
-        F(j, h) += it->second(body.offset + j);
-      }
-    }
-  }
-  // Contact forces.
-  for (size_t q = 0; q < model.pairs.size(); ++q) {
-    const ContactPair& pair = model.pairs[q];
-    const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
-    for (int d = 0; d < 3; ++d) {
-      for (int side = 0; side < 2; ++side) {
-        const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
-        if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + n) continue;
-        const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
-        F.row(dofs[d] - body.offset) += sign * fg.row(d);
-      }
-    }
-  }
-  // Harmonic 0 is real by construction; drop round-off in its imaginary part.
-  for (int h = 0; h < nh; ++h) {
-    if (harmonics[h] == 0) F.col(h) = F.col(h).real().cast<std::complex<double>>();
-  }
-  return F;
-}
-
-Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
-                                const std::vector<int>& harmonics, const FrequencyPoint& p) {
-  const Eigen::MatrixXcd reduced = master_loads(model, body, harmonics, p);
-  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(body.mesh.num_dofs(), reduced.cols());
-  for (int j = 0; j < body.reduced.size(); ++j) {
-    const ReducedDof& d = body.reduced.dofs[j];
-    if (d.kind == ReducedDof::Kind::kPhysical) F.row(d.full_dof) += reduced.row(j);
-  }
-  return F;
-}
-
-std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
-                                                      const PreparedBody& body,
-                                                      const std::vector<int>& harmonics,
-                                                      const FrequencyPoint& p) {
-  const Eigen::MatrixXcd reduced = master_loads(model, body, harmonics, p);
-  std::map<int, int> node_of_id;  // mapping node number -> node index (ascending numbers)
-  for (const ReducedDof& d : body.reduced.dofs) {
-    if (d.kind == ReducedDof::Kind::kPhysical) node_of_id.emplace(d.node_id, 0);
-  }
-  Mesh mesh;
-  for (auto& [id, index] : node_of_id) index = mesh.add_node(id, Eigen::Vector3d::Zero());
-  Eigen::MatrixXcd F = Eigen::MatrixXcd::Zero(mesh.num_dofs(), reduced.cols());
-  for (int j = 0; j < body.reduced.size(); ++j) {
-    const ReducedDof& d = body.reduced.dofs[j];
-    if (d.kind != ReducedDof::Kind::kPhysical) continue;
-    F.row(3 * node_of_id.at(d.node_id) + d.direction) += reduced.row(j);
-  }
-  return {std::move(mesh), std::move(F)};
 }
 
 std::string write_apdl_loads(const std::filesystem::path& dir, const CaseDefinition& def,
@@ -391,11 +269,11 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(), method));
     std::unique_ptr<HarmonicSolver> solver;
     if (method == "direct") {
-      solver = std::make_unique<DirectRecovery>(body.K, body.M, body.constraints, damping);
+      solver = std::make_unique<DirectRecovery>(*body.K, *body.M, body.constraints, damping);
     } else if (method == "modal") {
       ModalRecoveryOptions o;
       o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
-      solver = std::make_unique<ModalRecovery>(body.K, body.M, body.constraints, damping, o);
+      solver = std::make_unique<ModalRecovery>(*body.K, *body.M, body.constraints, damping, o);
     }
     if (solver && !solver->ok()) {
       throw InvalidInput(def.where("recovery.method"),
@@ -446,7 +324,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       }
       const Eigen::MatrixXcd x =
           method == "expansion" ? expand_reduced_response(
-                                      body.T, p.master.middleRows(body.offset, body.reduced.size()))
+                                      *body.T, p.master.middleRows(body.offset, body.reduced.size()))
                                 : harmonic_response(*solver, F, harmonics, p.omega, &summary);
       if (!summary.ok()) {
         // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
@@ -473,8 +351,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       // D_k = K − (kΩ)²M + i kΩ (αM + βK) (zero at free DOFs to the solver's round-off).
       if (!held_nodes.empty()) {
         const Eigen::MatrixXd xr = x.real(), xi = x.imag();
-        const Eigen::MatrixXd Kr = body.K * xr, Ki = body.K * xi;
-        const Eigen::MatrixXd Mr = body.M * xr, Mi = body.M * xi;
+        const Eigen::MatrixXd Kr = *body.K * xr, Ki = *body.K * xi;
+        const Eigen::MatrixXd Mr = *body.M * xr, Mi = *body.M * xi;
         for (int h = 0; h < nh; ++h) {
           const double w = harmonics[h] * p.omega;
           const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() +

@@ -27,13 +27,9 @@
 #include "cli/pipeline.h"
 #include "cli/plots.h"
 #include "io/case_file.h"
+#include "model/recovery_loads.h"  // recovery_points, master_loads, recovery_loads, ...
 
 namespace stickslip {
-
-// Indices of the points to recover (recovery.points: peak | all | none | frequencies).
-// `response` needs omega, converged and master of every point.
-std::vector<int> recovery_points(const CaseDefinition& definition, const PreparedModel& model,
-                                 const FrequencyResponse& response);
 
 // The points named by a --point option: "peak", "all" (every converged point), a point number
 // or a comma-separated list of them (each must exist and have converged; InvalidInput naming
@@ -43,25 +39,6 @@ std::vector<int> numbered_points(const std::string& spec, const FrequencyRespons
 std::vector<int> points_from_option(const std::string& spec, const CaseDefinition& definition,
                                     const PreparedModel& model, const FrequencyResponse& response,
                                     const std::string& points_csv);
-
-// Loads of one body at one point on its reduced DOFs (body.reduced.size() x harmonics; rows of
-// modal DOFs are zero): the excitation and static preload loads on its master DOFs plus the
-// contact forces it receives (force_global of each pair: +f on B, -f on A). Harmonic 0 is made
-// exactly real.
-Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
-                              const std::vector<int>& harmonics, const FrequencyPoint& point);
-
-// The same loads of one mesh body in its full DOF numbering (3 num_nodes x harmonics).
-Eigen::MatrixXcd recovery_loads(const PreparedModel& model, const PreparedBody& body,
-                                const std::vector<int>& harmonics, const FrequencyPoint& point);
-
-// The same loads of a body given by matrices on the node numbers of its mapping: a mesh of its
-// master nodes (no coordinates, no elements; node ids of the mapping, ascending) and the loads in
-// that mesh's DOF numbering (3 num_nodes x harmonics). For the APDL macro of the thesis's route.
-std::pair<Mesh, Eigen::MatrixXcd> mapped_master_loads(const PreparedModel& model,
-                                                      const PreparedBody& body,
-                                                      const std::vector<int>& harmonics,
-                                                      const FrequencyPoint& point);
 
 // The APDL macro loads_p<point>_<body>.mac / the CalculiX deck recovery_p<point>_<body>.inp of
 // one body at one point, in dir; returns the path written.

@@ -2,6 +2,7 @@
 // case (study folders), the fingerprints that say whether files of an earlier stage still belong
 // to the case, and the reduced model rebuilt from reduce's files.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -17,7 +18,8 @@
 #include "io/ansys_mapping.h"
 #include "io/atomic_file.h"
 #include "io/case_file.h"
-#include "mesh/mesh_tools.h"
+#include "io/fingerprint.h"
+#include "model/body_reduction.h"
 
 namespace stickslip {
 namespace {
@@ -173,6 +175,89 @@ fs::path reduced_dir_of(const StageRun& run, const fs::path& out_dir) {
   return out_dir / "reduced";
 }
 
+// The reduced matrices `stickslip reduce` wrote in `dir` (the body-reduction seam,
+// model/body_reduction.h): a mesh body's K_r, M_r and mapping read from <body>_K.hb, _M.hb,
+// _K.mapping (their fingerprints were checked against the manifest before), its mesh, material
+// and constraints from the case, its full K and M assembled when asked (full_matrices) and its
+// basis T read from <body>_T.bin when needed; both shared through the cache with the other
+// analyses of a study that use the same reduction. Bodies given by matrices are read as
+// CraigBamptonReduction reads them.
+class StoredReduction final : public BodyReduction {
+ public:
+  struct Options {
+    bool full_matrices = false;          // assemble the full K and M (recovery)
+    bool need_basis = false;             // T required (recovery.method: expansion)
+    bool load_basis_if_present = false;  // T whenever reduce wrote it (mode shapes)
+  };
+  StoredReduction(fs::path dir, std::map<std::string, std::string> fingerprints,
+                  std::string reduce_hint, Options options, ModelCache* cache)
+      : dir_(std::move(dir)),
+        fingerprints_(std::move(fingerprints)),
+        reduce_hint_(std::move(reduce_hint)),
+        options_(options),
+        cache_(cache) {}
+
+  void reduce(const CaseDefinition& def, const CaseBody& resolved, PreparedBody& body,
+              const ProgressFn& progress) const override {
+    if (!body.from_mesh) {
+      CraigBamptonReduction().reduce(def, resolved, body, progress);
+      return;
+    }
+    const std::string k_file = (dir_ / (body.name + "_K.hb")).string();
+    const std::string m_file = (dir_ / (body.name + "_M.hb")).string();
+    const std::string mapping = (dir_ / (body.name + "_K.mapping")).string();
+    body.reduced = read_ansys_reduced_body(k_file, m_file, mapping);
+    check_reduced_matrices(def, body.name, body.reduced, k_file, m_file);
+    body.constraints = body_constraints(resolved, body.mesh);
+    attach_reduced_dofs_to_mesh(body);
+    // What an earlier analysis of the study made for the same reduction (same fingerprint: the
+    // mesh part, material and reduced DOFs are the same, so are K, M and T).
+    ModelCache::Body* shared =
+        cache_ != nullptr ? &cache_->body(body.name, fingerprints_.at(body.name)) : nullptr;
+    if (options_.full_matrices && shared != nullptr && shared->K) {
+      if (progress) {
+        progress("full K and M of " + body.name +
+                 ": the ones already assembled (same reduction fingerprint)");
+      }
+      body.K = shared->K;
+      body.M = shared->M;
+    } else if (options_.full_matrices) {
+      SparseMatrix K, M;
+      assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
+      body.K = std::make_shared<const SparseMatrix>(std::move(K));
+      body.M = std::make_shared<const SparseMatrix>(std::move(M));
+      if (shared != nullptr) {
+        shared->K = body.K;
+        shared->M = body.M;
+      }
+    }
+    const fs::path t = dir_ / (body.name + "_T.bin");
+    if (options_.need_basis || (options_.load_basis_if_present && fs::exists(t))) {
+      if (!fs::exists(t)) {
+        throw InvalidInput({t.string(), 0, ""},
+                           "missing: recovery.method: expansion needs the Craig–Bampton basis; "
+                           "run `" +
+                               reduce_hint_ + "` again");
+      }
+      const bool reuse = shared != nullptr && shared->T != nullptr;
+      if (reuse && progress) progress("basis T of " + body.name + ": the one already read");
+      body.T = reuse ? shared->T : std::make_shared<const Eigen::MatrixXd>(read_dense_matrix(t));
+      if (body.T->rows() != body.mesh.num_dofs() || body.T->cols() != body.reduced.size()) {
+        throw InvalidInput({t.string(), 0, ""},
+                           "the basis does not fit the body: run `" + reduce_hint_ + "` again");
+      }
+      if (shared != nullptr && !reuse) shared->T = body.T;
+    }
+  }
+
+ private:
+  fs::path dir_;
+  std::map<std::string, std::string> fingerprints_;  // body name -> reduction fingerprint
+  std::string reduce_hint_;
+  Options options_;
+  ModelCache* cache_;
+};
+
 }  // namespace
 
 PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
@@ -193,17 +278,15 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       progress("no reduced matrices in " + dir.string() + ": reducing (run `" + reduce_hint +
                "` once to reuse them)");
     }
-    return prepare_model(def, progress, {}, cache);
+    return prepare_model(def, progress, cache);
   }
+  const auto t0 = std::chrono::steady_clock::now();
   const ReduceManifest manifest = read_reduce_manifest(manifest_path);
   CaseBodies bodies = resolve_case_bodies(def, progress, cache);
   const std::vector<std::string> fingerprints = reduction_fingerprints(def, bodies);
 
-  // The case with every mesh body given by its reduced matrices, node sets replaced by ids and
-  // contact pairs listed: prepare_model then reads the matrices instead of reducing (and no mesh
-  // is loaded again).
-  CaseDefinition rewritten = def;
-  rewritten.meshes.clear();
+  // Every mesh body's reduced files must be there and made for this body as the case defines it.
+  std::map<std::string, std::string> fingerprint_of;
   for (size_t b = 0; b < bodies.bodies.size(); ++b) {
     const CaseBody& body = bodies.bodies[b];
     if (!body.from_mesh) continue;
@@ -220,108 +303,19 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
                              "or modes changed since they were made): run `" +
                              reduce_hint + "` again");
     }
-    BodyDefinition& bd = rewritten.bodies.at(body.name);
-    bd.source = BodyDefinition::Source::kReduced;
-    bd.reduced.stiffness = (dir / (body.name + "_K.hb")).string();
-    bd.reduced.mass = (dir / (body.name + "_M.hb")).string();
-    bd.reduced.mapping = (dir / (body.name + "_K.mapping")).string();
-    bd.reduced.format = "harwell_boeing";
-    for (const std::string& f : {bd.reduced.stiffness, bd.reduced.mass, bd.reduced.mapping}) {
-      require_stage_file(f, reduce_hint);
+    for (const char* suffix : {"_K.hb", "_M.hb", "_K.mapping"}) {
+      require_stage_file(dir / (body.name + suffix), reduce_hint);
     }
-    bd.masters = NodeSelection{{}, {}};
-    for (int n : body.masters) bd.masters.ids.push_back(body.node_id(n));
-    bd.clamp = NodeSelection{};
-    bd.supports.clear();
-  }
-  for (size_t c = 0; c < rewritten.contacts.size(); ++c) {
-    ContactDefinition& cd = rewritten.contacts[c];
-    const CaseContact& rc = bodies.contacts[c];
-    cd.pairs.clear();
-    for (const auto& [a, b] : rc.node_pairs) {
-      cd.pairs.push_back({bodies.bodies[rc.body_a].node_id(a),
-                          rc.body_b >= 0 ? bodies.bodies[rc.body_b].node_id(b) : 0});
-    }
-    cd.pairs_file.clear();
-    cd.nodes_a = NodeSelection{};
-    cd.nodes_b = NodeSelection{};
-  }
-  for (size_t e = 0; e < rewritten.excitation.size(); ++e) {
-    ExcitationDefinition& ed = rewritten.excitation[e];
-    const CaseBody& body = *std::find_if(bodies.bodies.begin(), bodies.bodies.end(),
-                                         [&](const CaseBody& b) { return b.name == ed.body; });
-    ed.nodes = NodeSelection{};
-    for (int n : bodies.excitation_nodes[e]) ed.nodes.ids.push_back(body.node_id(n));
+    fingerprint_of[body.name] = fingerprints[b];
   }
   if (progress) progress("reduced matrices from " + dir.string());
-  std::map<std::string, const Mesh*> geometry;  // for split: area of the reused bodies
-  for (const CaseBody& body : bodies.bodies) {
-    if (body.from_mesh) geometry[body.name] = &body.mesh;
-  }
-  PreparedModel model = prepare_model(rewritten, progress, geometry);
-
-  // Give the reused bodies their full-model side back (recovery, decks, mode shapes).
-  for (size_t b = 0; b < model.bodies.size(); ++b) {  // the order of bodies.bodies
-    PreparedBody& body = model.bodies[b];
-    CaseBody& resolved = bodies.bodies[b];
-    if (!resolved.from_mesh) continue;
-    body.from_mesh = true;
-    body.mesh = std::move(resolved.mesh);  // `geometry` is not used any more
-    body.material = resolved.material;
-    body.constraints = body_constraints(resolved, body.mesh);
-    const auto by_id = node_index_by_id(body.mesh);
-    for (ReducedDof& d : body.reduced.dofs) {
-      if (d.kind != ReducedDof::Kind::kPhysical) continue;
-      d.node_index = by_id.at(d.node_id);
-      d.full_dof = 3 * d.node_index + d.direction;
-    }
-    // What an earlier analysis of the study made for the same reduction (fingerprints[b]: the
-    // mesh part, material and reduced DOFs are the same, so are K, M and T).
-    ModelCache::StageBody* shared = nullptr;
-    if (cache != nullptr) {
-      shared = &cache->stage_bodies[body.name];
-      if (shared->fingerprint != fingerprints[b]) {
-        *shared = ModelCache::StageBody{};
-        shared->fingerprint = fingerprints[b];
-      }
-    }
-    const fs::path t = dir / (body.name + "_T.bin");
-    const bool need_basis = full_matrices && def.recovery.method == "expansion";
-    if (full_matrices && shared != nullptr && shared->has_full_matrices) {
-      if (progress) {
-        progress("full K and M of " + body.name +
-                 ": the ones already assembled (same reduction fingerprint)");
-      }
-      body.K = shared->K;
-      body.M = shared->M;
-    } else if (full_matrices) {
-      assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &body.K, &body.M);
-      if (shared != nullptr) {
-        shared->K = body.K;
-        shared->M = body.M;
-        shared->has_full_matrices = true;
-      }
-    }
-    if (need_basis || (load_basis_if_present && fs::exists(t))) {
-      if (!fs::exists(t)) {
-        throw InvalidInput({t.string(), 0, ""},
-                           "missing: recovery.method: expansion needs the Craig–Bampton basis; "
-                           "run `" +
-                               reduce_hint + "` again");
-      }
-      const bool reuse = shared != nullptr && shared->has_basis;
-      if (reuse && progress) progress("basis T of " + body.name + ": the one already read");
-      body.T = reuse ? shared->T : read_dense_matrix(t);
-      if (body.T.rows() != body.mesh.num_dofs() || body.T.cols() != body.reduced.size()) {
-        throw InvalidInput({t.string(), 0, ""},
-                           "the basis does not fit the body: run `" + reduce_hint + "` again");
-      }
-      if (shared != nullptr && !reuse) {
-        shared->T = body.T;
-        shared->has_basis = true;
-      }
-    }
-  }
+  StoredReduction::Options options;
+  options.full_matrices = full_matrices;
+  options.need_basis = full_matrices && def.recovery.method == "expansion";
+  options.load_basis_if_present = load_basis_if_present;
+  const StoredReduction reduction(dir, std::move(fingerprint_of), reduce_hint, options, cache);
+  PreparedModel model = prepare_model(def, std::move(bodies), reduction, progress);
+  model.seconds_prepare = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;
 }
 
@@ -349,8 +343,9 @@ int run_reduce(const ReduceCommand& reduce) {
     const fs::path dir = (shared ? out_dir : runs[r].dir) / "reduced";
     create_output_folder(dir);
     fs::remove(dir / "manifest.txt");  // files being replaced belong to no case until it is back
+    const CraigBamptonReduction reduction(&cache, fingerprints[r]);
     const PreparedModel model =
-        prepare_model(runs[r].definition, std::move(resolved[r]), progress, {}, &cache);
+        prepare_model(runs[r].definition, std::move(resolved[r]), reduction, progress);
     ReduceManifest manifest;
     manifest.case_file = base.file;
     for (size_t b = 0; b < model.bodies.size(); ++b) {  // the order of resolved[r].bodies
@@ -360,7 +355,7 @@ int run_reduce(const ReduceCommand& reduce) {
       const std::string m = (dir / (body.name + "_M.hb")).string();
       write_ansys_reduced_body(k, m, body.reduced);
       if (reduce.basis || runs[r].definition.recovery.method == "expansion") {
-        write_dense_matrix(dir / (body.name + "_T.bin"), body.T);
+        write_dense_matrix(dir / (body.name + "_T.bin"), *body.T);
       }
       manifest.body_fingerprint[body.name] = fingerprints[r][b];
       progress(fmt::format("{}: {} reduced DOFs ({} physical) -> {}, {}", body.name,

@@ -24,13 +24,11 @@
 
 #include "hbm/frequency_response.h"
 #include "io/case_file.h"
+#include "io/fingerprint.h"
 
 namespace stickslip {
 
-// 64-bit FNV-1a hash of `text`, as 16 hexadecimal digits (not cryptographic: detects changes).
-std::string fingerprint_hex(const std::string& text);
-// Same of a file's bytes; InvalidInput{path} if it cannot be read.
-std::string file_fingerprint_hex(const std::string& path);
+// fingerprint_hex, file_fingerprint_hex: io/fingerprint.h.
 
 // An existing file, or InvalidInput{path}: "missing: run `<hint>` first".
 void require_stage_file(const std::filesystem::path& path, const std::string& hint);

@@ -46,7 +46,7 @@ int run_case(const StageCommand& command) {
     const auto t_run = Clock::now();
     const std::string where = run.dir.string();
     interruption_doing("reducing and solving for " + where);
-    const PreparedModel model = prepare_model(def, progress, {}, &cache);
+    const PreparedModel model = prepare_model(def, progress, &cache);
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     interruption_doing("writing the solve files in " + where);
     const auto removed = write_solve_results(

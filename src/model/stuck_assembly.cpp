@@ -1,4 +1,4 @@
-#include "cli/stuck_assembly.h"
+#include "model/stuck_assembly.h"
 
 #include "core/errors.h"
 #include "core/frame.h"
