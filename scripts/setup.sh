@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev libspectra-dev libgmsh-dev
   libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  calculix-ccx gnuplot-nox
+  calculix-ccx gnuplot-nox clang-format
   libopenblas0-pthread time
   python3-numpy python3-scipy python3-matplotlib python3-vtk9 python3-pandas zlib1g-dev
 )
