@@ -27,8 +27,8 @@ int run_plot(const PlotCommand& command) {
     throw InvalidInput({dir.string(), 0, ""}, "no such folder: run `" + hint + "` first");
   }
   PlotLog plots;
-  const auto plot_folder = [&](const fs::path& folder, const std::string& prefix) {
-    const SolveResults results = read_solve_results(folder, hint);
+  const auto plot_folder = [&](const fs::path& folder, const SolveResults& results,
+                               const std::string& prefix) {
     const std::vector<PlotSeries> frf = frf_series(results, prefix);
     interruption_doing("plotting in " + folder.string());
     plot_solve_results(folder, results, frf, &plots);
@@ -38,31 +38,42 @@ int run_plot(const PlotCommand& command) {
     return std::make_pair(results.title, frf);
   };
   if (fs::exists(dir / "points.csv")) {
-    plot_folder(dir, "");
+    plot_folder(dir, read_solve_results(dir, hint), "");
     return plots_exit_code(plots, dir);
   }
-  // A study: every sub-folder with solve files, in the order of the studied value.
-  std::vector<std::pair<double, fs::path>> folders;
+  // A study: every sub-folder with solve files, in the order of the studied value (summary.json's
+  // study value; the folder name's suffix for folders written before it was recorded).
+  struct StudyFolder {
+    double value;
+    fs::path folder;
+    SolveResults results;
+  };
+  std::vector<StudyFolder> folders;
   for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
     if (!e.is_directory() || !fs::exists(e.path() / "points.csv")) continue;
+    SolveResults results = read_solve_results(e.path(), hint);
     const std::string name = e.path().filename().string();
     const size_t underscore = name.rfind('_');
-    const double value =
-        underscore == std::string::npos ? 0.0 : std::atof(name.c_str() + underscore + 1);
-    folders.emplace_back(value, e.path());
+    const double value = !results.study_parameter.empty() ? results.study_value
+                         : underscore == std::string::npos
+                             ? 0.0
+                             : std::atof(name.c_str() + underscore + 1);
+    folders.push_back({value, e.path(), std::move(results)});
   }
   if (folders.empty()) require_stage_file(dir / "points.csv", hint);
-  std::sort(folders.begin(), folders.end());
+  std::stable_sort(folders.begin(), folders.end(),
+                   [](const StudyFolder& a, const StudyFolder& b) { return a.value < b.value; });
   std::vector<std::vector<PlotSeries>> overlay;
   std::string title, parameter;
-  for (const auto& [value, folder] : folders) {
-    const std::string name = folder.filename().string();
-    auto [folder_title, frf] = plot_folder(folder, name + ": ");
+  for (const StudyFolder& f : folders) {
+    const std::string name = f.folder.filename().string();
+    auto [folder_title, frf] = plot_folder(f.folder, f.results, name + ": ");
     title = folder_title;
-    parameter = name.substr(0, name.rfind('_'));
+    parameter = !f.results.study_parameter.empty() ? f.results.study_parameter
+                                                   : name.substr(0, name.rfind('_'));
     overlay.push_back(frf);
   }
-  if (folders.size() > 1 && !overlay.empty()) {
+  if (folders.size() > 1) {
     interruption_doing("plotting the study overlay in " + dir.string());
     plot_study(dir, title, parameter, overlay, &plots);
   }

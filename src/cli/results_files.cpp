@@ -160,6 +160,16 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
     };
     string_of("title", &out.title);
     string_of("fingerprint", &out.fingerprint);
+    // {"parameter": "contacts.j.per_pair.preload", "value": v, ...}, or null without a study.
+    if (summary.contains("study") && !summary["study"].is_null()) {
+      const auto& study = summary["study"];
+      if (!study.is_object() || !study.contains("parameter") || !study["parameter"].is_string() ||
+          !study.contains("value") || !study["value"].is_number()) {
+        fail("study", "expected {\"parameter\": <key>, \"value\": <number>}");
+      }
+      out.study_parameter = study["parameter"].get<std::string>();
+      out.study_value = study["value"].get<double>();
+    }
     if (summary.contains("frf")) {
       const auto& frf = summary["frf"];
       if (!frf.is_array()) fail("frf", "expected a list of DOFs");

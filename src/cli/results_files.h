@@ -48,6 +48,9 @@ struct SolveResults {
   std::string title;
   std::string fingerprint;                 // of the solve's inputs (summary.json)
   std::vector<ResponseDofDefinition> frf;  // output.frf of the solved case (summary.json)
+  // A study folder's studied key and value (summary.json "study"); empty / 0 otherwise.
+  std::string study_parameter;
+  double study_value = 0.0;
   // points: omega, converged, iterations, residual_norm, per pair force_local (local_rows x nh),
   // force_global (3 x nh), cycle statistics and (histories.csv) the sampled cycle. `master` and
   // `unknowns` stay empty (the files hold only the physical master DOFs: see `master` below).

@@ -8,6 +8,7 @@
 // body is reduced again only when the studied parameter changes its reduction fingerprint (a
 // material), as `stickslip reduce` decides; the assembled model, contacts, preload loads,
 // excitation, frequency window and harmonic balance are built again for every value.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -37,7 +38,8 @@ int run_case(const StageCommand& command) {
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   SolveOutcome outcome;
-  std::vector<std::vector<PlotSeries>> overlay;
+  // The study overlay in the order of the studied value, as `stickslip plot` draws it again.
+  std::vector<std::pair<double, std::vector<PlotSeries>>> overlay;
   PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : runs) {
@@ -69,7 +71,7 @@ int run_case(const StageCommand& command) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
       plot_solve_results(run.dir, results, frf, &plots);
       plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
-      overlay.push_back(frf);
+      overlay.emplace_back(run.value, frf);
       interruption_done("plots in " + where);
     }
     timings.plots_s = std::chrono::duration<double>(Clock::now() - t_plots).count();
@@ -81,7 +83,11 @@ int run_case(const StageCommand& command) {
   }
   if (runs.size() > 1 && base.output.plots && !overlay.empty()) {
     interruption_doing("plotting the study overlay in " + out_dir.string());
-    plot_study(out_dir, base.title, base.study.parameter, overlay, &plots);
+    std::stable_sort(overlay.begin(), overlay.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::vector<PlotSeries>> per_value;
+    for (auto& entry : overlay) per_value.push_back(std::move(entry.second));
+    plot_study(out_dir, base.title, base.study.parameter, per_value, &plots);
   }
   const int solved_code = solve_exit_code(
       std::chrono::duration<double>(Clock::now() - t0).count(), outcome, progress);

@@ -78,6 +78,18 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
       }
     }
   }
+  // `stickslip plot` draws run's plots again from the files, the same: the study overlay (the
+  // example's values 150, 80, 50 are not in order; both draw them by value) and each folder's.
+  std::map<std::string, std::string> drawn;
+  const std::vector<std::string> scripts = {
+      "frf_study.gp",           "preload_150/frf.gp",         "preload_150/dissipation.gp",
+      "preload_150/dissipation.dat", "preload_50/hysteresis.gp", "preload_50/hysteresis.dat"};
+  for (const std::string& f : scripts) drawn[f] = slurp(out02 / f);
+  ASSERT_EQ(run("plot -q " + out02.string(), out02 / "plot.log"), 0) << slurp(out02 / "plot.log");
+  for (const std::string& f : scripts) {
+    EXPECT_FALSE(drawn[f].empty()) << f;
+    EXPECT_EQ(slurp(out02 / f), drawn[f]) << f;
+  }
   // Example 03: the same beams as HBMAT matrices. Copy the example (it writes its matrices next
   // to the case file) and run its script with this build's program.
   const fs::path ex03 = fresh_dir("example_03");
