@@ -18,6 +18,7 @@
 #include "contact/friction_contact.h"
 #include "continuation/newton.h"
 #include "core/types.h"
+#include "hbm/damped_modes.h"
 #include "hbm/frequency_response.h"
 #include "hbm/harmonic_balance.h"
 

@@ -53,14 +53,14 @@ int run_plot(const PlotCommand& command) {
   }
   if (folders.empty()) require_stage_file(dir / "points.csv", hint);
   std::sort(folders.begin(), folders.end());
-  std::vector<PlotSeries> overlay;
+  std::vector<std::vector<PlotSeries>> overlay;
   std::string title, parameter;
   for (const auto& [value, folder] : folders) {
     const std::string name = folder.filename().string();
     auto [folder_title, frf] = plot_folder(folder, name + ": ");
     title = folder_title;
     parameter = name.substr(0, name.rfind('_'));
-    overlay.insert(overlay.end(), frf.begin(), frf.end());
+    overlay.push_back(frf);
   }
   if (folders.size() > 1 && !overlay.empty()) {
     interruption_doing("plotting the study overlay in " + dir.string());

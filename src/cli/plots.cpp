@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <sstream>
 
 #include <fmt/core.h>
@@ -342,8 +343,32 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
     plot_curves(dir, "contact_state", title, "frequency (Hz)",
                 "fraction of the cycle (mean over pairs)", {stick, slip, separation}, log);
   }
-  // Hysteresis loops (first local axis) of the pairs with a sampled cycle, at the point that
-  // dissipates most.
+  // Energy dissipated per cycle along the sweep: one curve per contact (the sum over its pairs),
+  // and their total when there are several contacts.
+  std::vector<PlotSeries> energy;
+  std::map<std::string, size_t> energy_of_contact;
+  for (const SolvedPairId& id : results.pairs) {
+    if (energy_of_contact.emplace(id.contact, energy.size()).second) {
+      energy.push_back(PlotSeries{id.contact, {}, {}});
+    }
+  }
+  if (energy.size() > 1) energy.push_back(PlotSeries{"all contacts", {}, {}, "lines lw 3 dt 2"});
+  for (const FrequencyPoint& p : results.response.points) {
+    if (!p.converged || p.pairs.size() != results.pairs.size() || energy.empty()) continue;
+    for (PlotSeries& s : energy) s.x.push_back(rad_s_to_hz(p.omega)), s.y.push_back(0.0);
+    for (size_t q = 0; q < p.pairs.size(); ++q) {
+      energy[energy_of_contact.at(results.pairs[q].contact)].y.back() +=
+          p.pairs[q].cycle.dissipated_energy;
+    }
+    if (energy.size() > 1) energy.back().y.back() = dissipated_energy(p);
+  }
+  if (!energy.empty() && !energy.front().x.empty()) {
+    plot_curves(dir, "dissipation", title, "frequency (Hz)", "energy dissipated per cycle (J)",
+                energy, log);
+  }
+  // Hysteresis loops of the pairs with a sampled cycle (output.histories), at the point that
+  // dissipates most: force against relative displacement along the first tangential axis t1 of
+  // each pair's contact frame (1D laws: their one axis), and along t2 for 3D pairs.
   int best = -1;
   double most = -1;
   for (size_t i = 0; i < results.response.points.size(); ++i) {
@@ -353,21 +378,38 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
   }
   if (best < 0) return;
   const FrequencyPoint& p = results.response.points[best];
-  std::vector<PlotSeries> loops;
-  for (size_t q = 0; q < p.pairs.size(); ++q) {
-    const AftSamples& h = p.pairs[q].history;
-    if (h.u.size() == 0) continue;
-    PlotSeries s{fmt::format("pair {}", q), {}, {}};
-    for (int j = 0; j <= h.u.cols(); ++j) {  // closed loop: repeat the first sample
-      s.x.push_back(h.u(0, j % h.u.cols()));
-      s.y.push_back(h.f(0, j % h.u.cols()));
+  const auto loops_on_axis = [&](int axis) {
+    std::vector<PlotSeries> loops;
+    for (size_t q = 0; q < p.pairs.size(); ++q) {
+      const AftSamples& h = p.pairs[q].history;
+      if (h.u.cols() == 0 || h.u.rows() <= axis) continue;
+      // A 3D pair has rows t1, t2, n; a 1D law one row: t2 exists only with three rows.
+      if (axis == 1 && h.u.rows() < 3) continue;
+      const std::string name = q < results.pairs.size()
+                                   ? fmt::format("{} pair {}", results.pairs[q].contact,
+                                                 results.pairs[q].pair)
+                                   : fmt::format("pair {}", q);
+      PlotSeries s{name, {}, {}};
+      for (int j = 0; j <= h.u.cols(); ++j) {  // closed loop: repeat the first sample
+        s.x.push_back(h.u(axis, j % h.u.cols()));
+        s.y.push_back(h.f(axis, j % h.u.cols()));
+      }
+      loops.push_back(std::move(s));
     }
-    loops.push_back(std::move(s));
+    return loops;
+  };
+  const std::string loop_title = fmt::format("{}: {:.6g} Hz", title, rad_s_to_hz(p.omega));
+  const std::vector<PlotSeries> t1 = loops_on_axis(0);
+  if (!t1.empty()) {
+    plot_curves(dir, "hysteresis", loop_title,
+                "relative displacement along t1 of the contact frame (m)",
+                "contact force along t1 (N)", t1, log);
   }
-  if (!loops.empty()) {
-    plot_curves(dir, "hysteresis", fmt::format("{}: {:.6g} Hz", title, rad_s_to_hz(p.omega)),
-                "relative displacement, first local axis (m)",
-                "contact force, first local axis (N)", loops, log);
+  const std::vector<PlotSeries> t2 = loops_on_axis(1);
+  if (!t2.empty()) {
+    plot_curves(dir, "hysteresis_t2", loop_title,
+                "relative displacement along t2 of the contact frame (m)",
+                "contact force along t2 (N)", t2, log);
   }
 }
 
@@ -383,8 +425,18 @@ void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& t
 }
 
 void plot_study(const std::filesystem::path& dir, const std::string& title,
-                const std::string& parameter, const std::vector<PlotSeries>& overlay,
-                PlotLog* log) {
+                const std::string& parameter,
+                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log) {
+  // One colour per studied value, one dash type per FRF DOF: x and y of one value alike.
+  std::vector<PlotSeries> overlay;
+  for (size_t v = 0; v < per_value.size(); ++v) {
+    for (size_t d = 0; d < per_value[v].size(); ++d) {
+      PlotSeries s = per_value[v][d];
+      s.style = fmt::format("lines lw 2 lc {} dt {}", v + 1, d % 5 + 1);
+      overlay.push_back(std::move(s));
+    }
+  }
+  if (overlay.empty()) return;
   plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
               "amplitude of harmonic 1 (m)", overlay, log);
 }

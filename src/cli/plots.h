@@ -62,8 +62,10 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
 
 // The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json) and
 // frf_phase (their phase, unwrapped along the sweep),
-// contact_state (mean stick / slip / separation fractions over the pairs along the sweep) and
-// hysteresis (first local axis of the histories.csv pairs at the most dissipative point).
+// contact_state (mean stick / slip / separation fractions over the pairs along the sweep),
+// dissipation (energy dissipated per cycle per contact, and in all, along the sweep) and
+// hysteresis, hysteresis_t2 (force against relative displacement along t1, t2 of the contact
+// frame, of the histories.csv pairs at the most dissipative point; t2 for 3D pairs only).
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
                         const std::vector<PlotSeries>& frf, PlotLog* log);
 
@@ -79,10 +81,11 @@ void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& t
 void redraw_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
                             PlotLog* log);
 
-// The overlay frf_study of a study's FRF curves (the frf_series of every study folder, labelled
-// by folder), titled "<title>: <parameter>".
+// The overlay frf_study of a study's FRF curves (per studied value, in the study's order, the
+// frf_series of its folder, labelled by folder), titled "<title>: <parameter>": one colour per
+// value, one dash type per FRF DOF. Nothing when there are no curves.
 void plot_study(const std::filesystem::path& dir, const std::string& title,
-                const std::string& parameter, const std::vector<PlotSeries>& overlay,
-                PlotLog* log);
+                const std::string& parameter,
+                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log);
 
 }  // namespace stickslip

@@ -37,7 +37,7 @@ int run_case(const StageCommand& command) {
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   const std::vector<StageRun> runs = stage_runs(base, out_dir);
   SolveOutcome outcome;
-  std::vector<PlotSeries> overlay;
+  std::vector<std::vector<PlotSeries>> overlay;
   PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   for (const StageRun& run : runs) {
@@ -69,7 +69,7 @@ int run_case(const StageCommand& command) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
       plot_solve_results(run.dir, results, frf, &plots);
       plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
-      overlay.insert(overlay.end(), frf.begin(), frf.end());
+      overlay.push_back(frf);
       interruption_done("plots in " + where);
     }
     timings.plots_s = std::chrono::duration<double>(Clock::now() - t_plots).count();

@@ -38,30 +38,6 @@ constexpr double kStructuredSolveTolerance = 1e-10;
 constexpr double kDampingSymmetryTolerance = 1e-10;
 constexpr double kDampingDefinitenessTolerance = 1e-10;
 
-// S = Ψ diag(d) Ψᵀ (symmetric, returned full) through BLAS dsyrk (OpenBLAS's kernels are several
-// times faster than Eigen's portable ones here): the columns of Ψ scaled by √|d_r| in two groups,
-// d_r > 0 added and d_r < 0 subtracted, into the lower triangle, then mirrored.
-void weighted_gram(const Eigen::MatrixXd& Psi, const Eigen::VectorXd& d, Eigen::MatrixXd& S) {
-  const int n = static_cast<int>(Psi.rows());
-  S.setZero(n, n);
-  if (n == 0) return;  // no contact rows (BLAS refuses a leading dimension of 0)
-  Eigen::MatrixXd scaled;
-  for (const double sign : {1.0, -1.0}) {
-    int count = 0;
-    for (Eigen::Index r = 0; r < d.size(); ++r) count += sign * d[r] > 0 ? 1 : 0;
-    if (count == 0) continue;
-    scaled.resize(n, count);
-    int c = 0;
-    for (Eigen::Index r = 0; r < d.size(); ++r) {
-      if (sign * d[r] > 0) scaled.col(c++) = std::sqrt(sign * d[r]) * Psi.col(r);
-    }
-    const double beta = 1.0;
-    const char uplo = 'L', trans = 'N';
-    dsyrk_(&uplo, &trans, &n, &count, &sign, scaled.data(), &n, &beta, S.data(), &n);
-  }
-  S.triangularView<Eigen::StrictlyUpper>() = S.transpose();
-}
-
 // A v for real A and complex v, as two real products (vectorised, no complex casts of A).
 template <typename Matrix>
 Eigen::VectorXcd real_times(const Matrix& A, const Eigen::VectorXcd& v) {
@@ -318,34 +294,18 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
     modal_load_[k] = model_.Phi.transpose().cast<Complex>() * load;
   }
 
-  const double max_w2 = model_.omega2.maxCoeff();
-  static_modes_ = (model_.omega2.array() > 1e-12 * max_w2).cast<double>().matrix();
+  static_modes_ = elastic_modes(model_.omega2);
   require(static_modes_.sum() > 0, "LinearModel.omega2", "all zero", "at least one elastic mode");
   build_static_flexibility();
-
-  if (dense_damping() && options_.damping_matrix_method == DampingMatrixMethod::kStateSpace) {
-    std::shared_ptr<DampedModalExpansion> d = damped_modal_expansion(
-        model_.omega2, model_.modal_damping_matrix, static_modes_, damping_matrix_note_);
-    if (d) {
-      d->P = Psi_.cast<Complex>() * d->X;
-      const int nr = d->rigid + d->real, np = static_cast<int>(d->X.cols() - nr) / 2;
-      d->Preal = d->P.leftCols(nr).real();
-      d->U.resize(rows_, np);
-      d->V.resize(rows_, np);
-      for (int g = 0; g < np; ++g) {
-        d->U.col(g) = d->P.col(nr + 2 * g).real();
-        d->V.col(g) = d->P.col(nr + 2 * g).imag();
-      }
-      for (const auto& [k, q] : modal_load_) d->load[k] = d->X.transpose() * q;
-      damped_ = std::move(d);
-    }
-  }
+  flexibility_ = make_modal_flexibility(
+      {.omega2 = model_.omega2, .Psi = Psi_, .loads = modal_load_}, model_.modal_damping,
+      model_.modal_damping_matrix, options_.damping_matrix_method, damping_matrix_note_);
 
   // Quasi-static linear response scale (see residual_scale()).
   double scale = 0.0;
-  for (const auto& [k, q] : modal_load_) {
-    const Eigen::VectorXcd h = modal_receptance(0, 0.0).cast<Complex>();
-    scale += (Psi_.cast<Complex>() * h.cwiseProduct(q)).norm();
+  {
+    const auto H0 = flexibility_->at(0, 0.0, false);  // diag(1/ω²) on the elastic modes
+    for (const auto& [k, q] : modal_load_) scale += real_times(Psi_, H0->times(q)).norm();
   }
   solve_static();
   const double floor = displacement_floor();
@@ -404,24 +364,10 @@ double HarmonicBalanceSystem::residual_scale_at(double omega) const {
   return std::isfinite(dynamic) ? std::max(residual_scale_, dynamic) : residual_scale_;
 }
 
-Eigen::VectorXcd HarmonicBalanceSystem::modal_receptance(int k, double omega) const {
-  const Eigen::Index nm = model_.omega2.size();
-  Eigen::VectorXcd h(nm);
-  for (Eigen::Index r = 0; r < nm; ++r) {
-    if (k == 0) {
-      h[r] = static_modes_[r] > 0 ? 1.0 / model_.omega2[r] : 0.0;
-    } else {
-      const double kw = k * omega;
-      h[r] = 1.0 / Complex(model_.omega2[r] - kw * kw, kw * model_.modal_damping[r]);
-    }
-  }
-  return h;
-}
-
 void HarmonicBalanceSystem::build_static_flexibility() {
-  // Rigid-body modes (ω_r² ≤ 1e-12 max ω²) have no static flexibility: K q = F has no solution
-  // unless the elements hold them. Leaving them out of G_0 (as harmonics ≥ 1 never need to)
-  // solves a different problem: the free body's deformation under a load balanced by its own
+  // Rigid-body modes (ω_r² ≤ kRigidModeRatio max ω²) have no static flexibility: K q = F has no
+  // solution unless the elements hold them. Leaving them out of G_0 (as harmonics ≥ 1 never need
+  // to) solves a different problem: the free body's deformation under a load balanced by its own
   // inertia, whatever the springs and contacts that hold it (issue 22: a spring-held cantilever
   // 660 times too stiff, independent of the spring stiffness). Instead, with K_s > 0 a diagonal
   // stiffness on the contact rows, K q = F − Bᵀ f(u) is written
@@ -530,25 +476,10 @@ void HarmonicBalanceSystem::subtract_static_shift(Eigen::MatrixXd& J) const {
     for (int s = 0; s < rows_; ++s) J(s * nc_ + o, r * nc_ + o) -= static_shift_G_(s, r);
 }
 
-Eigen::PartialPivLU<Eigen::MatrixXcd> HarmonicBalanceSystem::modal_impedance_lu(
-    int k, double omega) const {
-  STICKSLIP_VERIFY(k >= 1 && dense_damping(), "modal_impedance_lu: k >= 1 with a damping matrix");
-  const double kw = k * omega;
-  Eigen::MatrixXcd Z(model_.omega2.size(), model_.omega2.size());
-  Z.real() = (model_.omega2.array() - kw * kw).matrix().asDiagonal();
-  Z.imag() = kw * model_.modal_damping_matrix;
-  return Eigen::PartialPivLU<Eigen::MatrixXcd>(Z);
-}
-
 Eigen::MatrixXcd HarmonicBalanceSystem::modal_flexibility_times(int k, double omega,
                                                                 const Eigen::MatrixXcd& rhs) const {
   if (k == 0 && static_flexibility_.size() > 0) return real_times_matrix(static_flexibility_, rhs);
-  if (k == 0 || !dense_damping()) return modal_receptance(k, omega).asDiagonal() * rhs;
-  if (damped_) {
-    return damped_->X *
-           (damped_->weights(k * omega).asDiagonal() * (damped_->X.transpose() * rhs));
-  }
-  return modal_impedance_lu(k, omega).solve(rhs);
+  return flexibility_->at(k, omega, false)->times(rhs);
 }
 
 Eigen::MatrixXcd HarmonicBalanceSystem::receptance(int k, double omega) const {
@@ -692,7 +623,7 @@ Eigen::VectorXd HarmonicBalanceSystem::apply_G(const CondensedOperator& op,
 
 Eigen::VectorXd HarmonicBalanceSystem::apply_dG(const CondensedOperator& op,
                                                 const Eigen::VectorXd& v) const {
-  // ∂G_k/∂Ω = Ψ diag(dh_k/dΩ) Ψᵀ, applied through the modes (harmonic 0 does not depend on Ω).
+  // ∂G_k/∂Ω = Ψ (∂H_k/∂Ω) Ψᵀ, applied through the modes (harmonic 0 does not depend on Ω).
   const HarmonicSet& set = unknown_harmonics();
   Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
   Eigen::VectorXcd z(rows_);
@@ -700,18 +631,7 @@ Eigen::VectorXd HarmonicBalanceSystem::apply_dG(const CondensedOperator& op,
     const int k = set.harmonics()[pos], o = set.offset(pos);
     if (k == 0) continue;
     for (int r = 0; r < rows_; ++r) z[r] = Complex(v[r * nc_ + o], -v[r * nc_ + o + 1]);
-    Eigen::VectorXcd w;
-    if (damped_) {  // ∂H/∂Ω = X diag(dw/dΩ) Xᵀ
-      w = damped_->P * op.dw[pos].cwiseProduct(damped_->P.transpose() * z);
-    } else if (dense_damping()) {  // ∂H/∂Ω = −H (−2k²Ω I + i k C_m) H
-      Eigen::VectorXcd y = op.modal_lu[pos].solve(real_times(Psi_.transpose(), z));
-      y = op.modal_lu[pos].solve(
-          Eigen::VectorXcd(-2.0 * k * k * op.omega * y +
-                           Complex(0, k) * real_times(model_.modal_damping_matrix, y)));
-      w = -real_times(Psi_, y);
-    } else {
-      w = real_times(Psi_, op.dh[pos].cwiseProduct(real_times(Psi_.transpose(), z)));
-    }
+    const Eigen::VectorXcd w = op.H[pos]->receptance_derivative_times(z);
     for (int r = 0; r < rows_; ++r) {
       out[r * nc_ + o] = w[r].real();
       out[r * nc_ + o + 1] = -w[r].imag();
@@ -850,50 +770,23 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   };
   for (int pos = 0; pos < set.size(); ++pos) {
     const int k = set.harmonics()[pos], o = set.offset(pos);
-    op->modal_lu.emplace_back();
-    op->dw.emplace_back();
-    if (k > 0 && damped_) {
-      state_space_terms(*op, pos, k, o, derivative);
-      continue;
-    }
-    if (k > 0 && dense_damping()) {
-      dense_damping_terms(*op, pos, k, o, derivative);
-      continue;
-    }
     if (k == 0 && static_flexibility_.size() > 0) {  // held rigid-body modes: the shifted G̃_0
       op->G.emplace_back(static_G_.cast<Complex>());
-      const auto load = modal_load_.find(0);
-      if (load != modal_load_.end()) {
+      if (modal_load_.count(0) > 0)
         scatter_vector(op->ulin, linear_contact_response(0, omega), 0, o);
-      }
-      op->dh.push_back(Eigen::VectorXcd::Zero(model_.omega2.size()));
+      op->H.emplace_back();
       continue;
     }
-    const Eigen::VectorXcd h = modal_receptance(k, omega);
-    // G = Ψ diag(h) Ψᵀ in real arithmetic: Gr = Ψ diag(Re h) Ψᵀ, Gi = Ψ diag(Im h) Ψᵀ.
-    weighted_gram(Psi_, h.real(), gr);
-    if (k > 0) {
-      weighted_gram(Psi_, h.imag(), gi);
-    } else {
-      gi.setZero();
-    }
+    std::unique_ptr<const ModalFlexibility::Harmonic> H = flexibility_->at(k, omega, derivative);
+    H->receptance(gr, gi);
     op->G.emplace_back(rows_, rows_);
     op->G.back().real() = gr;
     op->G.back().imag() = gi;
-    const auto load = modal_load_.find(k);
-    if (load != modal_load_.end()) {
-      scatter_vector(op->ulin, real_times(Psi_, h.cwiseProduct(load->second)), k, o);
+    if (modal_load_.count(k) > 0) {
+      scatter_vector(op->ulin, H->load_response(), k, o);
+      if (derivative && k > 0) scatter_vector(op->dulin, H->load_response_derivative(), k, o);
     }
-    Eigen::VectorXcd dh = Eigen::VectorXcd::Zero(h.size());
-    if (derivative && k > 0) {
-      for (Eigen::Index r = 0; r < h.size(); ++r) {
-        dh[r] = -h[r] * h[r] * Complex(-2.0 * k * k * omega, k * model_.modal_damping[r]);
-      }
-      if (load != modal_load_.end()) {
-        scatter_vector(op->dulin, real_times(Psi_, dh.cwiseProduct(load->second)), k, o);
-      }
-    }
-    op->dh.push_back(std::move(dh));
+    op->H.push_back(std::move(H));
   }
   if (structured_) {
     for (int pos = 0; pos < set.size(); ++pos) {  // I + G_k K_0, K_0 block-diagonal per pair
@@ -911,58 +804,6 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->last = op;
   return op;
-}
-
-void HarmonicBalanceSystem::dense_damping_terms(CondensedOperator& op, int pos, int k, int o,
-                                                bool derivative) const {
-  // G_k = Ψ H_k Ψᵀ with H_k from the LU of the modal impedance; u_lin = Ψ H_k q_k and
-  // du_lin/dΩ = −Ψ H_k (−2k²Ω I + i k C_m) H_k q_k.
-  auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c) {
-    for (int s = 0; s < rows_; ++s) {
-      v[s * nc_ + o] = c[s].real();
-      v[s * nc_ + o + 1] = -c[s].imag();
-    }
-  };
-  op.modal_lu[pos] = modal_impedance_lu(k, op.omega);
-  const Eigen::PartialPivLU<Eigen::MatrixXcd>& lu = op.modal_lu[pos];
-  const Eigen::MatrixXcd X = lu.solve(Psi_.transpose().cast<Complex>());  // H_k Ψᵀ, nm x nu
-  Eigen::MatrixXcd G(rows_, rows_);
-  G.real().noalias() = Psi_ * X.real();
-  G.imag().noalias() = Psi_ * X.imag();
-  op.G.push_back(0.5 * (G + G.transpose()));
-  op.dh.emplace_back();
-  const auto load = modal_load_.find(k);
-  if (load == modal_load_.end()) return;
-  const Eigen::VectorXcd y = lu.solve(load->second);
-  scatter_vector(op.ulin, real_times(Psi_, y));
-  if (!derivative) return;
-  const Eigen::VectorXcd dy = lu.solve(Eigen::VectorXcd(
-      -2.0 * k * k * op.omega * y + Complex(0, k) * real_times(model_.modal_damping_matrix, y)));
-  scatter_vector(op.dulin, -real_times(Psi_, dy));
-}
-
-void HarmonicBalanceSystem::state_space_terms(CondensedOperator& op, int pos, int k, int o,
-                                              bool derivative) const {
-  // G_k = P diag(w) Pᵀ (real split, damped_gram), u_lin = P (w ∘ Xᵀq_k), du_lin/dΩ likewise.
-  const DampedModalExpansion& d = *damped_;
-  const Eigen::VectorXcd w = d.weights(k * op.omega);
-  Eigen::MatrixXd gr, gi;
-  damped_gram(d, w, gr, gi);
-  op.G.emplace_back(rows_, rows_);
-  op.G.back().real() = gr;
-  op.G.back().imag() = gi;
-  op.dh.emplace_back();
-  if (derivative) op.dw[pos] = d.weight_derivatives(k, op.omega);
-  const auto load = d.load.find(k);
-  if (load == d.load.end()) return;
-  auto scatter_vector = [&](Eigen::VectorXd& v, const Eigen::VectorXcd& c) {
-    for (int r = 0; r < rows_; ++r) {
-      v[r * nc_ + o] = c[r].real();
-      v[r * nc_ + o + 1] = -c[r].imag();
-    }
-  };
-  scatter_vector(op.ulin, d.P * w.cwiseProduct(load->second));
-  if (derivative) scatter_vector(op.dulin, d.P * op.dw[pos].cwiseProduct(load->second));
 }
 
 Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) const {

@@ -9,23 +9,24 @@
 // positive semi-definite), when given, replaces the diagonal c_r and the flexibility becomes dense:
 //   D_k⁻¹ = Φ H_k Φᵀ,  H_k(Ω) = (diag(ω_r²) − (kΩ)² I + i kΩ C_m)⁻¹  (k ≥ 1; complex symmetric),
 // harmonic 0 is undamped, H_0 = diag(1/ω_r²) either way. Everything below that is written with
-// diag(h_k) then reads H_k, and dH_k/dΩ = −H_k (−2k²Ω I + i k C_m) H_k. Two ways to apply H_k
-// (HarmonicBalanceOptions.damping_matrix_method):
+// diag(h_k) then reads H_k, and dH_k/dΩ = −H_k (−2k²Ω I + i k C_m) H_k. H_k is one operator
+// (hbm/modal_flexibility.h) whose implementation (diagonal, state space, impedance LU) is chosen
+// at construction. Two ways to apply a dense H_k (HarmonicBalanceOptions.damping_matrix_method):
 //   state space (default): the damped modal problem is diagonalised once, at construction. Its
-//     elastic part (ω_r² > 1e-12 max ω²) in y = [diag(ω) q; q̇] is ẏ = A y with
+//     elastic part (ω_r² > kRigidModeRatio max ω²) in y = [diag(ω) q; q̇] is ẏ = A y with
 //     A = [0 diag(ω); −diag(ω) −C_ee]; the 2·ne eigenpairs A y_j = s_j y_j, normalised so that
 //     y_jᵀ diag(I, −I) y_j = 1, give with ψ_j = diag(ω)⁻¹ y_j,top
 //       H_k(Ω) = Σ_j ψ_j ψ_jᵀ (−s_j) / (i kΩ − s_j)  (+ the rigid-body block, below),
 //     equivalently Σ_j ψ_j ψ_jᵀ / (a_j (i kΩ − s_j)), a_j = ψ_jᵀ (2 s_j I + C_m) ψ_j for ψ_j of
 //     any scale. G_k, dG_k/dΩ, u_lin, du_lin/dΩ and the master response are then weighted sums
 //     over 2·ne vectors, like the diagonal path (about twice its work per Ω). Rigid-body modes
-//     (ω_r² ≤ 1e-12 max ω²) must not be coupled to the elastic ones by C_m (else: LU path); their
-//     block is diagonalised by a rotation among themselves, h = 1/(−(kΩ)² + i kΩ c). Eigenvalues
-//     that the eigenvectors cannot separate (repeated modes, e.g. identical bodies) are grouped
-//     and their invariant subspace re-diagonalised. When the eigenvector basis is ill-conditioned
-//     (defective or nearly defective: critical damping of some mode, eigenvalues near the real
-//     axis coupled to their conjugates), or a check of the expansion against the LU at probe
-//     frequencies fails, the LU path is used instead: damping_matrix_note() says why.
+//     (ω_r² ≤ kRigidModeRatio max ω²) must not be coupled to the elastic ones by C_m (else: LU
+//     path); their block is diagonalised by a rotation among themselves, h = 1/(−(kΩ)² + i kΩ c).
+//     Eigenvalues that the eigenvectors cannot separate (repeated modes, e.g. identical bodies) are
+//     grouped and their invariant subspace re-diagonalised. When the eigenvector basis is
+//     ill-conditioned (defective or nearly defective: critical damping of some mode, eigenvalues
+//     near the real axis coupled to their conjugates), or a check of the expansion against the LU
+//     at probe frequencies fails, the LU path is used instead: damping_matrix_note() says why.
 //   impedance LU: a complex LU of the nm x nm modal impedance per harmonic and Ω (O(nm³) per Ω).
 //
 // Contact pairs: pair p joins node A (DOFs dofs_a) and node B (dofs_b; either may be empty =
@@ -55,9 +56,10 @@
 //   and for k = 0: R_0 = a_0 − u_lin,0 + G_0 f_0.
 // dR/dx = I + 𝔾 ∂F/∂x (∂F/∂x block-diagonal per pair, exact through the AFT) and
 // dR/dΩ = (∂𝔾/∂Ω) F − ∂u_lin/∂Ω, analytic (the element laws are rate-independent).
-// Harmonic 0 and rigid-body modes (ω_r² <= 1e-12 max ω²; bodies held by springs or contacts
-// only): G_0 does not exist. With a diagonal K_s > 0 on the contact rows (each row's element
-// tangent at rest, or a positive stand-in) the static balance is written in the shifted form
+// Harmonic 0 and rigid-body modes (ω_r² ≤ kRigidModeRatio max ω²; bodies held by springs or
+// contacts only): G_0 does not exist. With a diagonal K_s > 0 on the contact rows (each row's
+// element tangent at rest, or a positive stand-in) the static balance is written in the shifted
+// form
 //   R_0 = u_0 − ũ_lin,0 + G̃_0 (f_0 − K_s u_0),  G̃_0 = Ψ H̃_0 Ψᵀ,  ũ_lin,0 = Ψ H̃_0 Φᵀ F_0,
 //   H̃_0 = (Ω² + Ψᵀ K_s Ψ)⁻¹ on the modes the contact rows see,
 // exact for any K_s (K_s u added on both sides of K x = F − Bᵀ f). Rigid motions that move no
@@ -82,8 +84,8 @@
 #include "continuation/newton.h"
 #include "continuation/parametrized_system.h"
 #include "hbm/aft.h"
-#include "hbm/damped_modes.h"
 #include "hbm/fourier.h"
+#include "hbm/modal_flexibility.h"
 
 namespace stickslip {
 
@@ -119,10 +121,6 @@ struct Excitation {
 };
 
 enum class StaticCoupling { kUncoupled, kCoupled };
-
-// How H_k is applied with a modal damping matrix (see the header comment). kStateSpace falls back
-// to kImpedanceLu (with a note) when the damped modes are (nearly) defective.
-enum class DampingMatrixMethod { kStateSpace, kImpedanceLu };
 
 // How Newton solves dR/dx Δ = −R. Dense: LU of the n x n matrix. Structured: GMRES on
 // (I + 𝔾 J_f) (products per harmonic with the complex nu x nu G_k and per pair with J_f),
@@ -201,7 +199,11 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
 
   // With a modal damping matrix: whether the state-space expansion is used, and if it was asked
   // for but not used, why (empty otherwise).
-  bool state_space_damping() const { return damped_ != nullptr; }
+  bool state_space_damping() const {
+    return flexibility_->method() == ModalFlexibilityMethod::kStateSpace;
+  }
+  // The modal flexibility H_k(Ω) in use (modal_flexibility.h), chosen at construction.
+  const ModalFlexibility& modal_flexibility() const { return *flexibility_; }
   const std::string& damping_matrix_note() const { return damping_matrix_note_; }
 
   const NewtonSummary& static_summary() const { return static_summary_; }
@@ -239,16 +241,15 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
 
  private:
   // G_k(Ω) per unknown harmonic (complex nu x nu; 𝔾 is their real split), u_lin(Ω) (n) and,
-  // if requested, dh_k/dΩ and du_lin/dΩ; when structured, the preconditioner's LUs. The last one
-  // is cached: Newton iterations at one Ω and the recovery reuse it.
+  // if requested, du_lin/dΩ and H_k(Ω) with its derivative products; when structured, the
+  // preconditioner's LUs. The last one is cached: Newton iterations at one Ω and the recovery
+  // reuse it.
   struct CondensedOperator {
     double omega = 0.0;
     bool has_derivative = false;
-    std::vector<Eigen::MatrixXcd> G;   // per harmonic position
-    std::vector<Eigen::VectorXcd> dh;  // dh_k/dΩ per position (diagonal damping)
-    std::vector<Eigen::VectorXcd> dw;  // dw_e/dΩ per position (state-space damping)
-    // Dense damping: LU of the modal impedance Z_k = H_k⁻¹ per position (empty for k = 0).
-    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> modal_lu;
+    std::vector<Eigen::MatrixXcd> G;  // per harmonic position
+    // H_k(Ω) per position (null for harmonic 0 with held rigid-body modes: the shifted G̃_0).
+    std::vector<std::unique_ptr<const ModalFlexibility::Harmonic>> H;
     std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
     Eigen::VectorXd ulin, dulin;
     Eigen::MatrixXd Gdense;  // 𝔾 (n x n, real split), dense solver path only
@@ -264,16 +265,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::shared_ptr<const CondensedOperator> last;
   };
   std::shared_ptr<const CondensedOperator> condensed_operator(double omega, bool derivative) const;
-  Eigen::VectorXcd modal_receptance(int k, double omega) const;  // h_k (nm), diagonal damping
-  bool dense_damping() const { return model_.modal_damping_matrix.size() > 0; }
-  // Dense damping, k ≥ 1: LU of Z_k(Ω) = diag(ω_r²) − (kΩ)² I + i kΩ C_m.
-  Eigen::PartialPivLU<Eigen::MatrixXcd> modal_impedance_lu(int k, double omega) const;
-  // H_k(Ω) rhs for a complex nm x c rhs, either damping model.
+  // H_k(Ω) rhs for a complex nm x c rhs (harmonic 0 with held rigid-body modes: H̃_0).
   Eigen::MatrixXcd modal_flexibility_times(int k, double omega, const Eigen::MatrixXcd& rhs) const;
-  // Dense damping: G, u_lin (and du_lin/dΩ) of harmonic k at position pos (offset o) into op.
-  void dense_damping_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
-  // The same through the state-space expansion (damped_ set).
-  void state_space_terms(CondensedOperator& op, int pos, int k, int o, bool derivative) const;
 
   void solve_static();
   double displacement_floor() const;  // s_abs (see residual_scale_at)
@@ -294,7 +287,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   std::vector<int> output_harmonics_;
   Eigen::MatrixXd Psi_;                         // B Φ, nu x nm
   std::map<int, Eigen::VectorXcd> modal_load_;  // k -> Φᵀ F_k
-  Eigen::VectorXd static_modes_;                // 1 for elastic modes (ω_r² > 1e-12 max ω²)
+  Eigen::VectorXd
+      static_modes_;  // 1 for elastic modes (elastic_modes: ω_r² > kRigidModeRatio max ω²)
   // Held rigid-body modes (build_static_flexibility), else all empty: H̃_0 (nm x nm), K_s per
   // contact row (N/m), G̃_0 = Ψ H̃_0 Ψᵀ and G̃_0 K_s (nu x nu).
   Eigen::MatrixXd static_flexibility_;
@@ -323,7 +317,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   std::shared_ptr<StaticResponseCache> static_response_cache_ =
       std::make_shared<StaticResponseCache>();
   std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
-  std::shared_ptr<const DampedModalExpansion> damped_;  // state-space damping, else null
+  std::unique_ptr<const ModalFlexibility> flexibility_;  // H_k(Ω), chosen at construction
   std::string damping_matrix_note_;
 };
 

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -325,6 +326,26 @@ TEST_F(StagesCli, RecoverOnePointAndExportItsDecksAsRunWritesThem) {
   EXPECT_EQ(f_commands, 19 * 3);
 }
 
+// The numbers of each block of a plot's .dat file (blocks separated by blank lines, '#' labels).
+std::vector<std::vector<double>> dat_blocks(const fs::path& file) {
+  std::vector<std::vector<double>> blocks;
+  std::ifstream in(file);
+  std::string line;
+  bool open = false;
+  while (std::getline(in, line)) {
+    if (line.empty()) {
+      open = false;
+      continue;
+    }
+    if (line[0] == '#') continue;
+    if (!open) blocks.emplace_back(), open = true;
+    std::istringstream ss(line);
+    double v = 0;
+    while (ss >> v) blocks.back().push_back(v);
+  }
+  return blocks;
+}
+
 TEST_F(StagesCli, PlotRedrawsTheFrfFromTheCsvFiles) {
   const fs::path dir = root_ / "plot";
   fs::remove_all(dir);
@@ -379,7 +400,52 @@ TEST_F(StagesCli, PlotRedrawsTheFrfFromTheCsvFiles) {
     EXPECT_NE(script.find(scale.str()), std::string::npos) << script;
   }
   EXPECT_TRUE(fs::exists(dir / "contact_state.dat"));
-  EXPECT_TRUE(fs::exists(dir / "hysteresis.dat"));  // histories of pair 0
+  // dissipation.dat: one contact, so one curve: points.csv's dissipated_energy per point.
+  std::map<double, double> energy;
+  for (const auto& r : points) {
+    energy[std::stod(r.at("frequency_hz"))] = std::stod(r.at("dissipated_energy"));
+  }
+  const std::vector<std::vector<double>> blocks = dat_blocks(dir / "dissipation.dat");
+  ASSERT_EQ(blocks.size(), 1u);
+  ASSERT_EQ(blocks[0].size(), 2 * energy.size());
+  size_t row = 0;
+  for (const auto& [f, e] : energy) {
+    EXPECT_NEAR(blocks[0][2 * row], f, 1e-6);
+    EXPECT_NEAR(blocks[0][2 * row + 1], e, 1e-9 * std::abs(e) + 1e-300);
+    ++row;
+  }
+  // hysteresis (t1) and hysteresis_t2 of pair 0 (output.histories) at the most dissipative
+  // point: histories.csv's samples of that point on axes t1 and t2, closed (first repeated).
+  const double most = std::max_element(energy.begin(), energy.end(), [](auto& a, auto& b) {
+                        return a.second < b.second;
+                      })->first;
+  std::string best_point;
+  for (const auto& r : points) {
+    if (std::abs(std::stod(r.at("frequency_hz")) - most) < 1e-9) best_point = r.at("point");
+  }
+  for (const auto& [stem, axis] : {std::pair<std::string, std::string>{"hysteresis", "t1"},
+                                   {"hysteresis_t2", "t2"}}) {
+    std::vector<double> expected_loop;
+    for (const auto& r : read_csv(dir / "histories.csv")) {
+      if (r.at("point") == best_point && r.at("pair") == "0" && r.at("axis") == axis) {
+        expected_loop.push_back(std::stod(r.at("displacement")));
+        expected_loop.push_back(std::stod(r.at("force")));
+      }
+    }
+    ASSERT_GT(expected_loop.size(), 4u) << axis;
+    expected_loop.push_back(expected_loop[0]);
+    expected_loop.push_back(expected_loop[1]);
+    const auto loops = dat_blocks(dir / (stem + ".dat"));
+    ASSERT_EQ(loops.size(), 1u) << stem;
+    ASSERT_EQ(loops[0].size(), expected_loop.size()) << stem;
+    for (size_t i = 0; i < expected_loop.size(); ++i) {
+      EXPECT_NEAR(loops[0][i], expected_loop[i], 1e-9 * std::abs(expected_loop[i]) + 1e-20)
+          << stem << " value " << i;
+    }
+    EXPECT_NE(slurp(dir / (stem + ".gp")).find("along " + axis + " of the contact frame"),
+              std::string::npos)
+        << stem;
+  }
   EXPECT_EQ(run("plot " + (dir / "nowhere").string(), dir / "log.txt"), 2);
 }
 
@@ -552,6 +618,27 @@ TEST(StagesCliSingle, StudiesShareOneReductionUnlessTheParameterChangesIt) {
                         "preload_40/frf.dat", "frf_study.dat"}) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
   }
+  // The overlay draws each studied value in one colour (all its FRF DOFs), each DOF of a value
+  // with its own dash type.
+  const std::string script = slurp(out / "frf_study.gp");
+  std::map<std::string, std::set<std::string>> colours, dashes;
+  size_t curves = 0;
+  for (size_t at = script.find(" lc "); at != std::string::npos; at = script.find(" lc ", at + 1)) {
+    std::istringstream clause(script.substr(at));
+    std::string lc, colour, dt, dash, title, label;
+    clause >> lc >> colour >> dt >> dash >> title >> label;
+    ASSERT_EQ(dt, "dt");
+    ASSERT_EQ(title, "title");
+    const std::string folder = label.substr(1, label.find(':') - 1);
+    colours[folder].insert(colour);
+    dashes[folder].insert(dash);
+    ++curves;
+  }
+  ASSERT_EQ(colours.size(), 2u) << script;  // preload_20, preload_40 (each drawn twice: png, svg)
+  EXPECT_EQ(colours["preload_20"].size(), 1u);
+  EXPECT_EQ(colours["preload_40"].size(), 1u);
+  EXPECT_NE(*colours["preload_20"].begin(), *colours["preload_40"].begin());
+  EXPECT_EQ(dashes["preload_20"].size(), curves / 4) << script;  // one dash type per DOF
   // A stiffness study changes the reduction: one per study folder, and none shared.
   const fs::path mat =
       write_case(dir / "mat", small_case() +

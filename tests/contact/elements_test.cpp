@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "../derivative_check.h"
 #include "contact/friction_contact.h"
 #include "contact/linear_springs.h"
 #include "contact/springs.h"
@@ -235,6 +236,20 @@ TEST(ElementContract, SampleJacobianMatchesCentralDifferences) {
         << "exact\n"
         << df.topLeftCorner(6, 6) << "\nfd\n"
         << fd.topLeftCorner(6, 6);
+  }
+}
+
+TEST(ElementContract, SampleJacobianPassesTheTaylorCheck) {
+  // tests/derivative_check.h: along a random direction of the orbit's size the remainder of the
+  // exact sample derivative falls like h² (or is round-off on linear branches: stick, open).
+  std::mt19937 rng(17);
+  std::normal_distribution<double> normal;
+  for (const Case& c : contract_cases()) {
+    SCOPED_TRACE(c.label);
+    Eigen::MatrixXd du(c.u.rows(), c.u.cols());
+    for (Eigen::Index i = 0; i < du.size(); ++i) du.data()[i] = normal(rng);
+    du *= c.u.norm() / du.norm();
+    testing::expect_taylor_slope(testing::taylor_remainder(*c.element, c.u, du));
   }
 }
 

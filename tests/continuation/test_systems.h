@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Core>
 
+#include "../derivative_check.h"
 #include "continuation/parametrized_system.h"
 #include "core/errors.h"
 
@@ -73,6 +74,10 @@ inline void expect_jacobians_match_finite_differences(const ParametrizedSystem& 
   const double ref_l = std::max(1.0, dR_dlambda.cwiseAbs().maxCoeff());
   EXPECT_LE((dR_dlambda - dR_dlambda_fd).cwiseAbs().maxCoeff(), kFdTolerance * ref_l)
       << "dR/dlambda " << dR_dlambda.transpose() << " fd " << dR_dlambda_fd.transpose();
+  // The Taylor slope along a fixed mixed direction (derivative_check.h).
+  Eigen::VectorXd dx(n);
+  for (int j = 0; j < n; ++j) dx[j] = std::cos(1.0 + 2.7 * j);
+  expect_taylor_slope(taylor_remainder(sys, x, lambda, dx, 0.5));
 }
 
 // Expects f() to throw InvalidInput whose message names `field`.

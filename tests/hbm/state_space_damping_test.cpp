@@ -17,6 +17,7 @@
 #include <Eigen/Dense>
 
 #include "contact/friction_contact.h"
+#include "hbm/damped_modes.h"
 #include "hbm/harmonic_balance.h"
 #include "hbm_test_support.h"
 
