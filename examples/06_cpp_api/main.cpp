@@ -129,8 +129,10 @@ int main() {
 
   // 4. The amplitude of the first harmonic of x at node 1 against the closed form.
   const int x = model.bodies[0].global_dof(1, 0);
-  constexpr double kTolerance = 1e-4;  // relative; the event AFT is exact for a 1D Jenkins
-                                       // element, the residual tolerance (1e-8) bounds the rest
+  // Relative. The event AFT integrates the piecewise-linear Jenkins force exactly, so what is
+  // left is Newton's residual tolerance (1e-8 relative): measured 1e-15 where the element
+  // sticks, 8e-10 where it slips.
+  constexpr double kTolerance = 1e-6;
   int failures = 0;
   std::printf("%10s %14s %14s %10s\n", "f_Hz", "|x1| stickslip", "|x1| closed", "rel.diff");
   for (const FrequencyPoint& p : solved.response.points) {
