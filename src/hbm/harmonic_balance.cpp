@@ -13,10 +13,10 @@
 
 #include <Eigen/Dense>
 
-#include "continuation/gmres.h"
 #include "core/errors.h"
 #include "linalg/blas.h"
 #include "linalg/blas_threads.h"
+#include "linalg/gmres.h"
 
 namespace stickslip {
 
