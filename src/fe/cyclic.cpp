@@ -13,6 +13,10 @@
 namespace stickslip {
 namespace {
 
+// Entries of the sector rotation below 1e-14 (a few eps of its unit entries) are round-off of
+// cos/sin at multiples of 90°: no coupling between those directions.
+constexpr double kRotationZero = 1e-14;
+
 std::string vec_text(const Eigen::Vector3d& v) {
   return "(" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) +
          ")";
@@ -57,13 +61,12 @@ std::vector<std::pair<int, int>> match_cyclic_boundaries(const Mesh& mesh, std::
       if (d < distance) distance = d, best = b;
     }
     if (best < 0 || distance > tolerance) {
-      throw InvalidInput(
-          "cyclic boundaries: low node " + std::to_string(mesh.node_ids[a]) + " rotated lands at " +
-          vec_text(image) + ", but the nearest high node" +
-          (best < 0 ? std::string(" does not exist")
-                    : " (" + std::to_string(mesh.node_ids[best]) + ") is " +
-                          std::to_string(distance) + " m away (tolerance " +
-                          std::to_string(tolerance) + " m)"));
+      throw InvalidInput("cyclic boundaries: low node " + std::to_string(mesh.node_ids[a]) +
+                         " rotated lands at " + vec_text(image) + ", but the nearest high node" +
+                         (best < 0 ? std::string(" does not exist")
+                                   : " (" + std::to_string(mesh.node_ids[best]) + ") is " +
+                                         std::to_string(distance) + " m away (tolerance " +
+                                         std::to_string(tolerance) + " m)"));
     }
     if (const auto [it, fresh] = taken.emplace(best, a); !fresh) {
       throw InvalidInput("cyclic boundaries: low nodes " + std::to_string(mesh.node_ids[it->second]) +
@@ -124,7 +127,7 @@ CyclicSectorProblem cyclic_sector_problem(const SparseMatrix& K, const SparseMat
       double free_weight = 0;
       for (int c = 0; c < 3; ++c) {
         const double w = R(r, c);
-        if (std::abs(w) < 1e-14) continue;
+        if (std::abs(w) < kRotationZero) continue;
         const int src = 3 * lo + c;
         if (clamped[src]) continue;
         free_weight = std::max(free_weight, std::abs(w));

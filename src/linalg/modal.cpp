@@ -115,6 +115,12 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 // on rows of 8–30 entries), so 1024 rows take ~1 ms, far more than starting a thread (~30 µs).
 constexpr std::ptrdiff_t kRowsPerThread = 1024;
 
+// A new Lanczos block whose QR has a diagonal entry at or below 1e-10 of the block's norm is
+// (numerically) rank deficient: its columns span an invariant subspace already in the basis, up
+// to the ~1e-14 round-off of the preceding Gram–Schmidt, and orthonormalising them would amplify
+// that round-off 1e10 times. The block Lanczos then stops (returns nothing usable).
+constexpr double kBlockRankDeficient = 1e-10;
+
 // Y = M X for a block X (n x b): one pass over M's rows, each nonzero an axpy on a row of b
 // contiguous entries, the rows split over the hardware threads (parallel_for). (Eigen's
 // column-major sparse times dense product passes over M once per column.)
@@ -159,7 +165,7 @@ bool block_lanczos(const SparseCholesky& factor, const SparseMatrix& M, int nev,
   auto orthonormalise = [&](Eigen::Index at, double scale) {
     Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
     const Eigen::VectorXd r = qr.matrixQR().diagonal().head(b).cwiseAbs();
-    if (r.minCoeff() <= 1e-10 * scale) return false;
+    if (r.minCoeff() <= kBlockRankDeficient * scale) return false;
     Q.middleCols(at, b) = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
     return true;
   };
