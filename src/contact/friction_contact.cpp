@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 
@@ -24,8 +25,8 @@ constexpr double kPeriodMapSingular = 1e-14;
 
 void require_finite_at_least(double value, double min, bool strict, const std::string& field) {
   const bool ok = std::isfinite(value) && (strict ? value > min : value >= min);
-  require(ok, field, std::to_string(value),
-          std::string(strict ? "> " : ">= ") + std::to_string(min) + " and finite");
+  require(ok, field, format_number(value),
+          std::string(strict ? "> " : ">= ") + format_number(min) + " and finite");
 }
 
 void check_inputs(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp,

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 constexpr double kRotationZero = 1e-14;
 
 std::string vec_text(const Eigen::Vector3d& v) {
-  return "(" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) +
+  return "(" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +
          ")";
 }
 
@@ -65,8 +66,8 @@ std::vector<std::pair<int, int>> match_cyclic_boundaries(const Mesh& mesh, std::
                          " rotated lands at " + vec_text(image) + ", but the nearest high node" +
                          (best < 0 ? std::string(" does not exist")
                                    : " (" + std::to_string(mesh.node_ids[best]) + ") is " +
-                                         std::to_string(distance) + " m away (tolerance " +
-                                         std::to_string(tolerance) + " m)"));
+                                         format_number(distance, 6) + " m away (tolerance " +
+                                         format_number(tolerance) + " m)"));
     }
     if (const auto [it, fresh] = taken.emplace(best, a); !fresh) {
       throw InvalidInput("cyclic boundaries: low nodes " + std::to_string(mesh.node_ids[it->second]) +
