@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
   Mesh mesh;
   std::vector<int> loaded;
   if (size == "reference") {
-    // Beam 1 of the reference model (DESIGN.md, default butt mesh): clamped end, the contact
-    // face nodes and the forced node carry the loads.
+    // Beam 1 of the reference model (docs/conventions.md, default butt mesh): clamped end, the
+    // contact face nodes and the forced node carry the loads.
     const TwoBeamModel model = make_two_beam_model();
     const SubMesh beam = extract_element_set(model.mesh, "BEAM1");
     mesh = beam.mesh;

@@ -23,7 +23,7 @@
 namespace stickslip {
 namespace {
 
-// The reference case of DESIGN.md: steel.
+// The reference case (docs/conventions.md, "The reference case"): steel.
 constexpr double kYoungsModulus = 2e11;  // Pa
 constexpr double kPoissonRatio = 0.3;
 constexpr double kDensity = 7800.0;  // kg/m^3

@@ -1,4 +1,4 @@
-// The recovery stage of `stickslip run` (DESIGN.md, "Full-model recovery"): for the chosen
+// The recovery stage of `stickslip run` (docs/conventions.md, "Full-model recovery"): for the chosen
 // frequency points, every body given by a mesh is loaded with the excitation, the static preload
 // loads and the harmonic contact forces the nonlinear solve found (global axes, at the contact
 // nodes), and solved as a linear harmonic problem on its FULL model (recovery.method: direct =

@@ -8,15 +8,25 @@
 #include <Eigen/Dense>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 
 namespace {
 
+// The periodicity Newton inverts I − M, M = ∂P/∂τ_s the 2 x 2 Jacobian of the period map of the
+// start state (entries O(1): products of radial-return contractions with factors in [0, 1]),
+// only when |det(I − M)| > kPeriodMapSingular. The determinant vanishes as the cycle's slip does
+// (M → I: a stuck cycle has no unique start state); M's entries carry round-off of about
+// N·eps ≈ 1e-14 for the sample counts used (N of 32–256), so below that the determinant is noise
+// and its inverse meaningless. Then a plain period is marched instead of the Newton step, and
+// the start state's derivative is left at ∂P/∂p (the stuck cycle's).
+constexpr double kPeriodMapSingular = 1e-14;
+
 void require_finite_at_least(double value, double min, bool strict, const std::string& field) {
   const bool ok = std::isfinite(value) && (strict ? value > min : value >= min);
-  require(ok, field, std::to_string(value),
-          std::string(strict ? "> " : ">= ") + std::to_string(min) + " and finite");
+  require(ok, field, format_number(value),
+          std::string(strict ? "> " : ">= ") + format_number(min) + " and finite");
 }
 
 void check_inputs(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp,
@@ -220,7 +230,7 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
     Eigen::Vector2d best_start = tau_start, best_end = tau;
     double best = (tau - tau_start).norm();
     const Eigen::Matrix2d A2 = Eigen::Matrix2d::Identity() - M;
-    Eigen::Vector2d ts = std::abs(A2.determinant()) > 1e-14
+    Eigen::Vector2d ts = std::abs(A2.determinant()) > kPeriodMapSingular
                              ? Eigen::Vector2d(tau_start + A2.inverse() * (tau - tau_start))
                              : tau;
     while (stats.periods < march_.max_periods) {
@@ -239,7 +249,7 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
         best_start = ts;
         best_end = te;
         const Eigen::Matrix2d A = Eigen::Matrix2d::Identity() - M;
-        const bool newton = std::abs(A.determinant()) > 1e-14;
+        const bool newton = std::abs(A.determinant()) > kPeriodMapSingular;
         ts = newton ? Eigen::Vector2d(ts + A.inverse() * (te - ts)) : te;
       } else {
         ts = best_end;  // the Newton step did not help: a plain period from the best state
@@ -256,7 +266,7 @@ CycleStatistics FrictionContact3D::march(const Eigen::MatrixXd& u, const Eigen::
       dtau.setZero();
       march_period(parameters_, u, true, tau, &M, &dtau, du, df, ld, f);
       const Eigen::Matrix2d A = Eigen::Matrix2d::Identity() - M;
-      if (std::abs(A.determinant()) > 1e-14) dtau = A.inverse() * dtau;
+      if (std::abs(A.determinant()) > kPeriodMapSingular) dtau = A.inverse() * dtau;
       tau = best_start;
     }
     if (jac || !stats.converged) {

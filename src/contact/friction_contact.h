@@ -1,7 +1,8 @@
-// Friction elements (DESIGN.md contact law). Both start from the virgin state (τ = 0 at u_t = 0)
-// and march the sampled period until τ repeats (see nonlinear_element.h); FrictionContact3D
-// closes a 2D partial-slip cycle that has not repeated after two periods by Newton on the start
-// state τ_s of P(τ_s) = τ_s (unique when the cycle slips; the same cycle marching tends to).
+// Friction elements (docs/conventions.md contact law). Both start from the virgin state (τ = 0 at
+// u_t = 0) and march the sampled period until τ repeats (see nonlinear_element.h);
+// FrictionContact3D closes a 2D partial-slip cycle that has not repeated after two periods by
+// Newton on the start state τ_s of P(τ_s) = τ_s (unique when the cycle slips; the same cycle
+// marching tends to).
 //
 // FrictionContact3D, m = 3, u = (u_t1, u_t2, w), f = (τ1, τ2, N):
 //   normal   N = max(0, N0 + kn (w − g0))        (preload N0 ≥ 0 and/or initial gap g0 ≥ 0)

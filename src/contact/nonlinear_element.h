@@ -3,7 +3,7 @@
 // An element sees only its LOCAL relative displacement u = R (x_A − x_B) (m components; for the
 // 3D friction contact rows (t1, t2, n), so u_n = w is the normal approach) and returns the LOCAL
 // force f that the element exerts on B; the force on B in global axes is +Rᵀ f, on A −Rᵀ f
-// (DESIGN.md). SI units: u in m, f in N.
+// (docs/conventions.md). SI units: u in m, f in N.
 //
 // march(): the element law marched over ONE period sampled at N equally spaced instants
 // (column j of u = u(t_j); the sample after N−1 is sample 0 of the next period). Elements with

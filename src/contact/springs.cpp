@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 
@@ -21,17 +22,17 @@ void check_inputs(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp,
 }  // namespace
 
 void validate(const UnilateralSpringParameters& p) {
-  require(std::isfinite(p.k) && p.k > 0.0, "UnilateralSpringParameters.k", std::to_string(p.k),
+  require(std::isfinite(p.k) && p.k > 0.0, "UnilateralSpringParameters.k", format_number(p.k),
           "> 0 and finite");
   require(std::isfinite(p.gap) && p.gap >= 0.0, "UnilateralSpringParameters.gap",
-          std::to_string(p.gap), ">= 0 and finite");
+          format_number(p.gap), ">= 0 and finite");
   require(std::isfinite(p.preload) && p.preload >= 0.0, "UnilateralSpringParameters.preload",
-          std::to_string(p.preload), ">= 0 and finite");
+          format_number(p.preload), ">= 0 and finite");
 }
 
 void validate(const CubicSpringParameters& p) {
-  require(std::isfinite(p.k1), "CubicSpringParameters.k1", std::to_string(p.k1), "finite");
-  require(std::isfinite(p.k3), "CubicSpringParameters.k3", std::to_string(p.k3), "finite");
+  require(std::isfinite(p.k1), "CubicSpringParameters.k1", format_number(p.k1), "finite");
+  require(std::isfinite(p.k3), "CubicSpringParameters.k3", format_number(p.k3), "finite");
 }
 
 UnilateralSpring::UnilateralSpring(UnilateralSpringParameters parameters)

@@ -4,9 +4,9 @@
 #include <limits>
 #include <sstream>
 
-#include "continuation/dense_lu.h"
 #include "core/errors.h"
 #include "linalg/blas_threads.h"
+#include "linalg/dense_lu.h"
 
 namespace stickslip {
 namespace {

@@ -5,10 +5,10 @@
 #include <limits>
 #include <numeric>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 
 namespace stickslip {
 
@@ -263,8 +263,7 @@ void assemble_stiffness_mass(const Mesh& mesh, std::span<const int> elements,
     *M = *K;  // same pattern, zero values
   }
   const Scatter scatter{mesh, adj, material, options, K, M};
-  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const int threads = std::min(options.num_threads == 0 ? hardware : options.num_threads, 64);
+  const int threads = thread_count(options.num_threads);
   if (threads == 1 || elements.size() < 1000) {
     Scatter::Buffers buf;
     for (int e : elements) scatter.element(e, buf);
@@ -272,25 +271,14 @@ void assemble_stiffness_mass(const Mesh& mesh, std::span<const int> elements,
   }
   const std::vector<std::vector<int>> groups = colour_elements(mesh, elements, n2e);
   std::vector<Scatter::Buffers> bufs(threads);
-  std::vector<std::exception_ptr> errors(threads);
   for (const std::vector<int>& group : groups) {
-    std::vector<std::thread> pool;
-    const size_t chunk = (group.size() + threads - 1) / threads;
-    for (int t = 0; t < threads; ++t) {
-      const size_t lo = std::min(group.size(), t * chunk);
-      const size_t hi = std::min(group.size(), lo + chunk);
-      pool.emplace_back([&, t, lo, hi] {
-        try {
-          for (size_t i = lo; i < hi; ++i) scatter.element(group[i], bufs[t]);
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& err : errors) {
-      if (err) std::rethrow_exception(err);
-    }
+    // The elements of one colour share no node: their scatters into K and M never collide.
+    parallel_for(static_cast<std::ptrdiff_t>(group.size()), threads,
+                 [&](std::ptrdiff_t lo, std::ptrdiff_t hi, int t) {
+                   for (std::ptrdiff_t i = lo; i < hi; ++i) {
+                     scatter.element(group[static_cast<size_t>(i)], bufs[static_cast<size_t>(t)]);
+                   }
+                 });
   }
 }
 

@@ -9,12 +9,17 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 namespace {
 
+// Entries of the sector rotation below 1e-14 (a few eps of its unit entries) are round-off of
+// cos/sin at multiples of 90°: no coupling between those directions.
+constexpr double kRotationZero = 1e-14;
+
 std::string vec_text(const Eigen::Vector3d& v) {
-  return "(" + std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) +
+  return "(" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +
          ")";
 }
 
@@ -57,13 +62,12 @@ std::vector<std::pair<int, int>> match_cyclic_boundaries(const Mesh& mesh, std::
       if (d < distance) distance = d, best = b;
     }
     if (best < 0 || distance > tolerance) {
-      throw InvalidInput(
-          "cyclic boundaries: low node " + std::to_string(mesh.node_ids[a]) + " rotated lands at " +
-          vec_text(image) + ", but the nearest high node" +
-          (best < 0 ? std::string(" does not exist")
-                    : " (" + std::to_string(mesh.node_ids[best]) + ") is " +
-                          std::to_string(distance) + " m away (tolerance " +
-                          std::to_string(tolerance) + " m)"));
+      throw InvalidInput("cyclic boundaries: low node " + std::to_string(mesh.node_ids[a]) +
+                         " rotated lands at " + vec_text(image) + ", but the nearest high node" +
+                         (best < 0 ? std::string(" does not exist")
+                                   : " (" + std::to_string(mesh.node_ids[best]) + ") is " +
+                                         format_number(distance, 6) + " m away (tolerance " +
+                                         format_number(tolerance) + " m)"));
     }
     if (const auto [it, fresh] = taken.emplace(best, a); !fresh) {
       throw InvalidInput("cyclic boundaries: low nodes " + std::to_string(mesh.node_ids[it->second]) +
@@ -124,7 +128,7 @@ CyclicSectorProblem cyclic_sector_problem(const SparseMatrix& K, const SparseMat
       double free_weight = 0;
       for (int c = 0; c < 3; ++c) {
         const double w = R(r, c);
-        if (std::abs(w) < 1e-14) continue;
+        if (std::abs(w) < kRotationZero) continue;
         const int src = 3 * lo + c;
         if (clamped[src]) continue;
         free_weight = std::max(free_weight, std::abs(w));

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 
@@ -21,10 +22,10 @@ void check(const NodePairSpring& s, size_t i, int num_nodes) {
   require(s.node_b != s.node_a, name + ".node_b", std::to_string(s.node_b), "node_b != node_a");
   const double err = (s.frame * s.frame.transpose() - Eigen::Matrix3d::Identity()).norm();
   require(std::isfinite(err) && err <= kOrthonormalTolerance, name + ".frame",
-          "|R R^T - I| = " + std::to_string(err), "rows t1, t2, n unit and orthonormal");
-  require(s.k_t1 >= 0.0, name + ".k_t1", std::to_string(s.k_t1), ">= 0");
-  require(s.k_t2 >= 0.0, name + ".k_t2", std::to_string(s.k_t2), ">= 0");
-  require(s.k_n >= 0.0, name + ".k_n", std::to_string(s.k_n), ">= 0");
+          "|R R^T - I| = " + format_number(err, 3), "rows t1, t2, n unit and orthonormal");
+  require(s.k_t1 >= 0.0, name + ".k_t1", format_number(s.k_t1), ">= 0");
+  require(s.k_t2 >= 0.0, name + ".k_t2", format_number(s.k_t2), ">= 0");
+  require(s.k_n >= 0.0, name + ".k_n", format_number(s.k_n), ">= 0");
 }
 
 Eigen::Matrix3d local_to_global(const NodePairSpring& s) {

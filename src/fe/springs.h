@@ -1,9 +1,9 @@
 // Linear springs between node pairs (stuck contact, elastic joints) in a local frame.
 //
 // Frame R (3x3) has rows t1, t2, n (unit, orthonormal; n points out of body A into body B, as
-// for contact in DESIGN.md). With x_A, x_B the nodal displacements, the spring's relative
+// for contact in docs/conventions.md). With x_A, x_B the nodal displacements, the spring's relative
 // displacement is u = R (x_A - x_B) and its force in local axes k u, k = diag(k_t1, k_t2, k_n)
-// (N/m). The force on B is +R^T k u, on A its negative (DESIGN.md's sign convention). The
+// (N/m). The force on B is +R^T k u, on A its negative (docs/conventions.md's sign convention). The
 // stiffness this adds to K (internal force = K x) is, with S = R^T k R:
 //   K_AA += S,  K_BB += S,  K_AB = K_BA -= S.
 // node_b = -1 ties node_a to the ground (x_B = 0): only K_AA += S.

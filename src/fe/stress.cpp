@@ -4,12 +4,12 @@
 #include <cmath>
 #include <exception>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <Eigen/LU>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "fe/element.h"
 
 namespace stickslip {
@@ -162,40 +162,6 @@ ComplexStressMatrix nodal_stress(const Mesh& mesh, const IsotropicMaterial& mate
 // ---------------------------------------------------------------------------------------------
 // NodalStressOperator
 
-namespace {
-
-int thread_count(int requested) {
-  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  return std::clamp(requested == 0 ? hardware : requested, 1, 64);
-}
-
-// Runs work(begin, end) over [0, n) split into `threads` contiguous ranges.
-template <class Work>
-void parallel_ranges(Eigen::Index n, int threads, const Work& work) {
-  threads = static_cast<int>(std::min<Eigen::Index>(threads, std::max<Eigen::Index>(n, 1)));
-  if (threads <= 1) {
-    work(Eigen::Index{0}, n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
-  for (int t = 0; t < threads; ++t) {
-    pool.emplace_back([&, t] {
-      try {
-        work(n * t / threads, n * (t + 1) / threads);
-      } catch (...) {
-        errors[static_cast<size_t>(t)] = std::current_exception();
-      }
-    });
-  }
-  for (std::thread& th : pool) th.join();
-  for (const std::exception_ptr& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
-}
-
-}  // namespace
-
 NodalStressOperator::NodalStressOperator(const Mesh& mesh, const IsotropicMaterial& material,
                                          const AssemblyOptions& options,
                                          std::span<const int> elements) {
@@ -301,7 +267,7 @@ Eigen::MatrixXd NodalStressOperator::apply(const Eigen::MatrixXd& U, int num_thr
   Eigen::MatrixXd Y(6 * N, m);
   const double* u = U.data();
   const Eigen::Index ldu = U.rows(), ldy = Y.rows();
-  parallel_ranges(N, thread_count(num_threads), [&](Eigen::Index n0, Eigen::Index n1) {
+  parallel_for(N, thread_count(num_threads), [&](std::ptrdiff_t n0, std::ptrdiff_t n1, int) {
     Eigen::Matrix<double, 6, Eigen::Dynamic> acc(6, m);
     for (Eigen::Index n = n0; n < n1; ++n) {
       acc.setZero();

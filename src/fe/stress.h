@@ -11,8 +11,8 @@
 //   mesh nodes:         unweighted average over the listed elements that contain the node
 //                       (nodes in no listed element get 0).
 // u_e is the element's displacement vector (DOF 3a + d); u the global one (DOF 3 node + d).
-// Complex displacements (harmonic amplitudes, DESIGN.md) give complex stress amplitudes: the
-// map is real-linear, so real and imaginary parts are processed separately.
+// Complex displacements (harmonic amplitudes, docs/conventions.md) give complex stress amplitudes:
+// the map is real-linear, so real and imaginary parts are processed separately.
 #pragma once
 
 #include <complex>

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 
 #include "core/errors.h"
+#include "core/format.h"
 #include "linalg/blas.h"
 
 namespace stickslip {
@@ -243,8 +244,8 @@ std::shared_ptr<DampedModalExpansion> damped_modal_expansion(const Eigen::Vector
            (a.tail(ne).transpose() * b.tail(ne)).value();
   };
   auto defective = [&](const Complex& pole) {
-    failure = "the damped modes are (nearly) defective at s = " + std::to_string(pole.real()) +
-              (pole.imag() < 0 ? " - " : " + ") + std::to_string(std::abs(pole.imag())) +
+    failure = "the damped modes are (nearly) defective at s = " + format_number(pole.real(), 6) +
+              (pole.imag() < 0 ? " - " : " + ") + format_number(std::abs(pole.imag()), 6) +
               "i (critical damping)";
   };
   std::vector<Eigen::VectorXcd> real_y, pair_y;  // elastic state vectors, normalised (pairs)
@@ -391,7 +392,7 @@ std::shared_ptr<DampedModalExpansion> damped_modal_expansion(const Eigen::Vector
     const double error = (got - ref).norm() / ref.norm();
     if (!(error <= kProbeTolerance)) {
       failure = "the state-space expansion disagrees with the impedance LU at " +
-                std::to_string(kappa) + " rad/s (relative difference " + std::to_string(error) +
+                format_number(kappa, 6) + " rad/s (relative difference " + format_number(error, 3) +
                 ")";
       return nullptr;
     }

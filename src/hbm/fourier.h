@@ -1,7 +1,8 @@
 // Truncated real Fourier series over one period and its sampled (AFT) counterpart.
 //
 //   x(t) = a0 + Σ_{k ∈ S, k ≥ 1} (a_k cos kθ + b_k sin kθ),   θ = Ωt ∈ [0, 2π),
-//   complex amplitude X_k = a_k − i b_k, so x(t) = Re Σ X_k e^{ikθ} (DESIGN.md convention).
+//   complex amplitude X_k = a_k − i b_k, so x(t) = Re Σ X_k e^{ikθ} (docs/conventions.md
+//   convention).
 //
 // S is a HarmonicSet: an increasing list of non-negative harmonic numbers (e.g. 0..H, or the odd
 // ones 1, 3, 5). Harmonic 0 may be absent.

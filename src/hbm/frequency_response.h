@@ -3,7 +3,7 @@
 // through turning points, both from continuation/. The first guess is the linear stuck (or free)
 // solution at the first frequency (HarmonicBalanceSystem::linear_guess).
 //
-// Per point (DESIGN.md): every master DOF's harmonics, contact forces per pair and harmonic in
+// Per point: every master DOF's harmonics, contact forces per pair and harmonic in
 // local axes (force on B, rows of the pair's frame) and global axes (+Rᵀ f, on node B; node A
 // receives the negative), relative displacement harmonics, the cycle statistics (stick / slip /
 // separation fractions, dissipated energy per cycle), Newton iterations, residual, convergence;

@@ -13,10 +13,11 @@
 
 #include <Eigen/Dense>
 
-#include "continuation/gmres.h"
 #include "core/errors.h"
+#include "core/format.h"
 #include "linalg/blas.h"
 #include "linalg/blas_threads.h"
+#include "linalg/gmres.h"
 
 namespace stickslip {
 
@@ -134,10 +135,10 @@ void validate(const LinearModel& model) {
           "size nm = " + std::to_string(nm) + " (or empty with modal_damping_matrix)");
   for (Eigen::Index r = 0; r < nm; ++r) {
     require(std::isfinite(model.omega2[r]) && model.omega2[r] >= 0, idx("LinearModel.omega2", r),
-            std::to_string(model.omega2[r]), ">= 0 and finite");
+            format_number(model.omega2[r]), ">= 0 and finite");
     if (dense) continue;
     require(std::isfinite(model.modal_damping[r]) && model.modal_damping[r] >= 0,
-            idx("LinearModel.modal_damping", r), std::to_string(model.modal_damping[r]),
+            idx("LinearModel.modal_damping", r), format_number(model.modal_damping[r]),
             ">= 0 and finite");
   }
   if (dense) {
@@ -149,8 +150,8 @@ void validate(const LinearModel& model) {
     const double cmax = C.cwiseAbs().maxCoeff();
     const double asym = (C - C.transpose()).cwiseAbs().maxCoeff();
     require(asym <= kDampingSymmetryTolerance * cmax, "LinearModel.modal_damping_matrix",
-            "max |C − Cᵀ| = " + std::to_string(asym),
-            "symmetric (to 1e-10 of max |C| = " + std::to_string(cmax) + ")");
+            "max |C − Cᵀ| = " + format_number(asym, 6),
+            "symmetric (to 1e-10 of max |C| = " + format_number(cmax, 6) + ")");
     if (cmax > 0) {
       const Eigen::MatrixXd Cs = 0.5 * (C + C.transpose());
       const Eigen::VectorXd ev =
@@ -158,7 +159,7 @@ void validate(const LinearModel& model) {
       const double scale = ev.cwiseAbs().maxCoeff();
       require(ev.minCoeff() >= -kDampingDefinitenessTolerance * scale,
               "LinearModel.modal_damping_matrix",
-              "smallest eigenvalue " + std::to_string(ev.minCoeff()),
+              "smallest eigenvalue " + format_number(ev.minCoeff(), 6),
               "positive semi-definite (damping dissipates)");
     }
   }
@@ -166,13 +167,13 @@ void validate(const LinearModel& model) {
 }
 
 Eigen::VectorXd rayleigh_modal_damping(const Eigen::VectorXd& omega2, double alpha, double beta) {
-  require(std::isfinite(alpha) && alpha >= 0, "alpha", std::to_string(alpha), ">= 0");
-  require(std::isfinite(beta) && beta >= 0, "beta", std::to_string(beta), ">= 0");
+  require(std::isfinite(alpha) && alpha >= 0, "alpha", format_number(alpha), ">= 0");
+  require(std::isfinite(beta) && beta >= 0, "beta", format_number(beta), ">= 0");
   return (alpha + beta * omega2.array()).matrix();
 }
 
 Eigen::VectorXd modal_damping_from_ratio(const Eigen::VectorXd& omega2, double zeta) {
-  require(std::isfinite(zeta) && zeta >= 0, "zeta", std::to_string(zeta), ">= 0");
+  require(std::isfinite(zeta) && zeta >= 0, "zeta", format_number(zeta), ">= 0");
   return (2.0 * zeta * omega2.array().max(0.0).sqrt()).matrix();
 }
 
@@ -214,7 +215,7 @@ void validate(const HarmonicBalanceOptions& o) {
           std::to_string(o.time_samples),
           ">= 2(2 H_max + 1) = " + std::to_string(set.min_time_samples()));
   require(std::isfinite(o.residual_scale) && o.residual_scale >= 0,
-          "HarmonicBalanceOptions.residual_scale", std::to_string(o.residual_scale), ">= 0");
+          "HarmonicBalanceOptions.residual_scale", format_number(o.residual_scale), ">= 0");
   validate(o.static_newton, "HarmonicBalanceOptions.static_newton.");
 }
 

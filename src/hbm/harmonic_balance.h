@@ -1,5 +1,5 @@
-// Condensed multi-harmonic balance on the contact DOFs (DESIGN.md, "The formulation the solver
-// must have").
+// Condensed multi-harmonic balance on the contact DOFs (docs/conventions.md, "The condensed
+// harmonic balance").
 //
 // Linear model (LinearModel): ndof master DOFs x, nm modes, mass-normalised (Φᵀ M Φ = I), modal
 // equations q̈_r + c_r q̇_r + ω_r² q_r = φ_rᵀ F. Per harmonic k the dynamic flexibility is

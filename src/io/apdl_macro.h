@@ -4,12 +4,13 @@
 // every load is one F command).
 //
 // Convention. stickslip's harmonic k has the complex amplitude X_k = a_k − i b_k with
-// x(t) = a_0 + Σ (a_k cos kΩt + b_k sin kΩt) = Re Σ X_k e^{ikΩt} (DESIGN.md). ANSYS's harmonic
-// load F,node,lab,VALUE,VALUE2 is F = (VALUE + i VALUE2) e^{iΩt}, physical part Re(F e^{iΩt})
-// (ANSYS theory: F1 = Fmax cos ψ, F2 = Fmax sin ψ, results "real" and "imaginary" likewise), so
+// x(t) = a_0 + Σ (a_k cos kΩt + b_k sin kΩt) = Re Σ X_k e^{ikΩt} (docs/conventions.md). ANSYS's
+// harmonic load F,node,lab,VALUE,VALUE2 is F = (VALUE + i VALUE2) e^{iΩt}, physical part Re(F
+// e^{iΩt}) (ANSYS theory: F1 = Fmax cos ψ, F2 = Fmax sin ψ, results "real" and "imaginary"
+// likewise), so
 //   VALUE = Re X_k = a_k  (cosine coefficient),   VALUE2 = Im X_k = −b_k  (minus the sine one).
-// (The thesis's macro wrote the sine coefficient itself as VALUE2: with DESIGN.md's convention
-// that is the complex conjugate, i.e. a sign flip of every phase.)
+// (The thesis's macro wrote the sine coefficient itself as VALUE2: with docs/conventions.md's
+// convention that is the complex conjugate, i.e. a sign flip of every phase.)
 //
 // Layout of the macro (one line per item, numbers in shortest round-trip decimal form):
 //   ! header comments (frequency, convention)

@@ -13,8 +13,8 @@
 // Loads and convention: ccx's *CLOAD with LOAD CASE=1 is the real part and LOAD CASE=2 the
 // imaginary part of F in f(t) = Re(F e^{iωt}), and it prints the real and then the imaginary
 // part of the displacement for the same convention (checked against stickslip's modal solver in
-// tests/recovery). That is DESIGN.md's X_k = a_k − i b_k, so LOAD CASE=1 gets Re X_k = a_k and
-// LOAD CASE=2 gets Im X_k = −b_k.
+// tests/recovery). That is docs/conventions.md's X_k = a_k − i b_k, so LOAD CASE=1 gets Re X_k =
+// a_k and LOAD CASE=2 gets Im X_k = −b_k.
 //
 // Deck layout:
 //   the mesh (io/inp_writer.h) plus the sets SS_NALL (all nodes), SS_EALL (all elements),

@@ -206,7 +206,8 @@ struct ExcitationDefinition {
   double amplitude = 0.0;                    // N (by_direction; the modulus when `complex`)
   double phase_deg = 0.0;                    // degrees (by_direction)
   // Complex amplitude of the force vector on each node, N: f(t) = Re(F e^{ikΩt}), so
-  // amplitude A and phase φ give A cos(kΩt + φ) along the direction (DESIGN.md convention).
+  // amplitude A and phase φ give A cos(kΩt + φ) along the direction (docs/conventions.md
+  // convention).
   std::array<std::complex<double>, 3> force{};
 };
 

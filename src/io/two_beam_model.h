@@ -1,6 +1,6 @@
-// The reference model of DESIGN.md ("the reference case"): two identical cantilever beams whose
-// half-thickness free ends touch, meshed with structured hexahedra through the Gmsh API (built-in
-// "geo" kernel, transfinite curves/surfaces/volumes, recombined surfaces).
+// The reference model of docs/conventions.md ("the reference case"): two identical cantilever beams
+// whose half-thickness free ends touch, meshed with structured hexahedra through the Gmsh API
+// (built-in "geo" kernel, transfinite curves/surfaces/volumes, recombined surfaces).
 //
 // Geometry (m). Beam 1: large box [0, L] x [0, W] x [0, T], clamped at x = 0, with the end block
 // [L, L + e] x [0, W] x [0, T/2] (half thickness, flush with the z = 0 face).

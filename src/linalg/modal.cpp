@@ -14,10 +14,10 @@
 #include <numeric>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "linalg/blas.h"
 #include "linalg/blas_threads.h"
 #include "linalg/sparse_cholesky.h"
@@ -111,24 +111,33 @@ Eigen::Index sign_component(const Eigen::Ref<const Eigen::VectorXd>& phi) {
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+// Rows of a sparse product per thread at least: a row costs an axpy per nonzero (≈ 80 of them,
+// on rows of 8–30 entries), so 1024 rows take ~1 ms, far more than starting a thread (~30 µs).
+constexpr std::ptrdiff_t kRowsPerThread = 1024;
+
+// A new Lanczos block whose QR has a diagonal entry at or below 1e-10 of the block's norm is
+// (numerically) rank deficient: its columns span an invariant subspace already in the basis, up
+// to the ~1e-14 round-off of the preceding Gram–Schmidt, and orthonormalising them would amplify
+// that round-off 1e10 times. The block Lanczos then stops (returns nothing usable).
+constexpr double kBlockRankDeficient = 1e-10;
+
 // Y = M X for a block X (n x b): one pass over M's rows, each nonzero an axpy on a row of b
-// contiguous entries, the rows split between two threads. (Eigen's column-major sparse times
-// dense product passes over M once per column.)
+// contiguous entries, the rows split over the hardware threads (parallel_for). (Eigen's
+// column-major sparse times dense product passes over M once per column.)
 Eigen::MatrixXd block_product(const RowSparse& M, const Eigen::MatrixXd& X) {
   const RowMatrix Xr = X;
   RowMatrix Yr(X.rows(), X.cols());
-  auto rows = [&](Eigen::Index r0, Eigen::Index r1) {
-    for (Eigen::Index r = r0; r < r1; ++r) {
-      auto y = Yr.row(r);
-      y.setZero();
-      for (RowSparse::InnerIterator it(M, r); it; ++it)
-        y.noalias() += it.value() * Xr.row(it.col());
-    }
-  };
-  const Eigen::Index half = M.rows() / 2;
-  std::thread helper(rows, half, M.rows());
-  rows(0, half);
-  helper.join();
+  parallel_for(
+      M.rows(), thread_count(),
+      [&](std::ptrdiff_t r0, std::ptrdiff_t r1, int) {
+        for (Eigen::Index r = r0; r < r1; ++r) {
+          auto y = Yr.row(r);
+          y.setZero();
+          for (RowSparse::InnerIterator it(M, r); it; ++it)
+            y.noalias() += it.value() * Xr.row(it.col());
+        }
+      },
+      kRowsPerThread);
   return Yr;
 }
 
@@ -156,7 +165,7 @@ bool block_lanczos(const SparseCholesky& factor, const SparseMatrix& M, int nev,
   auto orthonormalise = [&](Eigen::Index at, double scale) {
     Eigen::HouseholderQR<Eigen::MatrixXd> qr(W);
     const Eigen::VectorXd r = qr.matrixQR().diagonal().head(b).cwiseAbs();
-    if (r.minCoeff() <= 1e-10 * scale) return false;
+    if (r.minCoeff() <= kBlockRankDeficient * scale) return false;
     Q.middleCols(at, b) = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
     return true;
   };

@@ -9,6 +9,12 @@
 
 namespace stickslip {
 
+namespace {
+// A spring's direction must be a unit vector to 1e-12: the readers normalise what they read, so
+// only round-off of that (≈ eps) is accepted; a direction given unnormalised is a caller's error.
+constexpr double kUnitLengthTolerance = 1e-12;
+}  // namespace
+
 int nodes_per_element(ElementType type) {
   switch (type) {
     case ElementType::kC3D8:
@@ -148,8 +154,8 @@ void check_mesh(const Mesh& mesh) {
       throw InvalidInput(where + " refers to a node index out of range");
     }
     if (!(k.stiffness >= 0.0) || !std::isfinite(k.stiffness) ||
-        std::abs(k.direction_a.norm() - 1.0) > 1e-12 ||
-        std::abs(k.direction_b.norm() - 1.0) > 1e-12) {
+        std::abs(k.direction_a.norm() - 1.0) > kUnitLengthTolerance ||
+        std::abs(k.direction_b.norm() - 1.0) > kUnitLengthTolerance) {
       throw InvalidInput(where + ": stiffness must be finite and >= 0, directions unit vectors");
     }
   }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "core/format.h"
 
 namespace stickslip {
 namespace {
@@ -198,8 +199,8 @@ int nearest_node(const Mesh& mesh, std::span<const int> candidates, const Eigen:
   if (best < 0) throw InvalidInput("mesh: no candidate node near " + where.str());
   if (best_distance > max_distance) {
     throw InvalidInput("mesh: the node nearest to " + where.str() + " is " +
-                       describe_node(mesh, best) + ", farther than " +
-                       std::to_string(max_distance) + " m");
+                       describe_node(mesh, best) + ", farther than " + format_number(max_distance) +
+                       " m");
   }
   return best;
 }
@@ -258,7 +259,7 @@ std::vector<std::pair<int, int>> match_coincident_nodes(const Mesh& mesh_a,
     if (count == 0) {
       throw InvalidInput("mesh: " + describe_node(mesh_a, a) +
                          " has no coincident node in the other set (tolerance " +
-                         std::to_string(tolerance) + " m)");
+                         format_number(tolerance) + " m)");
     }
     if (count > 1) {
       throw InvalidInput("mesh: " + describe_node(mesh_a, a) + " has " + std::to_string(count) +

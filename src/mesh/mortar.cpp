@@ -15,6 +15,16 @@
 namespace stickslip {
 namespace {
 
+// A face whose normal (a cross product of two edges or diagonals) is at or below 1e-12 of its
+// size squared has no direction: collapsed nodes, not a face.
+constexpr double kDegenerateFace = 1e-12;
+// Newton's inverse map of a bilinear quadrilateral stops at 1e-15 of the face's size: a few eps,
+// the round-off of the point itself.
+constexpr double kInverseMapTolerance = 1e-15;
+// A clipped overlap of two faces below 1e-12 of the clip face's area is a touching edge or a
+// corner, not a shared surface: no coupling from it.
+constexpr double kSliverOverlap = 1e-12;
+
 using Vec2 = Eigen::Vector2d;
 using Polygon = std::vector<Vec2>;
 
@@ -46,7 +56,7 @@ Face make_face(const Mesh& mesh, const ElementFace& f, const char* side, int ind
                                   : Eigen::Vector3d((face.X.col(1) - face.X.col(0))
                                                         .cross(face.X.col(2) - face.X.col(0)));
   const double size = (face.X.colwise() - face.centroid).colwise().norm().maxCoeff();
-  if (!(normal.norm() > 1e-12 * size * size)) {
+  if (!(normal.norm() > kDegenerateFace * size * size)) {
     throw InvalidInput("mortar coupling: face " + std::to_string(index) + " of surface " + side +
                        " (element " +
                        std::to_string(mesh.element_ids[static_cast<size_t>(f.element)]) +
@@ -111,7 +121,7 @@ Vec2 natural_coordinates(const Eigen::Matrix2Xd& P, const Vec2& p) {
   for (int it = 0; it < 50; ++it) {
     face_shape(4, xi.x(), xi.y(), N, dN);
     const Vec2 r = P * N - p;
-    if (r.norm() <= 1e-15 * scale) break;
+    if (r.norm() <= kInverseMapTolerance * scale) break;
     const Eigen::Matrix2d J = P * dN.transpose();
     xi -= J.inverse() * r;
   }
@@ -280,7 +290,7 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
       const Polygon overlap = clip_polygon(subject, clip);
       if (overlap.size() < 3) continue;
       const double area = signed_area(overlap);
-      if (!(area > 1e-12 * std::abs(signed_area(clip)))) continue;
+      if (!(area > kSliverOverlap * std::abs(signed_area(clip)))) continue;
       const std::vector<int>& b_nodes = faces_b[static_cast<size_t>(fb)].nodes;
       for (int k = 0; k < a.n; ++k) met[a_nodes[k]].insert(fb);
       // Fan triangulation of the convex overlap, 7 points per triangle.

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <limits>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "linalg/sparse_cholesky.h"
 
 namespace stickslip {
@@ -77,7 +77,7 @@ Eigen::MatrixXcd join(const Eigen::MatrixXd& split) {
 }
 
 // Below this many rows per thread a thread costs more than it saves.
-constexpr Eigen::Index kRowsPerThread = 20000;
+constexpr std::ptrdiff_t kRowsPerThread = 20000;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -287,9 +287,7 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
     return;
   }
   impl_->damping_rates = (damping.alpha + damping.beta * impl_->modes.eigenvalues.array()).matrix();
-  impl_->num_threads = options.num_threads > 0
-                           ? options.num_threads
-                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  impl_->num_threads = thread_count(options.num_threads);
   if (impl_->residual) {
     if (!impl_->static_factor.factorize(K_ff)) {
       impl_->message =
@@ -444,9 +442,7 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F, const E
   // writing its rows straight into the full complex result.
   Eigen::MatrixXcd x = Eigen::MatrixXcd::Zero(dofs_.num_dofs(), m);
   const Eigen::Index num_free = Phi.rows();
-  const int threads =
-      static_cast<int>(std::clamp<Eigen::Index>(num_free / kRowsPerThread, 1, impl_->num_threads));
-  auto rows = [&](Eigen::Index r0, Eigen::Index r1) {
+  auto rows = [&](std::ptrdiff_t r0, std::ptrdiff_t r1, int) {
     constexpr Eigen::Index kBlock = 4096;  // rows per product: the block result stays in cache
     Eigen::MatrixXd y;
     for (Eigen::Index b0 = r0; b0 < r1; b0 += kBlock) {
@@ -459,15 +455,7 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F, const E
       }
     }
   };
-  if (threads <= 1) {
-    rows(0, num_free);
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) {
-      pool.emplace_back(rows, num_free * t / threads, num_free * (t + 1) / threads);
-    }
-    for (std::thread& th : pool) th.join();
-  }
+  parallel_for(num_free, impl_->num_threads, rows, kRowsPerThread);
   for (Eigen::Index j = 0; j < m; ++j) {
     if (singular[static_cast<size_t>(j)]) x.col(j).setConstant(kNaN);
   }

@@ -1,9 +1,9 @@
 // Full-model recovery: the linear harmonic response of one full FE body to given harmonic loads
-// (DESIGN.md, "Full-model recovery"). The loads are plain complex nodal forces (excitation plus
-// the contact forces the nonlinear solve found, global axes, N); how they were obtained is not
-// this module's business.
+// (docs/conventions.md, "Full-model recovery"). The loads are plain complex nodal forces
+// (excitation plus the contact forces the nonlinear solve found, global axes, N); how they were
+// obtained is not this module's business.
 //
-// Convention (DESIGN.md): harmonic k of a real periodic signal has the complex amplitude
+// Convention (docs/conventions.md): harmonic k of a real periodic signal has the complex amplitude
 // X_k = a_k − i b_k, x(t) = Re Σ_k X_k e^{ikΩt}, Ω in rad/s; harmonic 0 is real (the mean).
 // For harmonic k the free DOFs f (DofMap: clamped DOFs eliminated, x_c = 0) satisfy
 //
@@ -49,7 +49,7 @@
 
 namespace stickslip {
 
-// C = alpha M + beta K (DESIGN.md; the thesis: alpha = 5 1/s, beta = 0).
+// C = alpha M + beta K (docs/conventions.md; the thesis: alpha = 5 1/s, beta = 0).
 struct RayleighDamping {
   double alpha = 0.0;  // 1/s, >= 0
   double beta = 0.0;   // s, >= 0

@@ -7,9 +7,9 @@
 #include <limits>
 #include <set>
 #include <string>
-#include <thread>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "core/types.h"
 
 namespace stickslip {
@@ -405,12 +405,9 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
   env.von_mises_mean.resize(num_nodes);
   env.von_mises_static = Eigen::VectorXd::Zero(num_nodes);
   const bool refine = options.refine;
-  const int hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  int threads = std::clamp(options.num_threads == 0 ? hardware : options.num_threads, 1, 64);
-  constexpr Eigen::Index kNodesPerThread = 2000;  // below this a thread costs more than it saves
-  threads = static_cast<int>(std::min<Eigen::Index>(threads, num_nodes / kNodesPerThread + 1));
+  constexpr std::ptrdiff_t kNodesPerThread = 2000;  // below this a thread costs more than it saves
 
-  auto work = [&](Eigen::Index n0, Eigen::Index n1) {
+  auto work = [&](std::ptrdiff_t n0, std::ptrdiff_t n1, int) {
     std::vector<double> coef(static_cast<size_t>(12 * nh));
     std::vector<double> vm2(static_cast<size_t>(N)), sign(static_cast<size_t>(N)),
         upper(static_cast<size_t>(N)), p1(static_cast<size_t>(N));
@@ -612,25 +609,7 @@ StressEnvelope stress_envelope(std::span<const ComplexStressMatrix> amplitudes,
       }
     }
   };
-  if (threads <= 1) {
-    work(0, num_nodes);
-  } else {
-    std::vector<std::thread> pool;
-    std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
-    for (int t = 0; t < threads; ++t) {
-      pool.emplace_back([&, t] {
-        try {
-          work(num_nodes * t / threads, num_nodes * (t + 1) / threads);
-        } catch (...) {
-          errors[static_cast<size_t>(t)] = std::current_exception();
-        }
-      });
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
-  }
+  parallel_for(num_nodes, thread_count(options.num_threads), work, kNodesPerThread);
   return env;
 }
 

@@ -3,7 +3,7 @@
 // Input: nodal stress amplitudes per harmonic, S_k (6 x num_nodes complex, Voigt order s_xx,
 // s_yy, s_zz, s_xy, s_xz, s_yz, Pa, as fe/stress.h's complex nodal_stress gives them from the
 // complex displacement of harmonic k), for the harmonics listed (each k >= 0 at most once;
-// harmonic 0 is the mean and must be real). DESIGN.md's convention: at the N samples
+// harmonic 0 is the mean and must be real). docs/conventions.md's convention: at the N samples
 // t_j = j T / N, T = 2π/Ω, j = 0..N−1,
 //     σ(t_j) = Re Σ_k S_k e^{i k 2π j / N}.
 // Per sample and node:

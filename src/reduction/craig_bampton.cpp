@@ -6,10 +6,10 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/errors.h"
+#include "core/parallel.h"
 #include "linalg/blas.h"
 #include "linalg/sparse_cholesky.h"
 #include "linalg/sparse_ops.h"
@@ -45,24 +45,27 @@ void gemm(char transa, char transb, int m, int n, int k, const double* a, int ld
   dgemm_(&transa, &transb, &m, &n, &k, &one, a, &lda, b, &ldb, &zero, c, &ldc);
 }
 
+// Rows of a sparse product per thread at least: a row costs an axpy per nonzero (≈ 80 of them,
+// on rows of 8–30 entries), so 1024 rows take ~1 ms, far more than starting a thread (~30 µs).
+constexpr std::ptrdiff_t kRowsPerThread = 1024;
+
 // Y (rows of A x cols) = A X for A sparse row-major and X, Y dense row-major: one pass over A,
 // each nonzero an axpy on a contiguous row (cols = first `cols` columns of X). The rows are split
-// between two threads (the machine's two cores; the product is memory-bound).
+// over the hardware threads (parallel_for; the product is memory-bound).
 void sparse_times_rows(const RowSparse& A, const RowMatrix& X, int cols, RowMatrix& Y) {
   Y.resize(A.rows(), cols);
-  auto rows = [&](int r0, int r1) {
-    for (int r = r0; r < r1; ++r) {
-      auto y = Y.row(r);
-      y.setZero();
-      for (RowSparse::InnerIterator it(A, r); it; ++it) {
-        y.noalias() += it.value() * X.row(it.col()).head(cols);
-      }
-    }
-  };
-  const int half = static_cast<int>(A.outerSize()) / 2;
-  std::thread helper(rows, half, static_cast<int>(A.outerSize()));
-  rows(0, half);
-  helper.join();
+  parallel_for(
+      A.outerSize(), thread_count(),
+      [&](std::ptrdiff_t r0, std::ptrdiff_t r1, int) {
+        for (Eigen::Index r = r0; r < r1; ++r) {
+          auto y = Y.row(r);
+          y.setZero();
+          for (RowSparse::InnerIterator it(A, r); it; ++it) {
+            y.noalias() += it.value() * X.row(it.col()).head(cols);
+          }
+        }
+      },
+      kRowsPerThread);
 }
 
 // T(rows[r], :) = Psi(r, :) for column-major T and row-major Psi, in column strips so that

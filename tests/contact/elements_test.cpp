@@ -172,6 +172,21 @@ TEST(Elements, InvalidParametersThrow) {
   EXPECT_THROW(Jenkins1D({.kt = 1, .mu = 0.1, .normal_load = 1}, {.max_periods = 1}), InvalidInput);
 }
 
+TEST(Elements, MessagesQuoteTheOffendingValueExactly) {
+  // core/format.h: std::to_string would have quoted −1e-9 as "-0.000000".
+  auto message = [](auto&& make) {
+    try {
+      make();
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_NE(message([] { UnilateralSpring({.k = -1e-9}); }).find("-1e-09"), std::string::npos);
+  EXPECT_NE(message([] { Jenkins1D({.kt = 1, .mu = -2.5e-7, .normal_load = 1}); }).find("-2.5e-07"),
+            std::string::npos);
+}
+
 // ---- Contract checker: exact sample Jacobian vs central differences, for every element. ----
 
 struct Case {

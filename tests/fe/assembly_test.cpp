@@ -239,8 +239,8 @@ TEST(Springs, RotatedFrameStiffnessAndSignConvention) {
   const Eigen::MatrixXd Kd(K);
   EXPECT_LT((Kd - Kd.transpose()).norm(), 1e-15 * Kd.norm());
   // A approaches B along n by delta: u_n = delta > 0 (compression); the spring pushes B along
-  // +n with kn delta and A along -n (DESIGN.md: force on B = +R^T k u). The spring's force on the
-  // nodes is -K x.
+  // +n with kn delta and A along -n (docs/conventions.md: force on B = +R^T k u). The spring's
+  // force on the nodes is -K x.
   const double delta = 1e-6;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(9);
   x.segment<3>(0) = delta * n;

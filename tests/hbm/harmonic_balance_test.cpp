@@ -830,9 +830,10 @@ TEST(HarmonicBalance, RejectsBadInput) {
 
 // ---------- A stepped sweep through heavy lift-off (issue 4). ----------
 
-// Converged cycle of the 3D friction law (DESIGN.md) at the samples u (3 x N, rows t1, t2, n) of
-// one period, written here independently of the library: from the virgin state (τ = 0, u_t,prev =
-// 0), periods marched until τ at the period's end repeats. Returns f (3 x N, force on B).
+// Converged cycle of the 3D friction law (docs/conventions.md) at the samples u (3 x N, rows t1,
+// t2, n) of one period, written here independently of the library: from the virgin state (τ = 0,
+// u_t,prev = 0), periods marched until τ at the period's end repeats. Returns f (3 x N, force on
+// B).
 Eigen::MatrixXd converged_contact_cycle(const FrictionContactParameters& p,
                                         const Eigen::MatrixXd& u) {
   const Eigen::Index n = u.cols();

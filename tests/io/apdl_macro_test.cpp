@@ -1,5 +1,6 @@
-// APDL macro content, line by line, against lines computed by hand from DESIGN.md's convention
-// (X_k = a_k − i b_k: VALUE = a_k, VALUE2 = −b_k) for a one-element mesh with external ids.
+// APDL macro content, line by line, against lines computed by hand from docs/conventions.md's
+// convention (X_k = a_k − i b_k: VALUE = a_k, VALUE2 = −b_k) for a one-element mesh with external
+// ids.
 #include "io/apdl_macro.h"
 
 #include <complex>

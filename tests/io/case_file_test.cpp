@@ -107,7 +107,7 @@ TEST(CaseFile, ReferenceCaseParsesIntoTheExpectedDefinition) {
   EXPECT_FALSE(mesh.two_beam.coarse);
   EXPECT_EQ(mesh.two_beam.box, (std::array<int, 3>{25, 5, 8}));
   EXPECT_EQ(mesh.two_beam.end_block, (std::array<int, 3>{5, 5, 4}));
-  EXPECT_EQ(mesh.two_beam.beam_length, 0.25);  // default (DESIGN.md geometry)
+  EXPECT_EQ(mesh.two_beam.beam_length, 0.25);  // default (docs/conventions.md geometry)
 
   ASSERT_EQ(c.bodies.size(), 2u);
   const BodyDefinition& beam2 = c.bodies.at("beam2");

@@ -77,9 +77,9 @@ double max_relative(const Eigen::VectorXcd& a, const Eigen::VectorXcd& b) {
 }
 
 // Two collinear cantilevers (A clamped at x = 0, B at x = 2L) whose ends at x = L are joined by
-// linear springs between coincident nodes (normal x, DESIGN.md's contact frame). The reference is
-// the assembled two-body model solved densely, with the springs in K but not in the damping
-// (contact forces carry no Rayleigh damping). Recovery: each body alone, loaded by its
+// linear springs between coincident nodes (normal x, docs/conventions.md's contact frame). The
+// reference is the assembled two-body model solved densely, with the springs in K but not in the
+// damping (contact forces carry no Rayleigh damping). Recovery: each body alone, loaded by its
 // excitation plus the spring forces computed from the reference solution (force on B
 // +S (x_A − x_B), on A its negative), must reproduce the reference on that body.
 TEST(HarmonicResponse, SpringJoinedBodiesRecoverTheAssembledLinearModel) {

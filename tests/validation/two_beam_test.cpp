@@ -1,7 +1,7 @@
-// The reference model of DESIGN.md, stuck: both beams clamped, every contact node pair joined by
-// linear springs (kt = 4.467e9 N/m in both tangential directions, kn = 5.6309e9 N/m normal), for
-// the butt and lap arrangements. The lowest 8 frequencies are checked against CalculiX on the
-// same mesh, with the springs written as SPRING2 elements (ccx assembles them itself).
+// The reference model of docs/conventions.md, stuck: both beams clamped, every contact node pair
+// joined by linear springs (kt = 4.467e9 N/m in both tangential directions, kn = 5.6309e9 N/m
+// normal), for the butt and lap arrangements. The lowest 8 frequencies are checked against CalculiX
+// on the same mesh, with the springs written as SPRING2 elements (ccx assembles them itself).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -24,7 +24,7 @@ namespace stickslip::validation {
 namespace {
 
 constexpr int kNumModes = 8;
-constexpr double kTangentialStiffness = 4.467e9;  // N/m per node pair (DESIGN.md)
+constexpr double kTangentialStiffness = 4.467e9;  // N/m per node pair (docs/conventions.md)
 constexpr double kNormalStiffness = 5.6309e9;     // N/m per node pair
 // Same formulation (C3D8) in both codes: eigensolver accuracy (see calculix_modal_test.cpp).
 constexpr double kSameFormulationTolerance = 1e-6;

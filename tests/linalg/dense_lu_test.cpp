@@ -1,6 +1,6 @@
 // DenseLu (LAPACK) against its contract: solves to backward-stable accuracy, the rcond estimate
 // brackets the exact 1 / (‖A‖₁ ‖A⁻¹‖₁), singular and non-finite matrices are refused.
-#include "continuation/dense_lu.h"
+#include "linalg/dense_lu.h"
 
 #include <cmath>
 #include <limits>

@@ -1,12 +1,16 @@
-#include "continuation/gmres.h"
-
+// Newton with a structured Jacobian solve (ParametrizedSystem::solve_jacobian through GMRES,
+// linalg/gmres.h) against Newton with the dense Jacobian: the same iterates.
+#include <cmath>
 #include <random>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
 #include "continuation/newton.h"
 #include "continuation/parametrized_system.h"
+#include "linalg/gmres.h"
+#include "test_systems.h"
 
 namespace stickslip {
 namespace {
@@ -26,47 +30,6 @@ MatrixXd random_matrix(int n, unsigned seed) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) A(i, j) = u(gen);
   return A;
-}
-
-TEST(Gmres, MatchesDenseLuWithRestartsAndPreconditioner) {
-  const int n = 60;
-  // Nonsymmetric, eigenvalues spread around 3 ± 1: converges, but needs several restarts of 5.
-  const MatrixXd A = 3.0 * MatrixXd::Identity(n, n) + random_matrix(n, 7) / std::sqrt(n);
-  const VectorXd b = random_matrix(n, 8).col(0);
-  const VectorXd exact = A.partialPivLu().solve(b);
-  GmresOptions o;
-  o.tolerance = kSolveTolerance;
-  o.restart = 5;
-  auto apply = [&](const VectorXd& v) -> VectorXd { return A * v; };
-  auto none = [](const VectorXd& v) -> VectorXd { return v; };
-  VectorXd x;
-  const GmresSummary s = gmres(apply, none, b, x, o);
-  EXPECT_TRUE(s.converged);
-  EXPECT_GT(s.iterations, o.restart);  // the restarts were exercised
-  EXPECT_LE((x - exact).norm(), kAgreement * exact.norm());
-  EXPECT_LE((b - A * x).norm(), kSolveTolerance * b.norm() * 1.0001);
-
-  // With the exact inverse as the preconditioner GMRES converges in one product.
-  const Eigen::PartialPivLU<MatrixXd> lu(A);
-  auto exact_pre = [&](const VectorXd& v) -> VectorXd { return lu.solve(v); };
-  const GmresSummary s1 = gmres(apply, exact_pre, b, x, o);
-  EXPECT_TRUE(s1.converged);
-  EXPECT_EQ(s1.iterations, 1);
-  EXPECT_LE((x - exact).norm(), kAgreement * exact.norm());
-}
-
-TEST(Gmres, ReportsNonConvergence) {
-  const int n = 40;
-  const MatrixXd A = MatrixXd::Identity(n, n) + 5.0 * random_matrix(n, 3);
-  const VectorXd b = VectorXd::Ones(n);
-  GmresOptions o;
-  o.restart = 2;
-  o.max_iterations = 4;
-  VectorXd x;
-  const GmresSummary s = gmres([&](const VectorXd& v) -> VectorXd { return A * v; },
-                               [](const VectorXd& v) -> VectorXd { return v; }, b, x, o);
-  EXPECT_FALSE(s.converged);
-  EXPECT_GT(s.relative_residual, o.tolerance);
 }
 
 // R(x) = A x + 0.1 x³ (componentwise) − b: solved by Newton with the dense Jacobian and with a
@@ -126,6 +89,13 @@ TEST(Gmres, StructuredNewtonMatchesDenseNewton) {
                 kAgreement * sd.residual_history[0]);
   }
   EXPECT_LE((xs - xd).norm(), kAgreement * xd.norm());
+}
+
+TEST(Gmres, CubicSystemJacobianPassesTheDerivativeChecks) {
+  const int n = 30;
+  const MatrixXd A = 4.0 * MatrixXd::Identity(n, n) + random_matrix(n, 11) / std::sqrt(n);
+  const CubicSystem system(A, 3.0 * random_matrix(n, 12).col(0), false);
+  testing::expect_jacobians_match_finite_differences(system, random_matrix(n, 13).col(0), 0.0);
 }
 
 }  // namespace

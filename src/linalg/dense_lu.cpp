@@ -1,4 +1,4 @@
-#include "continuation/dense_lu.h"
+#include "linalg/dense_lu.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "continuation/gmres.h"
+#include "linalg/gmres.h"
 
 #include <cmath>
 
