@@ -21,6 +21,7 @@
 #include "core/frame.h"
 #include "core/types.h"
 #include "fe/assembly.h"
+#include "io/abaqus_matrix.h"
 #include "io/ansys_mapping.h"
 #include "io/cdb_reader.h"
 #include "io/gmsh_mesh.h"
@@ -745,7 +746,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
         // The deck's *BOUNDARY lines (all of them, model and step level alike).
         if (body.mesh.boundaries.empty()) {
           throw InvalidInput(where, "from_mesh: the mesh of body " + name +
-                                        " has no *BOUNDARY lines (only .inp meshes have them)");
+                                        " has no *BOUNDARY lines (.inp) or D lines (.cdb)");
         }
         for (const MeshBoundary& b : body.mesh.boundaries) {
           if (!b.unsupported.empty()) {
@@ -833,9 +834,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       body.material = resolved_body.material;
     } else {
       const ReducedMatricesDefinition& r = def.bodies.at(body.name).reduced;
-      body.reduced = r.format == "matrix_market"
-                         ? read_matrix_market_body(r)
-                         : read_ansys_reduced_body(r.stiffness, r.mass, r.mapping);
+      body.reduced = r.format == "matrix_market"   ? read_matrix_market_body(r)
+                     : r.format == "abaqus_matrix" ? read_abaqus_reduced_body(r.stiffness, r.mass)
+                                                   : read_ansys_reduced_body(r.stiffness, r.mass,
+                                                                             r.mapping);
       check_reduced_matrices(def, body.name, body.reduced);
     }
     body_index[body.name] = static_cast<int>(model.bodies.size());
