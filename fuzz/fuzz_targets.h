@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -26,6 +27,7 @@
 
 #include "io/ansys_mapping.h"
 #include "io/case_file.h"
+#include "io/cdb_reader.h"
 #include "io/harwell_boeing.h"
 #include "io/inp_reader.h"
 #include "io/matrix_market.h"
@@ -59,6 +61,15 @@ inline std::string bytes_to_temp_file(std::string_view bytes) {
 inline void feed_inp(std::string_view bytes, const Context&) {
   std::istringstream in{std::string(bytes)};
   (void)read_inp(in, kStreamName);
+}
+
+// The ANSYS CDB reader with its optional outputs (warnings, materials by number) requested, so
+// that their code paths run too.
+inline void feed_cdb(std::string_view bytes, const Context&) {
+  std::istringstream in{std::string(bytes)};
+  std::vector<std::string> warnings;
+  std::map<int, DeckMaterial> materials;
+  (void)read_cdb(in, kStreamName, &warnings, &materials);
 }
 
 inline void feed_harwell_boeing(std::string_view bytes, const Context&) {
@@ -139,6 +150,7 @@ inline const std::vector<Target>& targets() {
       {"case_file", feed_case_file},
       {"case_csv", feed_case_csv},
       {"msh_lines", feed_msh_lines},
+      {"cdb", feed_cdb},
   };
   return all;
 }

@@ -76,6 +76,60 @@ Rule tet_rule_64() {
   return r;
 }
 
+// Wedge rules: a triangle rule in (xi, eta) (weights summing to the triangle's area 1/2) times
+// an n-point Gauss rule in zeta.
+struct TriangleRule {
+  std::vector<std::pair<double, double>> p;
+  std::vector<double> w;
+};
+
+// 1 point (degree 1).
+TriangleRule triangle_rule_1() { return {{{1.0 / 3.0, 1.0 / 3.0}}, {0.5}}; }
+// 3 interior points (degree 2): (1/6, 1/6), (2/3, 1/6), (1/6, 2/3).
+TriangleRule triangle_rule_3() {
+  return {{{1.0 / 6.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 6.0}, {1.0 / 6.0, 2.0 / 3.0}},
+          {1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0}};
+}
+// 7 points (degree 5, Radon): the centroid and two orbits (a, a), (1 - 2a, a), (a, 1 - 2a).
+TriangleRule triangle_rule_7() {
+  const double s15 = std::sqrt(15.0);
+  TriangleRule r{{{1.0 / 3.0, 1.0 / 3.0}}, {0.5 * 9.0 / 40.0}};
+  for (const auto& [a, w] : {std::pair{(6.0 - s15) / 21.0, (155.0 - s15) / 1200.0},
+                             std::pair{(6.0 + s15) / 21.0, (155.0 + s15) / 1200.0}}) {
+    for (const auto& q : {std::pair{a, a}, std::pair{1.0 - 2.0 * a, a}, std::pair{a, 1.0 - 2.0 * a}}) {
+      r.p.push_back(q);
+      r.w.push_back(0.5 * w);
+    }
+  }
+  return r;
+}
+
+Rule wedge_rule(const TriangleRule& t, int n) {
+  const double a = 1.0 / std::sqrt(3.0), b = std::sqrt(0.6);
+  const double c = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(1.2));
+  const double d = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(1.2));
+  const double wc = (18.0 + std::sqrt(30.0)) / 36.0, wd = (18.0 - std::sqrt(30.0)) / 36.0;
+  std::vector<double> z, wz;
+  if (n == 2) {
+    z = {-a, a};
+    wz = {1.0, 1.0};
+  } else if (n == 3) {
+    z = {-b, 0.0, b};
+    wz = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  } else {
+    z = {-d, -c, c, d};
+    wz = {wd, wc, wc, wd};
+  }
+  Rule r;
+  for (size_t k = 0; k < z.size(); ++k) {
+    for (size_t i = 0; i < t.p.size(); ++i) {
+      r.xi.emplace_back(t.p[i].first, t.p[i].second, z[k]);
+      r.w.push_back(t.w[i] * wz[k]);
+    }
+  }
+  return r;
+}
+
 // ---------------------------------------------------------------- shape functions
 
 constexpr double kHexNodes[20][3] = {
@@ -153,6 +207,68 @@ void shape_tet10(const Vector3d& p, Matrix<double, 10, 1>& N, Matrix<double, 3, 
   }
 }
 
+
+// Wedges: L = (1 - xi - eta, xi, eta) in the triangle, zeta in [-1, 1]; nodes 0-2 at zeta = -1,
+// 3-5 at zeta = +1 (CalculiX/Abaqus order).
+constexpr double kWedgeNodes[15][3] = {
+    {0, 0, -1},   {1, 0, -1},   {0, 1, -1}, {0, 0, 1},   {1, 0, 1},
+    {0, 1, 1},    {0.5, 0, -1}, {0.5, 0.5, -1}, {0, 0.5, -1}, {0.5, 0, 1},
+    {0.5, 0.5, 1}, {0, 0.5, 1}, {0, 0, 0},  {1, 0, 0},   {0, 1, 0}};
+
+void wedge_barycentric(const Vector3d& p, double L[3], double dL[3][2]) {
+  L[0] = 1.0 - p(0) - p(1);
+  L[1] = p(0);
+  L[2] = p(1);
+  dL[0][0] = -1.0, dL[0][1] = -1.0;
+  dL[1][0] = 1.0, dL[1][1] = 0.0;
+  dL[2][0] = 0.0, dL[2][1] = 1.0;
+}
+
+// N_a = L_a (1 ∓ zeta) / 2.
+void shape_wedge6(const Vector3d& p, Matrix<double, 6, 1>& N, Matrix<double, 3, 6>& dN) {
+  double L[3], dL[3][2];
+  wedge_barycentric(p, L, dL);
+  for (int a = 0; a < 6; ++a) {
+    const int t = a % 3;
+    const double s = a < 3 ? -1.0 : 1.0, h = 0.5 * (1.0 + s * p(2));
+    N(a) = L[t] * h;
+    dN(0, a) = dL[t][0] * h;
+    dN(1, a) = dL[t][1] * h;
+    dN(2, a) = 0.5 * s * L[t];
+  }
+}
+
+// Corners: ½ L (2L − 1)(1 ± zeta) − ½ L (1 − zeta²); triangle edges (i, j): 2 L_i L_j (1 ± zeta);
+// vertical edges: L (1 − zeta²). Mid-edge nodes 6-8 on (0,1) (1,2) (2,0), 9-11 on (3,4) (4,5)
+// (5,3), 12-14 on (0,3) (1,4) (2,5).
+void shape_wedge15(const Vector3d& p, Matrix<double, 15, 1>& N, Matrix<double, 3, 15>& dN) {
+  double L[3], dL[3][2];
+  wedge_barycentric(p, L, dL);
+  const double z = p(2), q = 1.0 - z * z;
+  for (int a = 0; a < 6; ++a) {
+    const int t = a % 3;
+    const double s = a < 3 ? -1.0 : 1.0, f = 1.0 + s * z;
+    N(a) = 0.5 * L[t] * (2.0 * L[t] - 1.0) * f - 0.5 * L[t] * q;
+    const double dLt = 0.5 * (4.0 * L[t] - 1.0) * f - 0.5 * q;  // d N / d L
+    dN(0, a) = dLt * dL[t][0];
+    dN(1, a) = dLt * dL[t][1];
+    dN(2, a) = 0.5 * L[t] * (2.0 * L[t] - 1.0) * s + L[t] * z;
+  }
+  for (int e = 0; e < 6; ++e) {
+    const int i = e % 3, j = (e + 1) % 3;
+    const double s = e < 3 ? -1.0 : 1.0, f = 1.0 + s * z;
+    N(6 + e) = 2.0 * L[i] * L[j] * f;
+    for (int k = 0; k < 2; ++k) dN(k, 6 + e) = 2.0 * (dL[i][k] * L[j] + L[i] * dL[j][k]) * f;
+    dN(2, 6 + e) = 2.0 * L[i] * L[j] * s;
+  }
+  for (int t = 0; t < 3; ++t) {
+    N(12 + t) = L[t] * q;
+    dN(0, 12 + t) = dL[t][0] * q;
+    dN(1, 12 + t) = dL[t][1] * q;
+    dN(2, 12 + t) = -2.0 * L[t] * z;
+  }
+}
+
 // ---------------------------------------------------------------- reference data (cached)
 
 template <int NEN>
@@ -200,6 +316,26 @@ const RefData<10>& tet10_4() {
 }
 const RefData<10>& tet10_64() {
   static const RefData<10> r = make_ref<10>(tet_rule_64(), shape_tet10);
+  return r;
+}
+// Wedges. Stiffness rules as CalculiX 2.20 (its frequencies to 1e-11, tests/validation):
+// C3D6 two points, the triangle's centroid at zeta = ±1/√3; C3D15 nine points, 3 interior
+// triangle points at zeta = 0, ±√0.6. Exact mass rules: 7-point degree-5 triangle rule times
+// 3 (C3D6) or 4 (C3D15) Gauss points.
+const RefData<6>& wedge6_k() {
+  static const RefData<6> r = make_ref<6>(wedge_rule(triangle_rule_1(), 2), shape_wedge6);
+  return r;
+}
+const RefData<6>& wedge6_m() {
+  static const RefData<6> r = make_ref<6>(wedge_rule(triangle_rule_7(), 3), shape_wedge6);
+  return r;
+}
+const RefData<15>& wedge15_k() {
+  static const RefData<15> r = make_ref<15>(wedge_rule(triangle_rule_3(), 3), shape_wedge15);
+  return r;
+}
+const RefData<15>& wedge15_m() {
+  static const RefData<15> r = make_ref<15>(wedge_rule(triangle_rule_7(), 4), shape_wedge15);
   return r;
 }
 
@@ -501,6 +637,18 @@ void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
       copy_out<10>(k, K);
       return;
     }
+    case ElementType::kC3D6: {
+      Matrix<double, 18, 18> k;
+      stiffness_standard<6>(fixed_coordinates<6>(type, X), wedge6_k(), l, m, k);
+      copy_out<6>(k, K);
+      return;
+    }
+    case ElementType::kC3D15: {
+      Matrix<double, 45, 45> k;
+      stiffness_standard<15>(fixed_coordinates<15>(type, X), wedge15_k(), l, m, k);
+      copy_out<15>(k, K);
+      return;
+    }
   }
 }
 
@@ -536,6 +684,19 @@ void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, E
       copy_out<10>(m, M);
       return;
     }
+    case ElementType::kC3D6: {
+      Matrix<double, 18, 18> m;
+      mass_standard<6>(fixed_coordinates<6>(type, X), exact ? wedge6_m() : wedge6_k(), density, m);
+      copy_out<6>(m, M);
+      return;
+    }
+    case ElementType::kC3D15: {
+      Matrix<double, 45, 45> m;
+      mass_standard<15>(fixed_coordinates<15>(type, X), exact ? wedge15_m() : wedge15_k(), density,
+                        m);
+      copy_out<15>(m, M);
+      return;
+    }
   }
 }
 
@@ -552,6 +713,10 @@ double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
       return volume_standard<4>(fixed_coordinates<4>(type, X), tet4_4());
     case ElementType::kC3D10:
       return volume_standard<10>(fixed_coordinates<10>(type, X), tet10_64());
+    case ElementType::kC3D6:
+      return volume_standard<6>(fixed_coordinates<6>(type, X), wedge6_m());
+    case ElementType::kC3D15:
+      return volume_standard<15>(fixed_coordinates<15>(type, X), wedge15_m());
   }
   return 0.0;
 }
@@ -619,6 +784,18 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
       det_range<10>(x, tet10_64(), &r);
       break;
     }
+    case ElementType::kC3D6: {
+      const Matrix<double, 3, 6> x = X;
+      det_range<6>(x, wedge6_k(), &r);
+      det_range<6>(x, wedge6_m(), &r);
+      break;
+    }
+    case ElementType::kC3D15: {
+      const Matrix<double, 3, 15> x = X;
+      det_range<15>(x, wedge15_k(), &r);
+      det_range<15>(x, wedge15_m(), &r);
+      break;
+    }
   }
   const double lo = r.lo;
   if (lo > 0.0) return {};
@@ -640,9 +817,12 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
 Eigen::Matrix3Xd natural_node_coordinates(ElementType type) {
   const int n = nodes_per_element(type);
   const bool hex = n == 8 || n == 20;
+  const bool wedge = n == 6 || n == 15;
   Eigen::Matrix3Xd P(3, n);
   for (int a = 0; a < n; ++a) {
-    for (int i = 0; i < 3; ++i) P(i, a) = hex ? kHexNodes[a][i] : kTetNodes[a][i];
+    for (int i = 0; i < 3; ++i) {
+      P(i, a) = hex ? kHexNodes[a][i] : (wedge ? kWedgeNodes[a][i] : kTetNodes[a][i]);
+    }
   }
   return P;
 }
@@ -673,6 +853,10 @@ void stiffness_rule(ElementType type, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
       return rule_out<4>(tet4_1(), P, w);
     case ElementType::kC3D10:
       return rule_out<10>(tet10_4(), P, w);
+    case ElementType::kC3D6:
+      return rule_out<6>(wedge6_k(), P, w);
+    case ElementType::kC3D15:
+      return rule_out<15>(wedge15_k(), P, w);
   }
 }
 }  // namespace
@@ -727,6 +911,22 @@ void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorX
       dN = d;
       return;
     }
+    case ElementType::kC3D6: {
+      Matrix<double, 6, 1> n;
+      Matrix<double, 3, 6> d;
+      shape_wedge6(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
+    case ElementType::kC3D15: {
+      Matrix<double, 15, 1> n;
+      Matrix<double, 3, 15> d;
+      shape_wedge15(xi, n, d);
+      N = n;
+      dN = d;
+      return;
+    }
   }
 }
 
@@ -748,6 +948,10 @@ void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
       return strain_operators_standard<4>(fixed_coordinates<4>(type, X), tet4_1(), B);
     case ElementType::kC3D10:
       return strain_operators_standard<10>(fixed_coordinates<10>(type, X), tet10_4(), B);
+    case ElementType::kC3D6:
+      return strain_operators_standard<6>(fixed_coordinates<6>(type, X), wedge6_k(), B);
+    case ElementType::kC3D15:
+      return strain_operators_standard<15>(fixed_coordinates<15>(type, X), wedge15_k(), B);
   }
 }
 

@@ -7,7 +7,10 @@
 //   K_e = integral of B^T D B dV  (N/m),   M_e = integral of rho N^T N dV  (kg)
 //
 // Integration (natural coordinates: hexahedra [-1,1]^3; tetrahedra xi, eta, zeta >= 0,
-// xi + eta + zeta <= 1 with N1 = 1 - xi - eta - zeta, N2 = xi, N3 = eta, N4 = zeta):
+// xi + eta + zeta <= 1 with N1 = 1 - xi - eta - zeta, N2 = xi, N3 = eta, N4 = zeta; wedges
+// (xi, eta) in that triangle, L = (1 - xi - eta, xi, eta), zeta in [-1, 1], nodes 1-3 at
+// zeta = -1 and 4-6 at +1, C3D15's mid-edge nodes 7-9 on 1-2, 2-3, 3-1, 10-12 on 4-5, 5-6,
+// 6-4, 13-15 on 1-4, 2-5, 3-6):
 //   type     stiffness rule            exact mass rule (MassIntegration::kExact)
 //   C3D8     2x2x2 Gauss               2x2x2 Gauss
 //   C3D8I    2x2x2 Gauss + 9 incompatible modes, condensed       2x2x2 Gauss
@@ -16,8 +19,14 @@
 //   C3D20R   2x2x2 Gauss               3x3x3 Gauss
 //   C3D4     1 point                   4-point (degree 2)
 //   C3D10    4-point (degree 2)        64-point collapsed Gauss (degree 5)
+//   C3D6     2 points: triangle centroid x 2 Gauss in zeta     7-point triangle (deg. 5) x 3
+//   C3D15    9 points: 3 triangle points (1/6, 1/6), (2/3, 1/6), (1/6, 2/3) x 3 Gauss
+//                                      7-point triangle (deg. 5) x 4 Gauss
 // MassIntegration::kStiffnessRule integrates the mass with the stiffness rule, as CalculiX does
-// (identical for C3D8, C3D8I, C3D8B, C3D20; rank-deficient for C3D20R and C3D4).
+// (identical for C3D8, C3D8I, C3D8B, C3D20; rank-deficient for C3D20R, C3D4 and C3D6).
+// The wedge rules are CalculiX 2.20's (its frequencies of wedge meshes reproduced to 1e-11,
+// tests/validation/calculix_modal_test.cpp). C3D6's two points on the centroid leave one spurious
+// zero-energy mode on a single free element, constrained in a mesh.
 // Hexahedron Gauss points are ordered xi fastest, then eta, then zeta.
 //
 // C3D8I (Wilson-Taylor incompatible modes): displacement u = sum N_a u_a + sum_k P_k alpha_k with

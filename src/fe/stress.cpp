@@ -20,6 +20,26 @@ namespace {
 Eigen::VectorXd extrapolation_basis(ElementType type, const Eigen::Vector3d& p) {
   const int ngp = static_cast<int>(integration_weights(type).size());
   Eigen::VectorXd phi(ngp);
+  if (type == ElementType::kC3D6 || type == ElementType::kC3D15) {
+    // Wedge rules are a triangle rule (1, 3 or 6 points) times a Gauss rule in zeta (2 or 3):
+    // the basis is the matching complete triangle polynomial times {1, zeta(, zeta²)}.
+    const int line = type == ElementType::kC3D6 ? 2 : 3;
+    const int tri = ngp / line;
+    const double x = p(0), y = p(1), z = p(2);
+    Eigen::VectorXd t(tri);
+    if (tri == 1) {
+      t << 1.0;
+    } else if (tri == 3) {
+      t << 1.0, x, y;
+    } else {
+      t << 1.0, x, y, x * x, x * y, y * y;
+    }
+    int k = 0;
+    for (int c = 0; c < line; ++c) {
+      for (int a = 0; a < tri; ++a) phi(k++) = t(a) * std::pow(z, c);
+    }
+    return phi;
+  }
   if (ngp == 1) {
     phi << 1.0;
   } else if (ngp == 4) {

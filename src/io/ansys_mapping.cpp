@@ -15,6 +15,7 @@
 #include "core/types.h"
 #include "io/atomic_file.h"
 #include "io/harwell_boeing.h"
+#include "io/matrix_market.h"
 #include "io/text.h"
 
 namespace stickslip {
@@ -257,6 +258,47 @@ ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std
   }
   return reduced_body_from_mapping(Eigen::MatrixXd(K.matrix), Eigen::MatrixXd(M.matrix), mapping,
                                    map_path);
+}
+
+namespace {
+
+// The mapping of a reduced body's DOFs (nodal translations UX..UZ, modal DOFs GEN); `writer`
+// names the caller in messages.
+AnsysMapping mapping_of(const ReducedBody& body, const char* writer) {
+  const int n = body.size();
+  if (body.K.rows() != n || body.K.cols() != n || body.M.rows() != n || body.M.cols() != n) {
+    throw InvalidInput(std::string(writer) + ": K, M must be " + std::to_string(n) + " x " +
+                       std::to_string(n) + " (one row per reduced DOF)");
+  }
+  AnsysMapping mapping;
+  for (int k = 0; k < n; ++k) {
+    const ReducedDof& d = body.dofs[k];
+    if (d.kind == ReducedDof::Kind::kPhysical) {
+      if (d.node_id < 0 || d.direction < 0 || d.direction > 2) {
+        throw InvalidInput(std::string(writer) + ": reduced DOF " + std::to_string(k) +
+                           " is physical but has no node_id/direction; set node ids first");
+      }
+      mapping.entries.push_back(
+          {k + 1, d.node_id, std::string("U") + static_cast<char>('X' + d.direction), 0});
+    } else {
+      mapping.entries.push_back({k + 1, 0, "GEN", 0});
+    }
+  }
+  return mapping;
+}
+
+}  // namespace
+
+void write_matrix_market_reduced_body(const std::string& stiffness_path,
+                                      const std::string& mass_path,
+                                      const std::string& mapping_path, const ReducedBody& body) {
+  const AnsysMapping mapping = mapping_of(body, "write_matrix_market_reduced_body");
+  const std::string mapping_name = std::filesystem::path(mapping_path).filename().string();
+  write_matrix_market(stiffness_path, body.K.sparseView(), MatrixMarketSymmetry::kSymmetric,
+                      "stiffness matrix of a reduced body (stickslip); DOFs: " + mapping_name);
+  write_matrix_market(mass_path, body.M.sparseView(), MatrixMarketSymmetry::kSymmetric,
+                      "mass matrix of a reduced body (stickslip); DOFs: " + mapping_name);
+  write_ansys_mapping(mapping_path, mapping);
 }
 
 void write_ansys_reduced_body(const std::string& stiffness_path, const std::string& mass_path,

@@ -86,4 +86,13 @@ ReducedBody read_ansys_reduced_body(const std::string& stiffness_path, const std
 void write_ansys_reduced_body(const std::string& stiffness_path, const std::string& mass_path,
                               const ReducedBody& body);
 
+// Writes K and M as symmetric coordinate Matrix Market files (lower triangle, full double
+// precision; what SciPy's scipy.io.mmread reads, unlike symmetric Harwell–Boeing files that
+// scipy.io.hb_read refuses) and `mapping_path` with the ANSYS mapping of the DOFs (as
+// write_ansys_reduced_body). Read back by `reduced: {format: matrix_market, mapping: ...}`.
+// K and M must be symmetric (io/matrix_market.h's test); InvalidInput otherwise.
+void write_matrix_market_reduced_body(const std::string& stiffness_path,
+                                      const std::string& mass_path,
+                                      const std::string& mapping_path, const ReducedBody& body);
+
 }  // namespace stickslip

@@ -747,8 +747,12 @@ void parse_bodies(Parser& p, const MapView& top) {
           r.file("mass", &d.reduced.mass);
           const std::string ext = fs::path(d.reduced.stiffness).extension().string();
           d.reduced.format = ext == ".mtx" ? "matrix_market" : "harwell_boeing";
-          r.choice("format", &d.reduced.format, {"harwell_boeing", "matrix_market"});
-          if (r.has("mapping")) {
+          r.choice("format", &d.reduced.format,
+                   {"harwell_boeing", "matrix_market", "abaqus_matrix"});
+          if (d.reduced.format == "abaqus_matrix") {
+            // Abaqus matrix input format: every entry names its node and DOF, no mapping.
+            r.forbid("mapping", "with format: abaqus_matrix (its entries name node and DOF)");
+          } else if (r.has("mapping")) {
             r.file("mapping", &d.reduced.mapping);
           } else {
             p.check(d.reduced.format == "harwell_boeing", r.full("mapping"), r.line(),

@@ -67,7 +67,6 @@ const char* ignore_reason(const std::string& key) {
 // Commands that tie DOFs together or add stiffness or mass the reader does not build: refused.
 const char* refusal(const std::string& key) {
   static const std::pair<const char*, const char*> kRefused[] = {
-      {"CE", "constraint equations tie DOFs together (not read from CDB files yet)"},
       {"CP", "coupled DOFs tie DOFs together"},
       {"CERI", "a rigid region ties DOFs to a master node"},
       {"RBE3", "a distributing constraint ties DOFs to a master node"},
@@ -229,6 +228,7 @@ class CdbParser {
     if (key == "KEYO") return keyopt(f);
     if (key == "MPDA") return mpdata(f);
     if (key == "D") return d(f);
+    if (name == "CE") return ce(f);
     if (name == "N" || key == "EN") {
       // "N,R5.3,LOC,-1" and "EN,R5.5,ATTR,-1" close blocks; a real N or EN command defines a node
       // or element outside the blocks.
@@ -553,10 +553,73 @@ class CdbParser {
       if (m == 0) line = line_;
       m |= mask;
     }
+    d_lines_.push_back({first, last, step, mask == 7 ? 0 : mask / 2, mask == 7 ? 2 : mask / 2,
+                        line_});
+  }
+
+  // Constraint equations as CDWRITE writes them: "CE,R5.0,DEFI,nterms,neqn,constant", then
+  // "CE,R5.0,NODE,node,lab,coef[,node,lab,coef]" lines; or one plain
+  // "CE,NEQN,CONST,NODE1,Lab1,C1[,NODE2,Lab2,C2[,NODE3,Lab3,C3]]".
+  void ce(const std::vector<std::string>& f) {
+    const auto term = [&](size_t k) {
+      const std::string lab = upper(trim(f[k + 1]));
+      int direction = -1;
+      if (lab == "UX") direction = 0;
+      if (lab == "UY") direction = 1;
+      if (lab == "UZ") direction = 2;
+      if (direction < 0) {
+        fail(line_, "CE: degree of freedom '" + trim(f[k + 1]) +
+                        "' is not a translation UX, UY, UZ of a solid element");
+      }
+      RawEquationTerm t{parse_int(f[k], line_, "CE node"), direction,
+                        parse_real(f[k + 2], line_, "CE coefficient")};
+      if (t.coefficient == 0.0) fail(line_, "CE: a coefficient is 0");
+      return t;
+    };
+    const auto constant = [&](const std::string& c) {
+      if (!trim(c).empty() && parse_real(c, line_, "CE constant") != 0.0) {
+        fail(line_, "CE: a non-zero constant (prescribed relative displacement) is not supported");
+      }
+    };
+    const std::string second = f.size() > 1 ? upper(trim(f[1])) : "";
+    if (!second.empty() && second[0] == 'R') {  // blocked form
+      const std::string what = f.size() > 2 ? upper(trim(f[2])) : "";
+      if (what == "DEFI") {
+        if (f.size() < 5) fail(line_, "CE,R5.0,DEFI: expected 'CE,R5.0,DEFI,nterms,neqn,const'");
+        if (ce_terms_left_ > 0) fail(line_, "CE: the previous equation has terms missing");
+        const int n = parse_int(f[3], line_, "CE number of terms");
+        if (n < 1) fail(line_, "CE: an equation needs at least one term");
+        if (f.size() > 5) constant(f[5]);
+        ce_.push_back({{}, line_});
+        ce_terms_left_ = n;
+        return;
+      }
+      if (what == "NODE") {
+        if (ce_terms_left_ <= 0) fail(line_, "CE,R5.0,NODE without a CE,R5.0,DEFI before it");
+        for (size_t k = 3; k + 2 < f.size() && ce_terms_left_ > 0; k += 3) {
+          if (trim(f[k]).empty()) break;
+          ce_.back().terms.push_back(term(k));
+          --ce_terms_left_;
+        }
+        return;
+      }
+      fail(line_, "CE,R5.0," + what + ": unknown form (DEFI and NODE are read)");
+    }
+    if (f.size() < 6) fail(line_, "CE: expected 'CE,NEQN,CONST,NODE1,Lab1,C1,...'");
+    constant(f[2]);
+    ce_.push_back({{}, line_});
+    for (size_t k = 3; k + 2 < f.size(); k += 3) {
+      if (trim(f[k]).empty()) continue;
+      ce_.back().terms.push_back(term(k));
+    }
   }
 
   // --- building the mesh ---
   Mesh resolve() {
+    if (ce_terms_left_ > 0) {
+      fail(ce_.back().line, "CE: the equation defined here has " + std::to_string(ce_terms_left_) +
+                                " term(s) missing at the end of the file");
+    }
     Mesh mesh;
     std::unordered_map<int, int> node_index;
     mesh.coordinates.resize(3, static_cast<Eigen::Index>(node_ids_.size()));
@@ -573,7 +636,7 @@ class CdbParser {
     std::unordered_map<int, int> element_index;
     std::set<int> skipped_elements;
     std::vector<int> element_numbers;  // material number of each element kept
-    int mesh200 = 0, mesh200_line = -1;
+    int mesh200 = 0, mesh200_line = -1, wedges = 0, wedge_line = -1;
     for (const RawElement& e : elements_) {
       std::vector<int> nodes;
       const std::optional<ElementType> type = map_element(e, &nodes);
@@ -597,6 +660,9 @@ class CdbParser {
                "element " + std::to_string(e.id) + " uses node " + std::to_string(id) + " twice");
         }
         local.push_back(it->second);
+      }
+      if (*type == ElementType::kC3D6 || *type == ElementType::kC3D15) {
+        if (wedges++ == 0) wedge_line = e.line;
       }
       element_index[e.id] = mesh.add_element(e.id, *type, local);
       Eigen::Matrix3Xd X(3, static_cast<Eigen::Index>(local.size()));
@@ -629,6 +695,14 @@ class CdbParser {
                        "line " +
                        std::to_string(mesh200_line + 1));
     }
+    if (wedges > 0) {
+      notes_.push_back(file_ + ": " + std::to_string(wedges) +
+                       " degenerate SOLID185/186 element(s) of wedge shape (first on line " +
+                       std::to_string(wedge_line + 1) +
+                       ") read as CalculiX wedges C3D6/C3D15: the same shape functions as "
+                       "ANSYS's collapsed hexahedra, CalculiX's integration rules (ANSYS's may "
+                       "differ; no B-bar on SOLID185 wedges)");
+    }
     for (const RawSet& s : sets_) {
       auto& target = s.node ? mesh.node_sets : mesh.element_sets;
       const auto& index = s.node ? node_index : element_index;
@@ -658,28 +732,48 @@ class CdbParser {
         const auto& [mask, line] = held;
         const auto it = node_index.find(id);
         if (it == node_index.end()) fail(line, "D on unknown node " + std::to_string(id));
-        if (mask != 7) {
-          std::string dirs;
-          for (int d = 0; d < 3; ++d) {
-            if (mask & (1 << d)) dirs += std::string(dirs.empty() ? "" : ", ") + "XYZ"[d];
-          }
-          fail(line, "D holds node " + std::to_string(id) + " in " + dirs +
-                         " only: supports in some directions are not read from CDB files yet "
-                         "(hold all of UX, UY, UZ, or remove the D and select the nodes in the "
-                         "case file)");
-        }
         if (rotated_nodes_.count(id)) {
           fail(line, "D on node " + std::to_string(id) +
                          ", whose nodal coordinate system is rotated: not supported");
         }
-        all.push_back(it->second);
+        if (mask == 7) all.push_back(it->second);
       }
       std::sort(all.begin(), all.end());
-      mesh.node_sets["D_ALL"] = std::move(all);
-      notes_.push_back(file_ + ": D holds " + std::to_string(held_.size()) +
-                       " node(s) in UX, UY, UZ (first on line " +
+      const size_t num_all = all.size();
+      if (!all.empty()) mesh.node_sets["D_ALL"] = std::move(all);
+      // Every D line, as the DOF-level supports of a deck (Mesh::boundaries, like *BOUNDARY).
+      for (const DLine& d : d_lines_) {
+        MeshBoundary b{{}, d.dof_first, d.dof_last, "", where(d.line)};
+        for (long long n = d.first; n <= d.last; n += d.step) {
+          b.nodes.push_back(node_index.at(static_cast<int>(n)));
+        }
+        mesh.boundaries.push_back(std::move(b));
+      }
+      notes_.push_back(file_ + ": D holds " + std::to_string(held_.size()) + " node(s), " +
+                       std::to_string(num_all) + " of them in UX, UY, UZ (first D on line " +
                        std::to_string(held_.begin()->second.second + 1) +
-                       "): node set D_ALL, a clamp only if the case file names it");
+                       "): applied only if the case file says so (supports: [{from_mesh: "
+                       "true}], per direction; or the node set D_ALL as a clamp)");
+    }
+    for (const RawCe& c : ce_) {
+      LinearConstraint lc;
+      lc.origin = where(c.line);
+      for (const RawEquationTerm& t : c.terms) {
+        const auto it = node_index.find(t.node);
+        if (it == node_index.end()) fail(c.line, "CE on unknown node " + std::to_string(t.node));
+        if (rotated_nodes_.count(t.node)) {
+          fail(c.line, "CE on node " + std::to_string(t.node) +
+                           ", whose nodal coordinate system is rotated: not supported");
+        }
+        const int dof = 3 * it->second + t.direction;
+        if (std::find(lc.dofs.begin(), lc.dofs.end(), dof) != lc.dofs.end()) {
+          fail(c.line, "CE: node " + std::to_string(t.node) + " " + "XYZ"[t.direction] +
+                           " appears twice in one equation");
+        }
+        lc.dofs.push_back(dof);
+        lc.coefficients.push_back(t.coefficient);
+      }
+      mesh.equations.push_back(std::move(lc));
     }
     if (materials_ != nullptr) {
       materials_->clear();
@@ -757,9 +851,14 @@ class CdbParser {
       return refuse("its corner nodes repeat in a way that is no ANSYS shape");
     }
     const int k2 = keyopt(2);
+    if (shape == "pyramid") {
+      return refuse("the pyramid shape of SOLID" + std::to_string(t.number) +
+                    " is not supported (stickslip has no pyramid element: CalculiX, its "
+                    "reference, has none to check one against)");
+    }
     if (t.number == 185) {
-      if (shape != "hexahedron") {
-        return refuse("a degenerate SOLID185 (" + shape + " shape) is not supported");
+      if (shape == "tetrahedron") {
+        return refuse("the tetrahedral shape of SOLID185 is not supported (mesh with SOLID187)");
       }
       if (k2 == 1) {
         return refuse(
@@ -772,6 +871,12 @@ class CdbParser {
                       "and not checked against ANSYS (use KEYOPT(2) = 0, B-bar)");
       }
       if (k2 != 0) return refuse("KEYOPT(2) = " + std::to_string(k2) + " is not supported");
+      if (shape == "wedge") {
+        // Prism I J K K M N O O: the collapsed hexahedron interpolates exactly as the 6-node
+        // wedge (its shape functions are the wedge's), integrated here with CalculiX's C3D6 rule.
+        *nodes = {n[0], n[1], n[2], n[4], n[5], n[6]};
+        return ElementType::kC3D6;
+      }
       *nodes = n;
       return ElementType::kC3D8B;
     }
@@ -782,9 +887,12 @@ class CdbParser {
       *nodes = {n[0], n[1], n[2], n[4], n[8], n[9], n[11], n[16], n[17], n[18]};
       return ElementType::kC3D10;
     }
-    if (shape != "hexahedron") {
-      return refuse("the " + shape + " shape of SOLID186 is not supported (no " + shape +
-                    " element in stickslip)");
+    if (shape == "wedge") {
+      // Prism: K = L, O = P (and S = K, W = O, A = B). Corners I J K M N O; mid-side Q (IJ),
+      // R (JK), T (LI = KI), U (MN), V (NO), X (PM = OM), Y (IM), Z (JN), A (KO): C3D15's order.
+      *nodes = {n[0], n[1], n[2], n[4],  n[5],  n[6],  n[8], n[9],
+                n[11], n[12], n[13], n[15], n[16], n[17], n[18]};
+      return ElementType::kC3D15;
     }
     *nodes = n;  // I..P, Q R S T (bottom edges), U V W X (top), Y Z A B (vertical): C3D20's order
     return k2 == 1 ? ElementType::kC3D20 : ElementType::kC3D20R;
@@ -803,6 +911,23 @@ class CdbParser {
   std::map<int, EType> etypes_;
   std::map<int, DeckMaterial> deck_materials_;
   std::map<int, std::pair<int, int>> held_;  // node id -> (direction mask, first D line)
+  struct DLine {
+    int first, last, step;  // node ids
+    int dof_first, dof_last;
+    int line;
+  };
+  std::vector<DLine> d_lines_;
+  struct RawEquationTerm {
+    int node;
+    int direction;
+    double coefficient;
+  };
+  struct RawCe {
+    std::vector<RawEquationTerm> terms;
+    int line;
+  };
+  std::vector<RawCe> ce_;
+  int ce_terms_left_ = 0;
   // reason -> (command, first line), in order of first appearance
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> ignored_;
   std::vector<std::string> notes_;

@@ -17,24 +17,32 @@
 //                           for EX, NUXY/PRXY, DENS: Mesh::materials "MAT<n>" with each
 //                           element's by its material number (Mesh::element_material), and
 //                           `materials` (when not null), by number.
-//   D,node,UX|UY|UZ|ALL,0[,0,nend,ninc]  nodes held in all three directions form the node set
-//                           D_ALL (usable as a clamp; D itself clamps nothing).
+//   D,node,UX|UY|UZ|ALL,0[,0,nend,ninc]  every D line is a Mesh::boundaries entry (DOF-level
+//                           supports, applied when the case file says supports: [{from_mesh:
+//                           true}], as *BOUNDARY); nodes held in all three directions also form
+//                           the node set D_ALL (usable as a clamp; D itself clamps nothing).
+//   CE,R5.0,DEFI,n,neqn,0 then CE,R5.0,NODE,node,lab,coef[,node,lab,coef] lines (CDWRITE's form),
+//   or CE,neqn,0,node1,lab1,c1[,node2,lab2,c2[,node3,lab3,c3]]: a linear constraint
+//                           Σ c u = 0 on UX/UY/UZ (Mesh::equations, first term dependent, as
+//                           *EQUATION).
 // Element types (KEYOPT(2) chooses the integration):
-//   SOLID185  hexahedron, KEYOPT(2)=0 (B-bar)        -> C3D8B
+//   SOLID185  hexahedron, KEYOPT(2)=0 (B-bar)        -> C3D8B;
+//             wedge shape (K=L, O=P)                 -> C3D6 (corners I J K M N O; CalculiX's
+//             wedge: the collapsed brick's shape functions, CalculiX's rule, no B-bar)
 //   SOLID186  hexahedron, KEYOPT(2)=0 (reduced 2x2x2) -> C3D20R, KEYOPT(2)=1 (full 3x3x3) -> C3D20;
 //             tetrahedral shape (K=L, M=N=O=P)         -> C3D10 (ANSYS uses the 10-node
-//             tetrahedron's shape functions for it)
+//             tetrahedron's shape functions for it); wedge shape (K=L, O=P) -> C3D15
 //   SOLID187  10-node tetrahedron                      -> C3D10
 //   MESH200   mesh-only element, no stiffness: skipped with a warning.
 // Refused with the element id, its line and why: SOLID185 KEYOPT(2)=1 (uniform reduced
 // integration with hourglass control: stickslip has none), =2 and =3 (enhanced strain: not the
 // same formulation as C3D8I's incompatible modes, and not checked against ANSYS), mixed u-P
-// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, wedge
-// and pyramid shapes, degenerate SOLID185 shapes, mid-side nodes left out (0 or a short list),
-// other element types. Also refused, at their line: a D with a non-zero value, a node held in
-// some directions only (supports per direction are not read from decks yet), CE / CP / rigid
-// regions (they tie DOFs), temperature-dependent or anisotropic material data, rotated nodal
-// coordinate systems on nodes with D. Every other command is listed in one warning per reason
+// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, pyramid
+// shapes (no pyramid element: CalculiX has none to check one against), the tetrahedral shape of
+// SOLID185, mid-side nodes left out (0 or a short list), other element types. Also refused, at
+// their line: a D or CE with a non-zero value, CE on rotations, CP / rigid regions (they tie
+// DOFs), temperature-dependent or anisotropic material data, rotated nodal coordinate systems on
+// nodes with D or CE. Every other command is listed in one warning per reason
 // ("<file>: ignored (<why>): F (line 80), ACEL (line 75), ...") appended to `warnings`.
 //
 // Errors: InvalidInput with SourceLocation{file, line} and what is wrong.

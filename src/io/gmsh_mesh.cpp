@@ -20,6 +20,8 @@ constexpr int kGmshTet4 = 4;
 constexpr int kGmshHex8 = 5;
 constexpr int kGmshTet10 = 11;
 constexpr int kGmshHex20 = 17;
+constexpr int kGmshPrism6 = 6;
+constexpr int kGmshPrism15 = 18;
 
 constexpr int kIdentity8[8] = {0, 1, 2, 3, 4, 5, 6, 7};
 // Gmsh 20-node hexahedron: corners 0-7 as CalculiX, then edges (0,1) (0,3) (0,4) (1,2) (1,5)
@@ -29,6 +31,10 @@ constexpr int kHex20[20] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17
 // Gmsh 10-node tetrahedron: corners, then edges (0,1) (1,2) (2,0) (3,0) (3,2) (3,1).
 // CalculiX C3D10: corners, then (0,1) (1,2) (2,0) (0,3) (1,3) (2,3).
 constexpr int kTet10[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+// Gmsh 15-node prism: corners as CalculiX, then edges (0,1) (0,2) (0,3) (1,2) (1,4) (2,5) (3,4)
+// (3,5) (4,5). CalculiX C3D15: corners, then (0,1) (1,2) (2,0), (3,4) (4,5) (5,3), (0,3) (1,4)
+// (2,5).
+constexpr int kPrism15[15] = {0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11};
 
 std::mutex g_session_mutex;
 int g_session_count = 0;
@@ -142,7 +148,10 @@ const int* gmsh_to_calculix_order(int gmsh_type) {
   switch (gmsh_type) {
     case kGmshTet4:
     case kGmshHex8:
+    case kGmshPrism6:
       return kIdentity8;
+    case kGmshPrism15:
+      return kPrism15;
     case kGmshTet10:
       return kTet10;
     case kGmshHex20:
@@ -207,11 +216,17 @@ Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& option
       case kGmshHex20:
         type = options.hexahedron20;
         break;
+      case kGmshPrism6:
+        type = ElementType::kC3D6;
+        break;
+      case kGmshPrism15:
+        type = ElementType::kC3D15;
+        break;
       default:
         throw InvalidInput({source, 0, ""},
                            "unsupported element type " + gmsh_element_name(types[t]) +
-                               " (supported: 4- and 10-node tetrahedra, 8- and 20-node "
-                               "hexahedra)");
+                               " (supported: 4- and 10-node tetrahedra, 6- and 15-node "
+                               "prisms, 8- and 20-node hexahedra)");
     }
     const size_t n = static_cast<size_t>(nodes_per_element(type));
     STICKSLIP_VERIFY(element_nodes[t].size() == n * element_tags[t].size(),

@@ -93,7 +93,12 @@ Header read_header(Reader& r) {
   const std::string banner = r.first_line();
   const auto t = split_whitespace(banner);
   if (t.empty() || lower(t[0]) != "%%matrixmarket") {
-    r.fail(1, "the first line must start with %%MatrixMarket, got '" + banner + "'");
+    // Abaqus's *MATRIX GENERATE writes .mtx files too, in its own format ("**" comment lines,
+    // then "node, DOF, node, DOF, value"): say which format to ask for.
+    const bool abaqus = banner.rfind("**", 0) == 0 ||
+                        std::count(banner.begin(), banner.end(), ',') == 4;
+    r.fail(1, "the first line must start with %%MatrixMarket, got '" + banner + "'" +
+                  (abaqus ? " (an Abaqus matrix file? give format: abaqus_matrix)" : ""));
   }
   if (t.size() != 5) {
     r.fail(1, "the banner must be '%%MatrixMarket matrix <format> <field> <symmetry>', got '" +

@@ -182,6 +182,23 @@ std::vector<double> column_major(const Eigen::MatrixXd& m) {
   return std::vector<double>(m.data(), m.data() + m.size());
 }
 
+// Connectivity in VTK's node order. Identical to CalculiX's for every type but the wedges:
+// VTK's wedge has its first triangle ordered so that its right-hand normal points away from the
+// second (vtkWedge), CalculiX's towards it, so nodes 1 ↔ 2 and 4 ↔ 5 swap (and with them the
+// mid-edge nodes of the quadratic wedge).
+std::vector<std::int64_t> vtk_connectivity(const Mesh& mesh) {
+  static constexpr int kWedge[15] = {0, 2, 1, 3, 5, 4, 8, 7, 6, 11, 10, 9, 12, 14, 13};
+  std::vector<std::int64_t> c(mesh.connectivity.begin(), mesh.connectivity.end());
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const ElementType t = mesh.element_types[static_cast<size_t>(e)];
+    if (t != ElementType::kC3D6 && t != ElementType::kC3D15) continue;
+    const std::span<const int> nodes = mesh.element_nodes(e);
+    const size_t first = static_cast<size_t>(mesh.element_offsets[static_cast<size_t>(e)]);
+    for (size_t a = 0; a < nodes.size(); ++a) c[first + a] = nodes[static_cast<size_t>(kWedge[a])];
+  }
+  return c;
+}
+
 }  // namespace
 
 int vtk_cell_type(ElementType type) {
@@ -197,6 +214,10 @@ int vtk_cell_type(ElementType type) {
       return 10;
     case ElementType::kC3D10:
       return 24;
+    case ElementType::kC3D6:  // VTK_WEDGE and VTK_QUADRATIC_WEDGE: CalculiX's node order
+      return 13;
+    case ElementType::kC3D15:
+      return 26;
   }
   return 0;
 }
@@ -250,8 +271,7 @@ void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
     out << "      </CellData>\n      <Points>\n";
     arrays.write("Points", 3, column_major(mesh.coordinates), in);
     out << "      </Points>\n      <Cells>\n";
-    arrays.write("connectivity", 1,
-                 std::vector<std::int64_t>(mesh.connectivity.begin(), mesh.connectivity.end()), in);
+    arrays.write("connectivity", 1, vtk_connectivity(mesh), in);
     arrays.write(
         "offsets", 1,
         std::vector<std::int64_t>(mesh.element_offsets.begin() + 1, mesh.element_offsets.end()),

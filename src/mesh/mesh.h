@@ -30,6 +30,8 @@ enum class ElementType {
   kC3D10,   // 10-node tetrahedron
   kC3D8B,   // 8-node hexahedron, B-bar (mean dilatation), 2x2x2: ANSYS SOLID185, KEYOPT(2)=0;
             // not a CalculiX element (CalculiX's C3D8 is plain full integration)
+  kC3D6,    // 6-node wedge (pentahedron)
+  kC3D15,   // 15-node wedge
 };
 
 int nodes_per_element(ElementType type);

@@ -24,6 +24,11 @@ constexpr int kHexEdges[12][3] = {{0, 1, 8},  {1, 2, 9},  {2, 3, 10}, {0, 3, 11}
                                   {0, 4, 16}, {1, 5, 17}, {2, 6, 18}, {3, 7, 19}};
 constexpr int kTetFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
 constexpr int kTetEdges[6][3] = {{0, 1, 4}, {1, 2, 5}, {0, 2, 6}, {0, 3, 7}, {1, 3, 8}, {2, 3, 9}};
+// Wedges (C3D6, C3D15): two triangles and three quadrilaterals, ordered as the hexahedron's.
+constexpr int kWedgeTriangles[2][3] = {{0, 1, 2}, {3, 5, 4}};
+constexpr int kWedgeQuads[3][4] = {{0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}};
+constexpr int kWedgeEdges[9][3] = {{0, 1, 6},  {1, 2, 7},  {0, 2, 8},  {3, 4, 9}, {4, 5, 10},
+                                   {3, 5, 11}, {0, 3, 12}, {1, 4, 13}, {2, 5, 14}};
 
 template <size_t N>
 int midside(const int (&edges)[N][3], int a, int b) {
@@ -37,8 +42,9 @@ int midside(const int (&edges)[N][3], int a, int b) {
 // Local node numbers of every face of an element type (corners, then mid-edge nodes).
 std::vector<std::vector<int>> local_faces(ElementType type) {
   std::vector<std::vector<int>> faces;
-  const bool quadratic =
-      type == ElementType::kC3D20 || type == ElementType::kC3D20R || type == ElementType::kC3D10;
+  const bool quadratic = type == ElementType::kC3D20 || type == ElementType::kC3D20R ||
+                         type == ElementType::kC3D10 || type == ElementType::kC3D15;
+  const bool wedge = type == ElementType::kC3D6 || type == ElementType::kC3D15;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
                    type == ElementType::kC3D8B ||
                    type == ElementType::kC3D20 || type == ElementType::kC3D20R;
@@ -47,13 +53,18 @@ std::vector<std::vector<int>> local_faces(ElementType type) {
     if (quadratic) {
       for (int k = 0; k < n; ++k) {
         const int a = corners[k], b = corners[(k + 1) % n];
-        f.push_back(hex ? midside(kHexEdges, a, b) : midside(kTetEdges, a, b));
+        f.push_back(hex     ? midside(kHexEdges, a, b)
+                    : wedge ? midside(kWedgeEdges, a, b)
+                            : midside(kTetEdges, a, b));
       }
     }
     faces.push_back(std::move(f));
   };
   if (hex) {
     for (const auto& c : kHexFaces) add(c, 4);
+  } else if (wedge) {
+    for (const auto& c : kWedgeTriangles) add(c, 3);
+    for (const auto& c : kWedgeQuads) add(c, 4);
   } else {
     for (const auto& c : kTetFaces) add(c, 3);
   }

@@ -601,7 +601,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
         // The deck's *BOUNDARY lines (all of them, model and step level alike).
         if (body.mesh.boundaries.empty()) {
           throw InvalidInput(where, "from_mesh: the mesh of body " + name +
-                                        " has no *BOUNDARY lines (only .inp meshes have them)");
+                                        " has no *BOUNDARY lines (.inp) or D lines (.cdb)");
         }
         for (const MeshBoundary& b : body.mesh.boundaries) {
           if (!b.unsupported.empty()) {

@@ -9,6 +9,8 @@
 #include "cli_test_support.h"
 
 #include <cmath>
+#include <cstdio>
+#include <regex>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -140,3 +142,144 @@ output: {plots: false, vtu: false}
 }
 
 }  // namespace
+
+// A bar of SOLID185 (B-bar) written by the test twice: as a CDB file in CDWRITE's layout, with
+// its supports as D lines (some on ALL, some per direction, a node range) and a tie as CE in
+// CDWRITE's blocked form; and as a .inp (C3D8B) with the same supports as *BOUNDARY and the same
+// tie as *EQUATION. Both read with supports: [{from_mesh: true}]: the same K, M and constraints,
+// hence the same frequencies to round-off. The tie and the one-direction supports are checked
+// to matter (the frequencies without them differ).
+struct BarDecks {
+  std::string cdb, inp;
+};
+
+BarDecks supported_bar_decks(bool with_tie) {
+  constexpr int nx = 6, ny = 2, nz = 2;
+  constexpr double lx = 0.3, ly = 0.04, lz = 0.03;
+  const auto node = [&](int i, int j, int k) { return grid_node(nx, ny, i, j, k); };
+  std::ostringstream cdb, inp;
+  char buf[256];
+  cdb << "/PREP7\nET,1,185\nNBLOCK,6,SOLID," << node(nx, ny, nz) << "," << node(nx, ny, nz)
+      << "\n(3i9,6e21.13e3)\n";
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        std::snprintf(buf, sizeof buf, "%9d%9d%9d%21.13E%21.13E%21.13E\n", node(i, j, k), 0, 0,
+                      lx * i / nx, ly * j / ny, lz * k / nz);
+        cdb << buf;
+      }
+  cdb << "N,R5.3,LOC,       -1,\nEBLOCK,19,SOLID," << nx * ny * nz << "," << nx * ny * nz
+      << "\n(19i9)\n";
+  // hex_grid_inp writes C3D8: the same mesh as C3D8B (ANSYS SOLID185's default formulation).
+  inp << std::regex_replace(hex_grid_inp(nx, ny, nz, lx, ly, lz), std::regex("TYPE=C3D8,"),
+                            "TYPE=C3D8B,");
+  int e = 1;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        std::snprintf(buf, sizeof buf, "%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d%9d", 1, 1, 1, 1, 0, 0, 0, 0,
+                      8, 0, e++);
+        cdb << buf;
+        for (int n : {node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                      node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
+                      node(i, j + 1, k + 1)}) {
+          std::snprintf(buf, sizeof buf, "%9d", n);
+          cdb << buf;
+        }
+        cdb << "\n";
+      }
+  cdb << "       -1\n";
+  inp << "*BOUNDARY\n";
+  // x = 0: the j = 0 row on ALL; the rest per direction, the k = 2 row as a node range.
+  for (int k = 0; k <= nz; ++k) {
+    cdb << "D," << node(0, 0, k) << ",ALL,0\n";
+    inp << node(0, 0, k) << ", 1, 3\n";
+  }
+  for (int j = 1; j <= ny; ++j) {
+    for (int k = 0; k < nz; ++k) {
+      for (const char* lab : {"UX", "UY", "UZ"}) {
+        cdb << "D," << node(0, j, k) << "," << lab << ",  0.00000000    ,  0.00000000\n";
+        inp << node(0, j, k) << ", " << (lab[1] - 'X' + 1) << "\n";
+      }
+    }
+  }
+  for (const char* lab : {"UX", "UY", "UZ"}) {
+    // Nodes (0, 1, nz) .. (0, ny, nz): ids nx + 1 apart.
+    cdb << "D," << node(0, 1, nz) << "," << lab << ",0,0," << node(0, ny, nz) << "," << nx + 1
+        << "\n";
+    for (int j = 1; j <= ny; ++j) inp << node(0, j, nz) << ", " << (lab[1] - 'X' + 1) << "\n";
+  }
+  // x = L: a roller in z only under the bottom middle node.
+  cdb << "D," << node(nx, 1, 0) << ",UZ,0\n";
+  inp << node(nx, 1, 0) << ", 3, 3\n";
+  if (with_tie) {
+    // The tip's top corner moves in y as twice the bottom corner:  u_y(a) − 2 u_y(b) = 0.
+    cdb << "CE,R5.0,DEFI,       2,       1,  0.00000000    \n"
+        << "CE,R5.0,NODE,  " << node(nx, ny, nz) << ",UY  ,  1.00000000    ,  " << node(nx, 0, 0)
+        << ",UY  , -2.00000000    \n";
+    inp << "*EQUATION\n2\n"
+        << node(nx, ny, nz) << ", 2, 1.0, " << node(nx, 0, 0) << ", 2, -2.0\n";
+  }
+  inp << "*NSET, NSET=TIP\n" << node(nx, 0, nz) << "\n";
+  cdb << "CMBLOCK,TIP,NODE,1\n(8i10)\n";
+  std::snprintf(buf, sizeof buf, "%10d\n", node(nx, 0, nz));
+  cdb << buf;
+  return {cdb.str(), inp.str()};
+}
+
+std::string supported_bar_case(const fs::path& mesh) {
+  return R"(stickslip: 1
+materials:
+  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
+meshes:
+  bar: {file: )" + mesh.string() + R"(}
+bodies:
+  bar: {mesh: bar, material: steel, supports: [{from_mesh: true}], masters: [TIP], modes: 1000}
+contacts:
+  - name: tiny
+    law: linear
+    between: {bar: TIP}
+    direction: [0, 0, 1]
+    per_pair: {k: 1.0e-3}
+excitation:
+  - {body: bar, node_set: TIP, direction: z, amplitude: 1}
+damping: {alpha: 5.0, beta: 0.0}
+analysis:
+  frequency: {around_mode: 1, half_width_hz: 1, step_hz: 1}
+  harmonics: 1
+recovery: {points: none}
+output: {plots: false, vtu: false}
+)";
+}
+
+TEST(CdbCli, PartialDAndCeGiveTheSameModesAsBoundaryAndEquationInADeck) {
+  const fs::path dir = fresh_dir("cdb_constraints");
+  const auto modes_of = [&](const std::string& name, bool cdb, bool tie) {
+    const BarDecks decks = supported_bar_decks(tie);
+    const fs::path mesh = dir / (name + (cdb ? ".cdb" : ".inp"));
+    std::ofstream(mesh) << (cdb ? decks.cdb : decks.inp);
+    run_stage("modes", write_case(dir, name, supported_bar_case(mesh)), dir / name);
+    return read_csv(dir / name / "modes" / "frequencies.csv");
+  };
+  const auto cdb = modes_of("cdb", true, true);
+  const auto inp = modes_of("inp", false, true);
+  const auto untied = modes_of("untied", true, false);
+  // The CDB holds coordinates with 14 significant digits (CDWRITE's E21.13), the .inp with 17:
+  // the two meshes differ by ~1e-15 relative, which moves the frequencies by up to 5e-12
+  // (measured); a misread support or equation changes them by percents (below).
+  constexpr double kCoordinateDigitsTolerance = 1e-10;
+  ASSERT_GE(cdb.size(), 6u);
+  ASSERT_EQ(cdb.size(), inp.size());
+  for (size_t j = 0; j < cdb.size(); ++j) {
+    const double a = std::stod(cdb[j].at("frequency_hz")), b = std::stod(inp[j].at("frequency_hz"));
+    EXPECT_NEAR(a / b, 1.0, kCoordinateDigitsTolerance) << "mode " << j + 1;
+  }
+  // The tie stiffens the bar in y: the first y-bending frequency rises by more than 1 %.
+  double max_change = 0.0;
+  for (size_t j = 0; j < 4; ++j) {
+    max_change = std::max(max_change, std::abs(std::stod(cdb[j].at("frequency_hz")) /
+                                                   std::stod(untied[j].at("frequency_hz")) -
+                                               1.0));
+  }
+  EXPECT_GT(max_change, 1e-2);
+}

@@ -1,6 +1,7 @@
 #include "fe_test_util.h"
 
 #include <array>
+#include <cmath>
 #include <map>
 #include <random>
 
@@ -13,14 +14,20 @@ namespace stickslip::testing {
 namespace {
 
 bool is_quadratic(ElementType t) {
-  return t == ElementType::kC3D20 || t == ElementType::kC3D20R || t == ElementType::kC3D10;
+  return t == ElementType::kC3D20 || t == ElementType::kC3D20R || t == ElementType::kC3D10 ||
+         t == ElementType::kC3D15;
 }
 bool is_hex(ElementType t) { return nodes_per_element(t) == 8 || nodes_per_element(t) == 20; }
+bool is_wedge(ElementType t) { return t == ElementType::kC3D6 || t == ElementType::kC3D15; }
 
 // (mid node, end a, end b) local indices of the edges of quadratic elements.
 std::vector<std::array<int, 3>> mid_edges(ElementType t) {
   if (t == ElementType::kC3D10) {
     return {{4, 0, 1}, {5, 1, 2}, {6, 2, 0}, {7, 0, 3}, {8, 1, 3}, {9, 2, 3}};
+  }
+  if (t == ElementType::kC3D15) {
+    return {{6, 0, 1},  {7, 1, 2},   {8, 2, 0},   {9, 3, 4},  {10, 4, 5},
+            {11, 5, 3}, {12, 0, 3}, {13, 1, 4}, {14, 2, 5}};
   }
   if (t == ElementType::kC3D20 || t == ElementType::kC3D20R) {
     return {{8, 0, 1},  {9, 1, 2},  {10, 2, 3}, {11, 3, 0}, {12, 4, 5}, {13, 5, 6},
@@ -62,6 +69,24 @@ Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& s
             nodes.push_back(node(r * ci + di, r * cj + dj, r * ck + dk));
           }
           mesh.add_element(eid++, type, nodes);
+        } else if (is_wedge(type)) {
+          // Two wedges per cell: the x-y square split along its (0,0)-(1,1) diagonal, extruded
+          // in z; the natural triangle (L2 = xi, L3 = eta) is mapped onto each half.
+          static const int kHalves[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+          for (const auto& h : kHalves) {
+            std::vector<int> nodes;
+            for (int a = 0; a < ref.cols(); ++a) {
+              // Lattice point of natural (xi, eta, zeta): barycentric blend of the half's corners.
+              const double l[3] = {1.0 - ref(0, a) - ref(1, a), ref(0, a), ref(1, a)};
+              double x = 0, y = 0;
+              for (int c = 0; c < 3; ++c) x += l[c] * h[c][0], y += l[c] * h[c][1];
+              const int di = static_cast<int>(std::lround(x * r));
+              const int dj = static_cast<int>(std::lround(y * r));
+              const int dk = static_cast<int>(std::lround((ref(2, a) + 1) * r / 2));
+              nodes.push_back(node(r * ci + di, r * cj + dj, r * ck + dk));
+            }
+            mesh.add_element(eid++, type, nodes);
+          }
         } else {
           // Kuhn subdivision along the diagonal v0 -> v7, v = i + 2j + 4k.
           static const int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
@@ -147,7 +172,7 @@ Eigen::Matrix3Xd distorted_element(ElementType type, unsigned seed, double corne
   const Eigen::Vector3d s(0.7 + 0.2 * u(rng), 1.0 + 0.2 * u(rng), 0.4 + 0.1 * u(rng));
   const Eigen::Vector3d t(u(rng), u(rng), u(rng));
   const Eigen::Matrix3Xd ref = natural_node_coordinates(type);
-  const int nc = is_hex(type) ? 8 : 4;
+  const int nc = is_hex(type) ? 8 : (is_wedge(type) ? 6 : 4);
   Eigen::Matrix3Xd X(3, ref.cols());
   for (int a = 0; a < ref.cols(); ++a) {
     Eigen::Vector3d p = ref.col(a);
@@ -162,6 +187,33 @@ Eigen::Matrix3Xd distorted_element(ElementType type, unsigned seed, double corne
 }
 
 double independent_volume(ElementType type, const Eigen::Matrix3Xd& X) {
+  if (is_wedge(type)) {
+    // Divergence theorem: V = 1/3 Σ_faces ∫ x·n dS; flat triangles exactly (centroid · area
+    // vector), bilinear quadrilaterals with 2x2 Gauss points (exact for them). Outward faces.
+    const auto corner = [&](int a) { return Eigen::Vector3d(X.col(a)); };
+    double v = 0.0;
+    for (const auto& t : {std::array<int, 3>{0, 2, 1}, std::array<int, 3>{3, 4, 5}}) {
+      const Eigen::Vector3d c = (corner(t[0]) + corner(t[1]) + corner(t[2])) / 3.0;
+      v += c.dot(0.5 * (corner(t[1]) - corner(t[0])).cross(corner(t[2]) - corner(t[0])));
+    }
+    const double g = 1.0 / std::sqrt(3.0);
+    for (const auto& f : {std::array<int, 4>{0, 1, 4, 3}, std::array<int, 4>{1, 2, 5, 4},
+                          std::array<int, 4>{2, 0, 3, 5}}) {
+      for (double s : {-g, g}) {
+        for (double t : {-g, g}) {
+          const Eigen::Vector3d x =
+              0.25 * ((1 - s) * (1 - t) * corner(f[0]) + (1 + s) * (1 - t) * corner(f[1]) +
+                      (1 + s) * (1 + t) * corner(f[2]) + (1 - s) * (1 + t) * corner(f[3]));
+          const Eigen::Vector3d xs = 0.25 * (-(1 - t) * corner(f[0]) + (1 - t) * corner(f[1]) +
+                                             (1 + t) * corner(f[2]) - (1 + t) * corner(f[3]));
+          const Eigen::Vector3d xt = 0.25 * (-(1 - s) * corner(f[0]) - (1 + s) * corner(f[1]) +
+                                             (1 + s) * corner(f[2]) + (1 - s) * corner(f[3]));
+          v += x.dot(xs.cross(xt));
+        }
+      }
+    }
+    return v / 3.0;
+  }
   if (!is_hex(type)) {
     Eigen::Matrix3d E;
     for (int a = 0; a < 3; ++a) E.col(a) = X.col(a + 1) - X.col(0);

@@ -89,7 +89,8 @@ INSTANTIATE_TEST_SUITE_P(AllTypes, PatchTest,
                          ::testing::Values(ElementType::kC3D8, ElementType::kC3D8I,
                                            ElementType::kC3D20, ElementType::kC3D20R,
                                            ElementType::kC3D4, ElementType::kC3D10,
-                                           ElementType::kC3D8B),
+                                           ElementType::kC3D8B, ElementType::kC3D6,
+                                           ElementType::kC3D15),
                          [](const auto& info) { return element_type_name(info.param); });
 
 // Independent B^T D B implementation of the Wilson incompatible-mode hexahedron, with
@@ -219,7 +220,8 @@ INSTANTIATE_TEST_SUITE_P(AllTypes, UniaxialTest,
                          ::testing::Values(ElementType::kC3D8, ElementType::kC3D8I,
                                            ElementType::kC3D20, ElementType::kC3D20R,
                                            ElementType::kC3D4, ElementType::kC3D10,
-                                           ElementType::kC3D8B),
+                                           ElementType::kC3D8B, ElementType::kC3D6,
+                                           ElementType::kC3D15),
                          [](const auto& info) { return element_type_name(info.param); });
 
 }  // namespace

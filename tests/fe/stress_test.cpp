@@ -26,7 +26,8 @@ const IsotropicMaterial kSteel{.youngs_modulus = 2e11, .poisson_ratio = 0.3, .de
 constexpr double kRoundOff = 1e-10;  // relative; small dense solves and sums in double
 
 const ElementType kAllTypes[] = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
-                                 ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10};
+                                 ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10,
+                                 ElementType::kC3D6,   ElementType::kC3D15};
 
 TEST(Stress, ExtrapolationIsExactForItsPolynomialBasis) {
   for (ElementType type : kAllTypes) {
@@ -37,7 +38,12 @@ TEST(Stress, ExtrapolationIsExactForItsPolynomialBasis) {
     ASSERT_EQ(E.cols(), P.cols());
     // A field that every basis contains: 1 (1 point), linear (tetrahedra), multilinear
     // (2x2x2, contains the linear one), triquadratic (3x3x3).
+    const bool wedge = type == ElementType::kC3D6 || type == ElementType::kC3D15;
     auto f = [&](const Eigen::Vector3d& p) {
+      if (wedge) {  // linear in the triangle (3 points) or constant (1), times the zeta basis
+        const double t = P.cols() == 2 ? 1.0 : 2.5 + p(0) - 3 * p(1);
+        return P.cols() == 2 ? 2.5 - 0.7 * p(2) : t * (1.0 + 0.4 * p(2) - 0.3 * p(2) * p(2));
+      }
       switch (P.cols()) {
         case 1:
           return 2.5;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -109,18 +110,37 @@ TEST(CdbReader, ReadsHexBeamNodesElementsComponentsAndMaterial) {
   EXPECT_TRUE(contains(all, "analyses come from the case file")) << all;
 }
 
-TEST(CdbReader, MapsTheTetrahedralSolid186ToC3D10AndRefusesWedgesAndPyramids) {
+TEST(CdbReader, MapsTheTetrahedralAndWedgeSolid186AndRefusesPyramids) {
   const std::string path = kDir + "all_solid_cells.cdb";
   // Records: hexahedron 2170 (lines 62-63), wedge 4488 (64-65), pyramid 4643 (66-67),
   // tetrahedron 4644 (68-69).
-  const InvalidInput wedge = error_of([&] { read_cdb(path); });
-  EXPECT_EQ(wedge.where().line, 64);
-  EXPECT_TRUE(contains(wedge.message(), "element 4488")) << wedge.message();
-  EXPECT_TRUE(contains(wedge.message(), "wedge")) << wedge.message();
-  std::istringstream no_wedge = without_lines(path, {{64, 65}});
-  const InvalidInput pyramid = error_of([&] { read_cdb(no_wedge, "cells.cdb"); });
+  const InvalidInput pyramid = error_of([&] { read_cdb(path); });
+  EXPECT_EQ(pyramid.where().line, 66);
   EXPECT_TRUE(contains(pyramid.message(), "element 4643")) << pyramid.message();
   EXPECT_TRUE(contains(pyramid.message(), "pyramid")) << pyramid.message();
+
+  std::istringstream no_pyramid = without_lines(path, {{66, 67}});
+  const Mesh w = read_cdb(no_pyramid, "cells.cdb");
+  ASSERT_EQ(w.num_elements(), 3);
+  ASSERT_EQ(w.element_types[1], ElementType::kC3D15);
+  const auto wedge = w.element_nodes(1);
+  // "5692 5649 5697 5697 13153 13148 13154 13154": corners I J K, M N O (K = L, O = P).
+  const std::vector<int> corners{5692, 5649, 5697, 13153, 13148, 13154};
+  for (size_t a = 0; a < 6; ++a) EXPECT_EQ(w.node_ids[wedge[a]], corners[a]) << a;
+  // C3D15's mid-side nodes 7..15 near the midpoints of 1-2, 2-3, 3-1, 4-5, 5-6, 6-4, 1-4, 2-5,
+  // 3-6: the file's wedge lies on a curved surface, its bottom mid-side nodes off the chord
+  // midpoints by up to 0.7 % of the edge length (the midpoint of any other edge is > 40 % away).
+  const int wedge_edges[9][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5},
+                                 {5, 3}, {0, 3}, {1, 4}, {2, 5}};
+  for (int k = 0; k < 9; ++k) {
+    const Eigen::Vector3d mid = 0.5 * (w.coordinates.col(wedge[wedge_edges[k][0]]) +
+                                       w.coordinates.col(wedge[wedge_edges[k][1]]));
+    const double length = (w.coordinates.col(wedge[wedge_edges[k][0]]) -
+                           w.coordinates.col(wedge[wedge_edges[k][1]]))
+                              .norm();
+    EXPECT_LT((w.coordinates.col(wedge[6 + k]) - mid).norm(), 0.02 * length)
+        << "mid-side node " << 7 + k;
+  }
 
   std::istringstream hex_and_tet = without_lines(path, {{64, 67}});
   const Mesh m = read_cdb(hex_and_tet, "cells.cdb");
@@ -149,18 +169,53 @@ TEST(CdbReader, RefusesSolid187WithoutItsMidSideNodes) {
   EXPECT_TRUE(contains(e.message(), "SOLID187")) << e.message();
 }
 
-TEST(CdbReader, RefusesDegenerateSolid185) {
-  const InvalidInput e = error_of([&] { read_cdb(kDir + "sector.cdb"); });
-  EXPECT_TRUE(contains(e.message(), "SOLID185")) << e.message();
-  EXPECT_TRUE(contains(e.message(), "wedge")) << e.message();
+TEST(CdbReader, ReadsTheDegenerateSolid185WedgesOfARealSectorAsC3D6) {
+  // sector.cdb: 105 SOLID185 of which 4 have "K = L, O = P" (elements 246, 247, ... on their
+  // EBLOCK lines): the 4 records whose 3rd and 4th, 7th and 8th nodes repeat.
+  std::vector<std::string> warnings;
+  const Mesh m = read_cdb(kDir + "sector.cdb", &warnings);
+  ASSERT_EQ(m.num_elements(), 105);
+  int wedges = 0;
+  for (int e = 0; e < m.num_elements(); ++e) {
+    const ElementType t = m.element_types[e];
+    ASSERT_TRUE(t == ElementType::kC3D8B || t == ElementType::kC3D6) << element_type_name(t);
+    if (t != ElementType::kC3D6) continue;
+    ++wedges;
+    // Six distinct corners that span a volume (the reader checked det J > 0 already).
+    const auto n = m.element_nodes(e);
+    EXPECT_EQ(std::set<int>(n.begin(), n.end()).size(), 6u);
+  }
+  EXPECT_EQ(wedges, 4);
+  // Element 246: "112 114 174 174 610 606 677 677" -> C3D6 112 114 174 610 606 677.
+  const auto it = std::find(m.element_ids.begin(), m.element_ids.end(), 246);
+  ASSERT_NE(it, m.element_ids.end());
+  const auto n246 = m.element_nodes(static_cast<int>(it - m.element_ids.begin()));
+  EXPECT_EQ(ids_of(m, std::vector<int>(n246.begin(), n246.end())),
+            (std::vector<int>{112, 114, 174, 606, 610, 677}));
+  std::string all;
+  for (const std::string& x : warnings) all += x + "\n";
+  EXPECT_TRUE(contains(all, "4 degenerate SOLID185/186 element(s) of wedge shape")) << all;
 }
 
-TEST(CdbReader, Solid185IsBbarAndPartialConstraintsAreRefused) {
+TEST(CdbReader, Solid185IsBbarAndEveryDLineIsADofLevelSupport) {
   const std::string path = kDir + "one_solid185_point_load.cdb";
   // D on nodes 1-4 in UX, UY, UZ (lines 66-77), on nodes 5-8 in UY, UZ only (lines 78-85).
-  const InvalidInput partial = error_of([&] { read_cdb(path); });
-  EXPECT_EQ(partial.where().line, 78);
-  EXPECT_TRUE(contains(partial.message(), "node 5 in Y, Z only")) << partial.message();
+  const Mesh full = read_cdb(path);
+  ASSERT_EQ(full.boundaries.size(), 20u);
+  EXPECT_EQ(ids_of(full, full.node_sets.at("D_ALL")), (std::vector<int>{1, 2, 3, 4}));
+  for (size_t k = 0; k < full.boundaries.size(); ++k) {
+    const MeshBoundary& b = full.boundaries[k];
+    const int line = 66 + static_cast<int>(k);
+    EXPECT_EQ(b.origin, path + ":" + std::to_string(line));
+    ASSERT_EQ(b.nodes.size(), 1u);
+    EXPECT_TRUE(b.unsupported.empty());
+    // Lines 66-77: node (k / 3) + 1, UX UY UZ in turn; 78-85: node 5 + (k - 12) / 2, UY UZ.
+    const int node = k < 12 ? static_cast<int>(k / 3) + 1 : 5 + static_cast<int>(k - 12) / 2;
+    const int dof = k < 12 ? static_cast<int>(k % 3) : 1 + static_cast<int>(k % 2);
+    EXPECT_EQ(full.node_ids[b.nodes[0]], node) << "line " << line;
+    EXPECT_EQ(b.first, dof) << "line " << line;
+    EXPECT_EQ(b.last, dof) << "line " << line;
+  }
 
   std::istringstream clamped_only = without_lines(path, {{78, 85}});
   std::vector<std::string> warnings;
@@ -187,8 +242,6 @@ TEST(CdbReader, SkipsLoadBlocksItDoesNotRead) {
   // The pressure file: an SFEBLOCK with its own format and data lines, then "SFE,end,...".
   std::vector<std::string> warnings;
   const std::string path = kDir + "one_solid185_pressure.cdb";
-  const InvalidInput partial = error_of([&] { read_cdb(path, &warnings); });
-  EXPECT_TRUE(contains(partial.message(), "node 5 in Z only")) << partial.message();
   std::istringstream clamped_only = without_lines(path, {{76, 79}});  // SFEBLOCK: 80 -> 76
   const Mesh m = read_cdb(clamped_only, "pressure.cdb", &warnings);
   EXPECT_EQ(m.num_elements(), 1);
@@ -261,7 +314,11 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   };
   EXPECT_TRUE(contains(message("D,1,UX,0.001\n"), "non-zero prescribed displacement"));
   EXPECT_TRUE(contains(message("D,ALL,ALL,0\n"), "only node numbers"));
-  EXPECT_TRUE(contains(message("CE,1,0,1,UX,1.0,2,UX,-1.0\n"), "CE is not supported"));
+  EXPECT_TRUE(contains(message("CE,1,0.5,1,UX,1.0,2,UX,-1.0\n"), "non-zero constant"));
+  EXPECT_TRUE(contains(message("CE,1,0,1,ROTX,1.0,2,UX,-1.0\n"), "'ROTX'"));
+  EXPECT_TRUE(contains(message("CE,R5.0,DEFI,3,1,0\nCE,R5.0,NODE,1,UX,1.0,2,UX,-1.0\n"),
+                       "1 term(s) missing"));
+  EXPECT_TRUE(contains(message("CE,R5.0,NODE,1,UX,1.0,2,UX,-1.0\n"), "without a CE,R5.0,DEFI"));
   EXPECT_TRUE(contains(message("CP,1,UX,1,2\n"), "CP is not supported"));
   EXPECT_TRUE(contains(message("MPTEMP,R5.0,2,1,0,100\nMPDATA,R5.0,2,EX,1,1,2e11,1.9e11,\n"),
                        "temperature-dependent"));
@@ -270,6 +327,25 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
       contains(message("CMBLOCK,SIDE,NODE,2\n(8i10)\n         1         9\n"), "unknown node 9"));
   EXPECT_TRUE(contains(message("CMBLOCK,SIDE,NODE,2\n(8i10)\n        -3         4\n"),
                        "neither an id nor the end of a range"));
+  // CE in CDWRITE's blocked form (two terms a line) and in the plain form: Mesh::equations,
+  // first term dependent, as *EQUATION.
+  const Mesh ce = read_text(cube_file(et,
+                                      "CE,R5.0,DEFI,       3,       1,  0.00000000    \n"
+                                      "CE,R5.0,NODE,         7,UZ  ,  1.00000000    ,         8,"
+                                      "UX  , -0.500000000    \n"
+                                      "CE,R5.0,NODE,         6,UY  ,  2.50000000    \n"
+                                      "CE,2,0,3,UX,1.0,4,UX,-1.0\n"));
+  ASSERT_EQ(ce.equations.size(), 2u);
+  const auto dof = [&](int id, int d) {
+    return 3 * static_cast<int>(std::find(ce.node_ids.begin(), ce.node_ids.end(), id) -
+                                ce.node_ids.begin()) +
+           d;
+  };
+  EXPECT_EQ(ce.equations[0].dofs, (std::vector<int>{dof(7, 2), dof(8, 0), dof(6, 1)}));
+  EXPECT_EQ(ce.equations[0].coefficients, (std::vector<double>{1.0, -0.5, 2.5}));
+  EXPECT_EQ(ce.equations[0].origin, "cube.cdb:18");
+  EXPECT_EQ(ce.equations[1].dofs, (std::vector<int>{dof(3, 0), dof(4, 0)}));
+  EXPECT_EQ(ce.equations[1].coefficients, (std::vector<double>{1.0, -1.0}));
   // Plain MPDATA form and PRXY.
   std::map<int, DeckMaterial> materials;
   std::istringstream in(cube_file(et, "MPDATA,EX,1,,2e11\nMPDATA,PRXY,1,,0.29\n"));

@@ -223,7 +223,7 @@ TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
   // 10-node tetrahedron, permuted, must put each mid-edge node at the midpoint of its CalculiX
   // edge.
   GmshSession session;
-  for (int type : {17, 11}) {
+  for (int type : {17, 11, 18}) {
     std::string name;
     int dim, order, num_nodes, primary;
     std::vector<double> local;
@@ -234,11 +234,24 @@ TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
       const int g = perm[calculix_local];
       return Eigen::Vector3d(local[3 * g], local[3 * g + 1], local[3 * g + 2]);
     };
-    const bool hex = type == 17;
-    for (int k = 0; k < (hex ? 12 : 6); ++k) {
-      const int* edge = hex ? kHex20Edges[k] : kTet10Edges[k];
-      EXPECT_LT((ref((hex ? 8 : 4) + k) - 0.5 * (ref(edge[0]) + ref(edge[1]))).norm(), 1e-15)
+    const bool hex = type == 17, prism = type == 18;
+    // CalculiX C3D15: mid-edge nodes 7-15 on 1-2, 2-3, 3-1, 4-5, 5-6, 6-4, 1-4, 2-5, 3-6.
+    constexpr int kPrism15Edges[9][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5},
+                                         {5, 3}, {0, 3}, {1, 4}, {2, 5}};
+    for (int k = 0; k < (hex ? 12 : prism ? 9 : 6); ++k) {
+      const int* edge = hex ? kHex20Edges[k] : prism ? kPrism15Edges[k] : kTet10Edges[k];
+      const int first_mid = hex ? 8 : prism ? 6 : 4;
+      EXPECT_LT((ref(first_mid + k) - 0.5 * (ref(edge[0]) + ref(edge[1]))).norm(), 1e-15)
           << name << " edge " << k;
+    }
+    if (prism) {
+      // Corners: CalculiX's natural triangle (0,0), (1,0), (0,1) at zeta = -1, then +1, which
+      // Gmsh's reference prism uses too (u, v, w).
+      const double corners[6][3] = {{0, 0, -1}, {1, 0, -1}, {0, 1, -1},
+                                    {0, 0, 1},  {1, 0, 1},  {0, 1, 1}};
+      for (int a = 0; a < 6; ++a) {
+        EXPECT_EQ(ref(a), Eigen::Vector3d(corners[a][0], corners[a][1], corners[a][2])) << a;
+      }
     }
     // And the permutation is a permutation.
     std::vector<int> p(perm, perm + num_nodes);
@@ -247,7 +260,7 @@ TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
   }
 }
 
-TEST(GmshMesh, RejectsUnsupportedElementTypesNamingThem) {
+TEST(GmshMesh, ReadsPrismsAsC3D6AndRejectsPyramidsNamingThem) {
   const std::string path = temp_path("prism.msh");
   {
     GmshSession session;
@@ -259,12 +272,27 @@ TEST(GmshMesh, RejectsUnsupportedElementTypesNamingThem) {
     gmsh::write(path);
     gmsh::model::remove();
   }
+  const Mesh prism = read_gmsh(path);
+  ASSERT_EQ(prism.num_elements(), 1);
+  EXPECT_EQ(prism.element_types[0], ElementType::kC3D6);
+  const auto nodes = prism.element_nodes(0);
+  for (int a = 0; a < 6; ++a) EXPECT_EQ(prism.node_ids[nodes[a]], a + 1);
+  {
+    GmshSession session;
+    gmsh::model::add("pyramid");
+    const int v = gmsh::model::addDiscreteEntity(3);
+    gmsh::model::mesh::addNodes(3, v, {1, 2, 3, 4, 5},
+                                {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 0.5, 1});
+    gmsh::model::mesh::addElementsByType(v, 7, {1}, {1, 2, 3, 4, 5});
+    gmsh::write(path);
+    gmsh::model::remove();
+  }
   try {
     read_gmsh(path);
-    FAIL() << "a prism was accepted";
+    FAIL() << "a pyramid was accepted";
   } catch (const InvalidInput& e) {
     EXPECT_EQ(e.where().file, path);
-    EXPECT_NE(e.message().find("Prism"), std::string::npos) << e.message();
+    EXPECT_NE(e.message().find("Pyramid"), std::string::npos) << e.message();
   }
   std::filesystem::remove(path);
 }

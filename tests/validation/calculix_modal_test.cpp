@@ -247,6 +247,12 @@ INSTANTIATE_TEST_SUITE_P(
         Case{ElementType::kC3D20, 6, 2, 2, kDistortion, kSameFormulationTolerance,
              "same formulation"},
         Case{ElementType::kC3D10, 6, 2, 2, kDistortion, kSameFormulationTolerance,
+             "same formulation"},
+        Case{ElementType::kC3D6, 8, 2, 2, 0.0, kSameFormulationTolerance, "same formulation"},
+        Case{ElementType::kC3D15, 6, 2, 2, 0.0, kSameFormulationTolerance, "same formulation"},
+        Case{ElementType::kC3D6, 8, 2, 2, kDistortion, kSameFormulationTolerance,
+             "same formulation"},
+        Case{ElementType::kC3D15, 6, 2, 2, kDistortion, kSameFormulationTolerance,
              "same formulation"}),
     case_name);
 

@@ -64,8 +64,9 @@ Mesh make_box_mesh(const BoxOptions& o) {
   const ElementType type = o.type;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
                    type == ElementType::kC3D20 || type == ElementType::kC3D20R;
-  const bool quadratic =
-      type == ElementType::kC3D20 || type == ElementType::kC3D20R || type == ElementType::kC3D10;
+  const bool wedge = type == ElementType::kC3D6 || type == ElementType::kC3D15;
+  const bool quadratic = type == ElementType::kC3D20 || type == ElementType::kC3D20R ||
+                         type == ElementType::kC3D10 || type == ElementType::kC3D15;
   int element_id = 0;
   for (int k = 0; k < o.nz; ++k) {
     for (int j = 0; j < o.ny; ++j) {
@@ -91,6 +92,26 @@ Mesh make_box_mesh(const BoxOptions& o) {
             for (const auto& e : kEdges) nodes.push_back(mid(c[e[0]], c[e[1]]));
           }
           mesh.add_element(++element_id, type, nodes);
+        } else if (wedge) {
+          // Two wedges per cell, split along the x-y diagonal (0,0)-(1,1) and extruded in z;
+          // each bottom triangle counter-clockwise seen from +z (CalculiX's order).
+          constexpr int kTriangles[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+          for (const auto& t : kTriangles) {
+            std::array<std::array<int, 3>, 6> c;
+            for (int a = 0; a < 3; ++a) {
+              c[static_cast<size_t>(a)] = corner(t[a][0], t[a][1], 0);
+              c[static_cast<size_t>(a) + 3] = corner(t[a][0], t[a][1], 1);
+            }
+            std::vector<int> nodes;
+            for (const auto& p : c) nodes.push_back(at(p));
+            if (quadratic) {
+              // CalculiX C3D15: 7-9 bottom edges, 10-12 top edges, 13-15 vertical edges.
+              constexpr int kEdges[9][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5},
+                                            {5, 3}, {0, 3}, {1, 4}, {2, 5}};
+              for (const auto& e : kEdges) nodes.push_back(mid(c[e[0]], c[e[1]]));
+            }
+            mesh.add_element(++element_id, type, nodes);
+          }
         } else {
           // Kuhn split: for each permutation (p, q, r) of the axes, the tetrahedron
           // v0, v0 + e_p, v0 + e_p + e_q, v0 + e_p + e_q + e_r.
