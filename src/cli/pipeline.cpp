@@ -494,7 +494,8 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   const std::string key = "bodies." + name;
   const auto t0 = Clock::now();
   SparseMatrix K, M;
-  assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
+  assemble_stiffness_mass(body.mesh, body.material,
+                          AssemblyOptions{.mass_integration = bd.mass_rule}, &K, &M);
   try {
     body.constraints = body_constraints(resolved, body.mesh);
   } catch (const InvalidInput& e) {
@@ -606,6 +607,7 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
     text += "\nmasters";
     for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
+    if (bd.mass_rule != MassIntegration::kExact) text += "mass_rule calculix\n";
     out.back() = fingerprint_hex(text);
   }
   return out;

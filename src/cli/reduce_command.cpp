@@ -295,7 +295,8 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
       body.K = shared->K;
       body.M = shared->M;
     } else if (full_matrices) {
-      assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &body.K, &body.M);
+      const AssemblyOptions rule{.mass_integration = def.bodies.at(body.name).mass_rule};
+      assemble_stiffness_mass(body.mesh, body.material, rule, &body.K, &body.M);
       if (shared != nullptr) {
         shared->K = body.K;
         shared->M = body.M;
