@@ -36,10 +36,20 @@ void add_mode_shape(VtuData& data, int j, const Eigen::VectorXd& full, double f_
   data.field_data.emplace_back(fmt::format("mode_{}_frequency_hz", j + 1), f_hz);
 }
 
-// The frequency table on stdout.
-void print_frequencies(const Eigen::VectorXd& f_hz) {
+// A mode of the stuck reduced assembly is a rigid-body mode when ω² <= kRigidBodyFraction·s,
+// s = max_i K(i,i)/M(i,i) (the scale of its Jacobi-scaled stiffness). Its rigid modes are exact
+// null vectors of the reduced K (a floating body keeps them as generalised coordinates,
+// craig_bampton.h), so their computed ω² is the round-off of the dense eigen-solve, a few eps·s;
+// the threshold is far above that and far below any elastic mode (f < 1e-6 √s / 2π).
+constexpr double kRigidBodyFraction = 1e-12;
+
+// The frequency table on stdout; `rigid` modes are labelled.
+void print_frequencies(const Eigen::VectorXd& f_hz, int rigid = 0) {
   fmt::print("{:>5} {:>14}\n", "mode", "frequency_Hz");
-  for (int j = 0; j < f_hz.size(); ++j) fmt::print("{:>5} {:>14.3f}\n", j + 1, f_hz(j));
+  for (int j = 0; j < f_hz.size(); ++j)
+    fmt::print("{:>5} {:>14.3f}{}\n", j + 1, f_hz(j), j < rigid ? "  rigid-body mode" : "");
+  if (rigid > 0)
+    fmt::print("{} rigid-body mode{} (0 Hz within round-off)\n", rigid, rigid == 1 ? "" : "s");
 }
 
 // `stickslip modes CASE`: modes of the case's assembled reduced model with every contact stuck
@@ -58,13 +68,21 @@ int run_case_modes(const ModesCommand& command) {
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true, &cache);
     const ModalResult eig = stuck_modes(model, def);
+    const Eigen::MatrixXd K_stuck = stuck_stiffness_matrix(model);  // the scale of rigid modes
     const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues.size()));
     const Eigen::VectorXd f = eig.eigenvalues.head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
+    int rigid = 0;  // rigid-body modes of the whole assembly (ascending: the first ones)
+    if (eig.eigenvalues.size() > 0) {
+      const double limit =
+          kRigidBodyFraction * K_stuck.diagonal().cwiseQuotient(model.M.diagonal()).maxCoeff();
+      while (rigid < eig.eigenvalues.size() && eig.eigenvalues(rigid) <= limit) ++rigid;
+    }
     const fs::path dir = run.dir / "modes";
     create_output_folder(dir);
     write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
-      out << "mode,frequency_hz\n";
-      for (int j = 0; j < n; ++j) fmt::print(out, "{},{}\n", j + 1, f(j));
+      out << "mode,frequency_hz,kind\n";
+      for (int j = 0; j < n; ++j)
+        fmt::print(out, "{},{},{}\n", j + 1, f(j), j < rigid ? "rigid" : "elastic");
     });
     std::vector<VtmBlock> shapes;  // modes.vtm: the bodies' mode shapes as one multiblock
     for (const PreparedBody& body : model.bodies) {
@@ -91,7 +109,7 @@ int run_case_modes(const ModesCommand& command) {
     if (!quiet) {
       fmt::print("{}stuck assembly, {} reduced DOFs, {} contact pairs\n",
                  run.folder.empty() ? "" : run.folder + ": ", model.num_dofs, model.pairs.size());
-      print_frequencies(f);
+      print_frequencies(f, std::min(rigid, n));
       fmt::print("wrote {}\n", (dir / "frequencies.csv").string());
     }
   }

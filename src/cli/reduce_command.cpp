@@ -223,7 +223,8 @@ class StoredReduction final : public BodyReduction {
       body.M = shared->M;
     } else if (options_.full_matrices) {
       SparseMatrix K, M;
-      assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
+      const AssemblyOptions rule{.mass_integration = def.bodies.at(body.name).mass_rule};
+      assemble_stiffness_mass(body.mesh, body.material, rule, &K, &M);
       body.K = std::make_shared<const SparseMatrix>(std::move(K));
       body.M = std::make_shared<const SparseMatrix>(std::move(M));
       if (shared != nullptr) {

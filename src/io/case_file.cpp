@@ -731,13 +731,13 @@ void parse_bodies(Parser& p, const MapView& top) {
                 "'ground' is reserved (the fixed ground of contacts)");
         MapView m(p, node, path, line,
                   {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes",
-                   "modal_damping_ratio", "reduced"});
+                   "mass_rule", "modal_damping_ratio", "reduced"});
         BodyDefinition d;
         m.number("modal_damping_ratio", &d.modal_damping_ratio);
         if (m.has("reduced")) {
           d.source = BodyDefinition::Source::kReduced;
-          for (const char* key :
-               {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes"})
+          for (const char* key : {"mesh", "element_set", "material", "clamp", "supports", "masters",
+                                  "modes", "mass_rule"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
                     {"stiffness", "mass", "mapping", "format"});
@@ -792,6 +792,10 @@ void parse_bodies(Parser& p, const MapView& top) {
             d.masters = node_selection(p, m.value("masters"), m.full("masters"), m.line("masters"));
           m.integer("modes", &d.modes, 0, kMaxReducedBodyDofs,
                     "the largest reduced body, in DOFs: K_r and M_r are dense");
+          std::string rule = "exact";
+          m.choice("mass_rule", &rule, {"exact", "calculix"});
+          d.mass_rule =
+              rule == "calculix" ? MassIntegration::kStiffnessRule : MassIntegration::kExact;
         }
         p.out().bodies[name] = d;
       });
@@ -1946,6 +1950,8 @@ std::string describe_case(const CaseDefinition& c) {
         selection(b.masters);
       }
       e << YAML::Key << "modes" << YAML::Value << b.modes;
+      if (b.mass_rule == MassIntegration::kStiffnessRule)  // exact (the default): not written
+        e << YAML::Key << "mass_rule" << YAML::Value << "calculix";
     } else {
       e << YAML::Key << "reduced" << YAML::Value << YAML::BeginMap;
       e << YAML::Key << "stiffness" << YAML::Value << b.reduced.stiffness;

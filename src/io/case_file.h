@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "core/errors.h"
+#include "fe/element.h"
 
 namespace stickslip {
 
@@ -138,6 +139,9 @@ struct BodyDefinition {
   std::vector<SupportDefinition> supports;  // nodes held in some directions
   NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction
   int modes = 60;           // fixed-interface modes kept (≥ 0)
+  // Consistent-mass rule (fe/element.h): `exact` (kExact, default) or `calculix` (kStiffnessRule:
+  // CalculiX's matrices; differs for C3D20R and C3D4 only).
+  MassIntegration mass_rule = MassIntegration::kExact;
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
   double modal_damping_ratio = 0.0;
   ReducedMatricesDefinition reduced;  // kReduced

@@ -2,6 +2,7 @@
 
 #include <Spectra/SymEigsSolver.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -455,6 +456,23 @@ ModalResult dense_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M) {
   const Eigen::VectorXd d = diagonal.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd Ks = d.asDiagonal() * (0.5 * (K + K.transpose())) * d.asDiagonal();
   const Eigen::MatrixXd Ms = d.asDiagonal() * (0.5 * (M + M.transpose())) * d.asDiagonal();
+  // A singular M (a rank-deficient mass rule: C3D20R or C3D4 integrated with CalculiX's
+  // stiffness rule) has massless modes, of infinite frequency: the generalised solve would return
+  // garbage for them. Ms has a unit diagonal, so its Cholesky pivots are <= 1; one below
+  // kSingularMassPivot is a singular M to round-off.
+  constexpr double kSingularMassPivot = 1e-13;
+  {
+    const Eigen::LLT<Eigen::MatrixXd> llt(Ms);
+    if (n > 0 && (llt.info() != Eigen::Success ||
+                  !(llt.matrixLLT().diagonal().cwiseAbs2().minCoeff() >= kSingularMassPivot))) {
+      summary.termination = ModalTermination::kFactorizationFailed;
+      summary.message =
+          "the mass matrix is singular or not positive definite (massless modes: a "
+          "rank-deficient mass rule such as mass_rule: calculix with C3D20R or C3D4 elements "
+          "needs fewer modes than DOFs)";
+      return result;
+    }
+  }
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Ks, Ms);
   summary.iteration_seconds = seconds_since(start);
   if (eig.info() != Eigen::Success) {

@@ -61,7 +61,8 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   const std::string key = "bodies." + name;
   const auto t0 = Clock::now();
   SparseMatrix K, M;
-  assemble_stiffness_mass(body.mesh, body.material, AssemblyOptions{}, &K, &M);
+  assemble_stiffness_mass(body.mesh, body.material,
+                          AssemblyOptions{.mass_integration = bd.mass_rule}, &K, &M);
   try {
     body.constraints = body_constraints(resolved, body.mesh);
   } catch (const InvalidInput& e) {

@@ -462,6 +462,7 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
     text += "\nmasters";
     for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
+    if (bd.mass_rule != MassIntegration::kExact) text += "mass_rule calculix\n";
     out.back() = fingerprint_hex(text);
   }
   return out;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -123,6 +124,178 @@ void check_dof_list(std::span<const int> dofs, int n, const char* field, std::ve
   }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Floating interior: K_ii singular because the boundary and the constraints do not hold every
+// rigid motion of the body (no masters: a free–free body; one master node: three rotations; a
+// damper held by one contact patch in some directions only). See craig_bampton.h.
+
+// The shift σ = −kFloatingShift · trace(K_ii)/trace(M_ii) of the factor A = K_ii − σM_ii: the
+// trace ratio is a mean eigenvalue, so cond(A) ~ 1e10 (the rigid pivots ~ 1e-10 of the others,
+// far above the round-off of the elimination, ~1e-16), while |σ| stays far below the first
+// elastic eigenvalue of any body whose spectrum spans less than ten decades: the refinement of the
+// constraint modes gains a factor |σ|/λ per step on every eigenvalue λ not kept.
+constexpr double kFloatingShift = 1e-10;
+// A fixed-interface mode is rigid (a null vector of K_ii) when its eigenvalue is below
+// kRigidFraction·|σ| (shift-invert Lanczos: the rigid eigenvalues come out at ~1e-10 |σ|) or, from
+// the dense eigen-solve of every interior mode, below kDenseRigidFraction·λ_max (its round-off is
+// a few eps·λ_max).
+constexpr double kRigidFraction = 1e-3;
+constexpr double kDenseRigidFraction = 1e-11;
+// A body has at most six rigid modes per connected piece: the first eigen-solve asks for the kept
+// modes plus six; more are asked for when all of those are rigid.
+constexpr int kRigidGuess = 6;
+// Vectors per block Lanczos step: a block finds an eigenvalue of multiplicity up to its size (the
+// six rigid modes share one eigenvalue of the shifted operator).
+constexpr int kRigidBlock = 8;
+// The constraint modes are refined until the part of the residual K_ii Φ_c + K_ib outside the kept
+// modes is below kRefinementTolerance of ‖K_ib‖ (Frobenius, per block), in at most
+// kMaxRefinementSteps steps.
+constexpr double kRefinementTolerance = 1e-13;
+constexpr int kMaxRefinementSteps = 60;
+
+// A factor of a numerically singular K_ii can succeed (the zero pivots come out positive by
+// round-off) and then solves give rigid components of the size 1/eps. The test: x = A⁻¹(A v) for a
+// fixed pseudo-random v must give back v to kFactorCheck (relative); a regular K_ii gives back v
+// to ~eps·cond(K_ii).
+constexpr double kFactorCheck = 1e-6;
+
+bool factor_gives_back(const SparseCholesky& factor, const SparseMatrix& A) {
+  const int n = static_cast<int>(A.rows());
+  Eigen::VectorXd v(n);
+  unsigned state = 12345u;  // a fixed linear congruential sequence: deterministic runs
+  for (int i = 0; i < n; ++i) {
+    state = state * 1664525u + 1013904223u;
+    v(i) = 0.5 + static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+  }
+  const Eigen::VectorXd b = A * v;
+  Eigen::VectorXd x(n);
+  factor.solve(b.data(), x.data());
+  const double error = (x - v).norm();
+  return std::isfinite(error) && error <= kFactorCheck * v.norm();
+}
+
+struct FloatingModes {
+  bool ok = false;
+  bool factor_failed = false;  // K_ii − σM_ii not positive definite (else the eigen-solve failed)
+  std::string message;
+  double shift = 0.0;           // σ of the factor, (rad/s)²
+  int num_rigid = 0;            // the first num_rigid modes are rigid (eigenvalue set to 0)
+  Eigen::VectorXd eigenvalues;  // kept modes, ascending
+  Eigen::MatrixXd modes;        // n_i x kept, M_ii-orthonormal
+  ModalSummary modal;
+  int refinement_steps = 0;  // most steps any block of constraint modes took
+};
+
+// The kept fixed-interface modes of a floating interior (every rigid mode of the interior plus
+// the num_modes lowest elastic ones, at most every interior mode) and its constraint modes
+// Φ_c = −K_ii⁺ K_ib (the particular solution M-orthogonal to the rigid modes: K_ib's columns are
+// orthogonal to null(K_ii), so K_ii Φ_c = −K_ib has solutions), written into Psi's first n_b
+// columns. The constraint modes come from the factor of A = K_ii − σM_ii by refinement
+//   X ← X + A⁻¹ R_d,  R_d = the residual −K_ib − K_ii X without its components on the kept modes,
+// with the kept elastic components of X set exactly from the modes (φ_jᵀ R / λ_j): X then solves
+// K_ii X = −K_ib in every kept mode exactly and outside them to kRefinementTolerance.
+FloatingModes floating_interior(const SparseMatrix& K_ii, const SparseMatrix& M_ii,
+                                const SparseMatrix& K_ib, int num_modes,
+                                const CraigBamptonOptions& options, RowMatrix& Psi) {
+  FloatingModes out;
+  const int ni = static_cast<int>(K_ii.rows());
+  const int nb = static_cast<int>(K_ib.cols());
+  double trace_k = 0.0, trace_m = 0.0;
+  for (int i = 0; i < ni; ++i) {
+    trace_k += K_ii.coeff(i, i);
+    trace_m += M_ii.coeff(i, i);
+  }
+  if (!(trace_k > 0.0) || !(trace_m > 0.0)) {
+    out.factor_failed = true;
+    out.message = "trace(K_ii) = " + std::to_string(trace_k) +
+                  ", trace(M_ii) = " + std::to_string(trace_m) +
+                  ": K must be positive semi-definite and M positive "
+                  "definite";
+    return out;
+  }
+  out.shift = -kFloatingShift * trace_k / trace_m;
+  SparseCholesky factor;
+  if (!factor.factorize(SparseMatrix(K_ii - out.shift * M_ii))) {
+    out.factor_failed = true;
+    out.message = "Cholesky factorisation of K_ii − σM_ii (σ = " + std::to_string(out.shift) +
+                  ") failed: " + factor.message() +
+                  ". K must be symmetric positive semi-definite and M positive definite.";
+    return out;
+  }
+  // The eigen-solve: Lanczos over the shifted factor, or dense when (nearly) every interior mode
+  // is wanted; asked again with more modes while all of those asked for are rigid.
+  ModalResult modes;
+  int ask = std::min(num_modes + kRigidGuess, ni);
+  for (;;) {
+    double threshold = 0.0;
+    if (ask >= ni - 1 || ask > ni / 2) {
+      modes = dense_modes(K_ii, M_ii);
+      ask = ni;
+      if (modes.summary.ok() && ni > 0)
+        threshold = kDenseRigidFraction * std::abs(modes.eigenvalues(ni - 1));
+    } else {
+      ModalOptions modal = options.modal;
+      modal.num_modes = ask;
+      modal.shift = out.shift;
+      modal.block_size = std::max(modal.block_size, kRigidBlock);
+      modes = solve_modes(factor, M_ii, modal);
+      threshold = kRigidFraction * std::abs(out.shift);
+    }
+    out.modal = modes.summary;
+    if (!modes.summary.ok()) {
+      out.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
+      return out;
+    }
+    out.num_rigid = 0;
+    while (out.num_rigid < modes.eigenvalues.size() &&
+           modes.eigenvalues(out.num_rigid) <= threshold)
+      ++out.num_rigid;
+    if (ask == ni || (out.num_rigid < ask && out.num_rigid + num_modes <= ask)) break;
+    ask = std::min(out.num_rigid + num_modes + kRigidGuess, ni);
+  }
+  const int kept = std::min(out.num_rigid + num_modes, ni);
+  out.eigenvalues = modes.eigenvalues.head(kept);
+  out.eigenvalues.head(out.num_rigid).setZero();  // null vectors of K_ii: the rest is round-off
+  out.modes = modes.modes.leftCols(kept);
+
+  // Constraint modes, in blocks of columns.
+  Psi.resize(ni, nb + kept);
+  const Eigen::MatrixXd& Phi = out.modes;
+  const Eigen::MatrixXd MPhi = M_ii * Phi;
+  const int nr0 = out.num_rigid;
+  for (int c0 = 0; c0 < nb; c0 += options.block_size) {
+    const int bs = std::min(options.block_size, nb - c0);
+    const Eigen::MatrixXd B = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
+    const double norm_b = B.norm();
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(ni, bs);
+    Eigen::MatrixXd R = B;
+    int step = 0;
+    for (;; ++step) {
+      const Eigen::MatrixXd C = Phi.transpose() * R;  // kept-mode components of the residual
+      X.noalias() +=
+          Phi.rightCols(kept - nr0) *
+          (out.eigenvalues.tail(kept - nr0).cwiseInverse().asDiagonal() * C.bottomRows(kept - nr0));
+      const Eigen::MatrixXd R_d = R - MPhi * C;
+      if (R_d.norm() <= kRefinementTolerance * norm_b) break;
+      if (step == kMaxRefinementSteps) {
+        out.message = "the constraint modes of the floating interior did not converge in " +
+                      std::to_string(kMaxRefinementSteps) + " refinement steps (residual " +
+                      std::to_string(R_d.norm() / norm_b) +
+                      " of ‖K_ib‖): the first elastic eigenvalue not kept is too close to the "
+                      "shift; keep more modes";
+        return out;
+      }
+      X += factor.solve(R_d);
+      R = B - K_ii * X;
+    }
+    out.refinement_steps = std::max(out.refinement_steps, step);
+    Psi.middleCols(c0, bs) = X;
+  }
+  Psi.rightCols(kept) = Phi;
+  out.ok = true;
+  return out;
+}
+
 }  // namespace
 
 void validate(const CraigBamptonOptions& options) {
@@ -160,7 +333,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   const std::vector<int> boundary(boundary_dofs.begin(), boundary_dofs.end());
   const int nb = static_cast<int>(boundary.size());
   const int ni = static_cast<int>(interior.size());
-  const int nm = options.num_modes;
+  int nm = options.num_modes;  // a floating interior keeps its rigid modes beside these
   summary.num_dofs = n;
   summary.num_constrained = static_cast<int>(constrained_dofs.size());
   summary.num_boundary = nb;
@@ -171,7 +344,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
                        ". Violated constraint: num_modes <= number of interior DOFs (" +
                        std::to_string(ni) + ")");
   }
-  const int nr = nb + nm;
+  int nr = nb + nm;
 
   // Partition and factorise K_ii.
   auto start = std::chrono::steady_clock::now();
@@ -197,81 +370,106 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   // factor (typically about 6 per mode).
   const double lanczos_solves = nm > 0 && options.modal.shift == 0.0 ? 6.0 * nm : 0.0;
   SparseCholesky cholesky;
-  if (ni > 0 && !cholesky.factorize(K_ii, coupled, options.coupled_last, nb, lanczos_solves)) {
-    summary.termination = CraigBamptonTermination::kFactorizationFailed;
-    summary.message = "Cholesky factorisation of K_ii failed: " + cholesky.message() +
-                      ". The boundary and constrained DOFs must prevent every rigid-body motion "
-                      "of the interior, and K must be symmetric positive semi-definite.";
+  const bool held =
+      ni == 0 || (cholesky.factorize(K_ii, coupled, options.coupled_last, nb, lanczos_solves) &&
+                  factor_gives_back(cholesky, K_ii));
+  RowMatrix Psi;  // [Φ_c Φ_n] (n_i x n_r), row-major: contiguous rows for the sparse products
+  // K_bi Φ_c = −(G⁻¹K_ib)ᵀ(G⁻¹K_ib) = −ZᵀZ with the trailing ordering of m interior DOFs
+  // (symmetric by construction); otherwise (m = 0) formed in the projection from Φ_c.
+  Eigen::MatrixXd KbiPhic;
+  int m = 0;
+  if (!held) {
+    // The boundary and constraints do not hold every rigid motion: the floating interior's
+    // constraint modes and kept modes (its rigid modes among them) from a shifted factor.
+    cholesky = SparseCholesky();
     summary.seconds_factor = seconds_since(start);
     summary.cpu_seconds_factor = process_cpu_seconds() - cpu;
-    return result;
-  }
-  summary.factor_nonzeros = ni > 0 ? cholesky.factor_nonzeros() : 0.0;
-  summary.coupled_last = ni > 0 ? cholesky.num_last() : 0;
-  summary.seconds_factor = seconds_since(start);
-  summary.cpu_seconds_factor = process_cpu_seconds() - cpu;
-
-  // Psi = [Φ_c Φ_n] (n_i x n_r), row-major so that rows are contiguous for the sparse products
-  // and for scattering into T.
-  start = std::chrono::steady_clock::now();
-  cpu = process_cpu_seconds();
-  RowMatrix Psi(ni, nr);
-  // K_bi Φ_c = −(G⁻¹K_ib)ᵀ(G⁻¹K_ib) = −ZᵀZ with the trailing ordering (symmetric by
-  // construction); otherwise formed in the projection from Φ_c.
-  Eigen::MatrixXd KbiPhic;
-  const int m = ni > 0 ? cholesky.num_last() : 0;
-  if (m > 0) {
-    const Eigen::MatrixXd Z =
-        cholesky.solve_lower_last(Eigen::MatrixXd(submatrix(K_ib, coupled, all_columns(nb))));
-    KbiPhic = Eigen::MatrixXd(nb, nb);
-    KbiPhic.setZero();
-    KbiPhic.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
-    KbiPhic = KbiPhic.selfadjointView<Eigen::Lower>();
-    Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(ni, std::min(options.block_size, nb));
-    for (int c0 = 0; c0 < nb; c0 += options.block_size) {
-      const int bs = std::min(options.block_size, nb - c0);
-      if (bs < padded.cols()) padded = Eigen::MatrixXd::Zero(ni, bs);
-      padded.bottomRows(m) = -Z.middleCols(c0, bs);  // Φ_c = G⁻ᵀ [0; −Z]
-      Psi.middleCols(c0, bs) = cholesky.solve_upper(padded);
-    }
-  } else if (ni > 0) {
-    for (int c0 = 0; c0 < nb; c0 += options.block_size) {
-      const int bs = std::min(options.block_size, nb - c0);
-      const Eigen::MatrixXd rhs = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
-      Psi.middleCols(c0, bs) = cholesky.solve(rhs);
-    }
-  }
-  summary.seconds_constraint = seconds_since(start);
-  summary.cpu_seconds_constraint = process_cpu_seconds() - cpu;
-  if (options.modal.shift != 0.0) {
-    cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
-  }
-
-  start = std::chrono::steady_clock::now();
-  cpu = process_cpu_seconds();
-  result.mode_eigenvalues.resize(nm);
-  if (nm > 0) {
-    ModalOptions modal = options.modal;
-    modal.num_modes = nm;
-    // Shift 0: the factor of K_ii is the factor of K_ii − σM_ii (no second factorisation).
-    // Every interior mode: a dense eigen-solve (Lanczos needs n_modes < n_i).
-    ModalResult modes = nm == ni              ? dense_modes(K_ii, M_ii)
-                        : modal.shift == 0.0 ? solve_modes(cholesky, M_ii, modal)
-                                             : solve_modes(K_ii, M_ii, modal);
-    summary.modal = modes.summary;
-    if (!modes.summary.ok()) {
-      summary.termination = CraigBamptonTermination::kEigenSolveFailed;
-      summary.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
-      summary.seconds_modes = seconds_since(start);
-      summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
+    start = std::chrono::steady_clock::now();
+    cpu = process_cpu_seconds();
+    FloatingModes floating = floating_interior(K_ii, M_ii, K_ib, nm, options, Psi);
+    summary.modal = floating.modal;
+    summary.seconds_modes = seconds_since(start);
+    summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
+    if (!floating.ok) {
+      summary.termination = floating.factor_failed ? CraigBamptonTermination::kFactorizationFailed
+                                                   : CraigBamptonTermination::kEigenSolveFailed;
+      summary.message =
+          "K_ii is singular or indefinite (the boundary and constraints do not hold "
+          "every rigid motion of the body, or K is not positive semi-definite), and "
+          "its floating-interior reduction failed: " +
+          floating.message;
       return result;
     }
-    result.mode_eigenvalues = modes.eigenvalues;
-    Psi.rightCols(nm) = modes.modes;
-  }
-  cholesky = SparseCholesky();
-  summary.seconds_modes = seconds_since(start);
-  summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
+    summary.floating_shift = floating.shift;
+    summary.num_rigid_modes = floating.num_rigid;
+    summary.refinement_steps = floating.refinement_steps;
+    nm = static_cast<int>(floating.eigenvalues.size());
+    nr = nb + nm;
+    summary.num_modes = nm;
+    result.mode_eigenvalues = floating.eigenvalues;
+  } else {
+    summary.factor_nonzeros = ni > 0 ? cholesky.factor_nonzeros() : 0.0;
+    summary.coupled_last = ni > 0 ? cholesky.num_last() : 0;
+    summary.seconds_factor = seconds_since(start);
+    summary.cpu_seconds_factor = process_cpu_seconds() - cpu;
+
+    start = std::chrono::steady_clock::now();
+    cpu = process_cpu_seconds();
+    Psi.resize(ni, nr);
+    m = ni > 0 ? cholesky.num_last() : 0;
+    if (m > 0) {
+      const Eigen::MatrixXd Z =
+          cholesky.solve_lower_last(Eigen::MatrixXd(submatrix(K_ib, coupled, all_columns(nb))));
+      KbiPhic = Eigen::MatrixXd(nb, nb);
+      KbiPhic.setZero();
+      KbiPhic.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
+      KbiPhic = KbiPhic.selfadjointView<Eigen::Lower>();
+      Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(ni, std::min(options.block_size, nb));
+      for (int c0 = 0; c0 < nb; c0 += options.block_size) {
+        const int bs = std::min(options.block_size, nb - c0);
+        if (bs < padded.cols()) padded = Eigen::MatrixXd::Zero(ni, bs);
+        padded.bottomRows(m) = -Z.middleCols(c0, bs);  // Φ_c = G⁻ᵀ [0; −Z]
+        Psi.middleCols(c0, bs) = cholesky.solve_upper(padded);
+      }
+    } else if (ni > 0) {
+      for (int c0 = 0; c0 < nb; c0 += options.block_size) {
+        const int bs = std::min(options.block_size, nb - c0);
+        const Eigen::MatrixXd rhs = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
+        Psi.middleCols(c0, bs) = cholesky.solve(rhs);
+      }
+    }
+    summary.seconds_constraint = seconds_since(start);
+    summary.cpu_seconds_constraint = process_cpu_seconds() - cpu;
+    if (options.modal.shift != 0.0) {
+      cholesky = SparseCholesky();  // release the factor before the eigen-solve factorises again
+    }
+
+    start = std::chrono::steady_clock::now();
+    cpu = process_cpu_seconds();
+    result.mode_eigenvalues.resize(nm);
+    if (nm > 0) {
+      ModalOptions modal = options.modal;
+      modal.num_modes = nm;
+      // Shift 0: the factor of K_ii is the factor of K_ii − σM_ii (no second factorisation).
+      // Every interior mode: a dense eigen-solve (Lanczos needs n_modes < n_i).
+      ModalResult modes = nm == ni             ? dense_modes(K_ii, M_ii)
+                          : modal.shift == 0.0 ? solve_modes(cholesky, M_ii, modal)
+                                               : solve_modes(K_ii, M_ii, modal);
+      summary.modal = modes.summary;
+      if (!modes.summary.ok()) {
+        summary.termination = CraigBamptonTermination::kEigenSolveFailed;
+        summary.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
+        summary.seconds_modes = seconds_since(start);
+        summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
+        return result;
+      }
+      result.mode_eigenvalues = modes.eigenvalues;
+      Psi.rightCols(nm) = modes.modes;
+    }
+    cholesky = SparseCholesky();
+    summary.seconds_modes = seconds_since(start);
+    summary.cpu_seconds_modes = process_cpu_seconds() - cpu;
+  }  // held
 
   // Reduced matrices. With K_ii Φ_c = −K_ib, Φ_nᵀ K_ii Φ_n = Ω², Φ_nᵀ M_ii Φ_n = I:
   //   K_r = [K_bb + K_bi Φ_c, 0; 0, Ω²]

@@ -18,6 +18,23 @@
 // on request, the basis T (n x (n_b + n_modes), rows in the full DOF numbering, constrained rows
 // zero) for the expansion x = T q.
 //
+// Floating interior. When the boundary and constrained DOFs do not hold every rigid motion of the
+// body (no masters: a free–free body; masters on one node or on a line; a damper whose masters
+// are its contact nodes in some directions only), K_ii is singular: its null space is the body's
+// rigid motions that leave the boundary at rest. Then the rigid modes of the interior are kept as
+// generalised coordinates beside the num_modes lowest elastic fixed-interface modes (n_modes =
+// n_rigid + num_modes, at most n_i; their eigenvalues are exactly 0 in K_r), and the constraint
+// modes are the particular solution Φ_c = −K_ii⁺ K_ib M-orthogonal to them (K_ii Φ_c = −K_ib has
+// solutions: K_ib's columns are orthogonal to null(K_ii)). T then spans the body's rigid motions
+// and its static response to any boundary load that the free body can carry (self-equilibrated
+// loads, with the rigid modes free), and K_r, M_r keep the form above, so nothing downstream
+// changes. Computed from one factor of K_ii − σM_ii (σ < 0, a tiny fraction of the mean
+// eigenvalue): the shift-invert eigen-solve finds the rigid modes as its lowest (block Lanczos, so
+// that the repeated zero eigenvalue is found in full), and Φ_c is refined with it in the
+// complement of the kept modes (convergence |σ|/λ per step on every eigenvalue λ not kept). The
+// factor of K_ii is taken as singular when it fails or when it does not give back a test vector
+// (x = K_ii⁻¹(K_ii v) ≠ v to 1e-6: round-off made the zero pivots positive).
+//
 // Cost: one sparse Cholesky of K_ii (SparseCholesky, CHOLMOD) solving all n_b constraint modes
 // in blocks of `block_size` right-hand sides (only the backward half solves when the interior DOFs
 // coupled to the boundary are ordered last, see coupled_last), one shift-invert Lanczos solve of
@@ -62,8 +79,8 @@ void validate(const CraigBamptonOptions& options);  // throws InvalidInput namin
 
 enum class CraigBamptonTermination {
   kSuccess,
-  kFactorizationFailed,  // K_ii not positive definite: the boundary plus constraints do not
-                         // prevent rigid-body motion of the interior, or K is not SPD
+  kFactorizationFailed,  // neither K_ii nor K_ii − σM_ii positive definite: K is not
+                         // positive semi-definite (or M not positive definite)
   kEigenSolveFailed,     // the fixed-interface modal solve failed (see message)
 };
 
@@ -74,7 +91,10 @@ struct CraigBamptonSummary {
   int num_constrained = 0;
   int num_boundary = 0;
   int num_interior = 0;
-  int num_modes = 0;
+  int num_modes = 0;                // fixed-interface modes kept, rigid ones included
+  int num_rigid_modes = 0;          // rigid modes of a floating interior (the first num_modes)
+  double floating_shift = 0.0;      // σ of a floating interior's factor K_ii − σM_ii, (rad/s)²
+  int refinement_steps = 0;         // most refinement steps of its constraint modes (a block)
   double factor_nonzeros = 0.0;     // nnz of the Cholesky factor of K_ii
   int coupled_last = 0;             // interior DOFs ordered last (0: CHOLMOD's own ordering)
   double seconds_factor = 0.0;      // partition and Cholesky of K_ii

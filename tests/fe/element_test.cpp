@@ -3,7 +3,10 @@
 // (V computed independently) and rigid translation kinetic energy.
 #include "fe/element.h"
 
+#include <array>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
@@ -211,6 +214,63 @@ TEST(ElementKernels, ShapeFunctionsInterpolateAndDerivativesMatchFiniteDifferenc
           << element_type_name(t) << " d/dxi_" << i;
     }
   }
+}
+
+// Issue 22 item 6: the C3D20R mass of one box element a x b x c against the mass integrated in
+// this test from the 20-node serendipity shape functions written here (C3D20 node order): with a
+// 4-point Gauss rule per direction (exact: N_a N_b has degree 4 per direction) for
+// MassIntegration::kExact (ANSYS SOLID186), with 2 points (CalculiX's stiffness rule) for
+// kStiffnessRule; the two differ by far more than round-off.
+TEST(C3D20RMass, ExactAndCalculixRulesEqualTheHandIntegratedMassOfABoxElement) {
+  const double a = 0.02, b = 0.03, c = 0.05;  // m
+  const int corner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const int mid[12][3] = {{0, -1, -1}, {1, 0, -1}, {0, 1, -1}, {-1, 0, -1},
+                          {0, -1, 1},  {1, 0, 1},  {0, 1, 1},  {-1, 0, 1},
+                          {-1, -1, 0}, {1, -1, 0}, {1, 1, 0},  {-1, 1, 0}};
+  std::vector<std::array<int, 3>> nat;
+  for (const auto& n : corner) nat.push_back({n[0], n[1], n[2]});
+  for (const auto& n : mid) nat.push_back({n[0], n[1], n[2]});
+  Eigen::Matrix3Xd X(3, 20);
+  for (int i = 0; i < 20; ++i)
+    X.col(i) =
+        Eigen::Vector3d((nat[i][0] + 1) * a / 2, (nat[i][1] + 1) * b / 2, (nat[i][2] + 1) * c / 2);
+  auto shape = [&](int i, double x, double y, double z) {
+    const double p = nat[i][0], q = nat[i][1], r = nat[i][2];
+    if (p != 0 && q != 0 && r != 0)
+      return (1 + p * x) * (1 + q * y) * (1 + r * z) * (p * x + q * y + r * z - 2) / 8;
+    if (p == 0) return (1 - x * x) * (1 + q * y) * (1 + r * z) / 4;
+    if (q == 0) return (1 + p * x) * (1 - y * y) * (1 + r * z) / 4;
+    return (1 + p * x) * (1 + q * y) * (1 - z * z) / 4;
+  };
+  auto hand_mass = [&](const std::vector<double>& points, const std::vector<double>& weights) {
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(60, 60);
+    const double det_j = a * b * c / 8;
+    for (size_t i = 0; i < points.size(); ++i)
+      for (size_t j = 0; j < points.size(); ++j)
+        for (size_t k = 0; k < points.size(); ++k) {
+          const double w = weights[i] * weights[j] * weights[k] * det_j * kSteel.density;
+          for (int p = 0; p < 20; ++p)
+            for (int q = 0; q < 20; ++q) {
+              const double m = w * shape(p, points[i], points[j], points[k]) *
+                               shape(q, points[i], points[j], points[k]);
+              for (int d = 0; d < 3; ++d) M(3 * p + d, 3 * q + d) += m;
+            }
+        }
+    return M;
+  };
+  const double g2 = 1 / std::sqrt(3.0);
+  const double s4a = std::sqrt(3.0 / 7 - 2.0 / 7 * std::sqrt(6.0 / 5));
+  const double s4b = std::sqrt(3.0 / 7 + 2.0 / 7 * std::sqrt(6.0 / 5));
+  const double w4a = (18 + std::sqrt(30.0)) / 36, w4b = (18 - std::sqrt(30.0)) / 36;
+  const Eigen::MatrixXd exact = hand_mass({-s4b, -s4a, s4a, s4b}, {w4b, w4a, w4a, w4b});
+  const Eigen::MatrixXd eight = hand_mass({-g2, g2}, {1.0, 1.0});
+  Eigen::MatrixXd M;
+  element_mass(ElementType::kC3D20R, X, kSteel.density, M, MassIntegration::kExact);
+  EXPECT_LT((M - exact).norm(), kRoundOff * exact.norm());
+  element_mass(ElementType::kC3D20R, X, kSteel.density, M, MassIntegration::kStiffnessRule);
+  EXPECT_LT((M - eight).norm(), kRoundOff * eight.norm());
+  EXPECT_GT((exact - eight).norm(), 1e-2 * exact.norm());  // the rules differ
 }
 
 }  // namespace

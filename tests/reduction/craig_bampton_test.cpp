@@ -632,3 +632,149 @@ TEST(CraigBampton, NoFrequencyRisesWhenModesAreAddedUpToEveryInteriorMode) {
 
 }  // namespace
 }  // namespace stickslip
+
+// ---------------------------------------------------------------------------------------------
+// Issue 22 item 3: floating interiors. Bodies whose boundary and constraints do not hold every
+// rigid motion (K_ii singular): a free–free body without masters, a body held only at the nodes of
+// one edge (a free rotation about it) or at one node (three). References: the full body's dense
+// eigen-solve, its rigid motions from the node coordinates, and the equation K x = f itself.
+
+namespace stickslip {
+namespace {
+namespace floating {
+
+// A free steel hex8 box (SI) and the six rigid motions of its nodes (columns: translations x, y,
+// z, rotations about x, y, z through the origin).
+struct FreeBox {
+  Body body;
+  Eigen::MatrixXd rigid;
+  int ex, ey, ez;
+  int node(int i, int j, int k) const { return i + (ex + 1) * (j + (ey + 1) * k); }
+};
+
+FreeBox free_box(int ex, int ey, int ez, double lx, double ly, double lz) {
+  FreeBox box{Body{}, Eigen::MatrixXd(), ex, ey, ez};
+  const Mesh mesh = hex8_box(ex, ey, ez, lx, ly, lz);
+  const IsotropicMaterial steel{2.1e11, 0.3, 7850.0};
+  assemble_stiffness_mass(mesh, steel, AssemblyOptions{}, &box.body.K, &box.body.M);
+  const int n = static_cast<int>(box.body.K.rows());
+  box.rigid = Eigen::MatrixXd::Zero(n, 6);
+  for (int a = 0; a < n / 3; ++a) {
+    const Eigen::Vector3d x = mesh.coordinates.col(a);
+    for (int d = 0; d < 3; ++d) box.rigid(3 * a + d, d) = 1.0;
+    const Eigen::Matrix3d skew{
+        {0, -x(2), x(1)}, {x(2), 0, -x(0)}, {-x(1), x(0), 0}};  // ω×x = −[x]ω
+    box.rigid.block(3 * a, 3, 3, 3) = skew;
+  }
+  return box;
+}
+
+// Largest relative distance of the columns of R from span(T) in the M inner product.
+double distance_from_span(const Eigen::MatrixXd& T, const SparseMatrix& M,
+                          const Eigen::MatrixXd& R) {
+  const Eigen::MatrixXd MT = M * T;
+  const Eigen::MatrixXd Q = (T.transpose() * MT).ldlt().solve(MT.transpose() * R);
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < R.cols(); ++j)
+    worst = std::max(worst, (T * Q.col(j) - R.col(j)).norm() / R.col(j).norm());
+  return worst;
+}
+
+// Dense full-body eigenvalues ω² (rad/s)², ascending.
+Eigen::VectorXd full_eigenvalues(const Body& b) {
+  const ModalResult full = dense_modes(Eigen::MatrixXd(b.K), Eigen::MatrixXd(b.M));
+  EXPECT_TRUE(full.summary.ok());
+  return full.eigenvalues;
+}
+
+}  // namespace floating
+
+TEST(CraigBamptonFloating, FreeFreeBodyWithoutMastersKeepsSixRigidModesAndTheExactElasticOnes) {
+  const floating::FreeBox box = floating::free_box(6, 3, 2, 0.06, 0.03, 0.02);
+  const Eigen::VectorXd full = floating::full_eigenvalues(box.body);
+  for (int modes : {0, 10, 30}) {
+    const CraigBamptonResult r = reduce(box.body, modes);
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
+    EXPECT_EQ(r.summary.num_rigid_modes, 6) << modes << " modes";
+    ASSERT_EQ(r.mode_eigenvalues.size(), 6 + modes);
+    EXPECT_EQ(r.body.size(), 6 + modes);
+    EXPECT_EQ(r.mode_eigenvalues.head(6).norm(), 0.0);  // rigid: exactly 0 in K_r
+    // Without masters the fixed-interface modes are the free body's modes: the elastic ones equal
+    // the dense solve of the full body (Lanczos tolerance, 1e-10 on 1/(λ − σ)).
+    for (int j = 6; j < 6 + modes; ++j)
+      EXPECT_NEAR(r.mode_eigenvalues(j), full(j), 1e-8 * full(j)) << "mode " << j;
+    EXPECT_LT(floating::distance_from_span(r.T, box.body.M, box.rigid), 1e-10);
+    const Eigen::MatrixXd TKT = r.T.transpose() * box.body.K * r.T;
+    const Eigen::MatrixXd TMT = r.T.transpose() * box.body.M * r.T;
+    // Against the round-off of TᵀKT itself (Guyan: K_r = 0, TᵀKT ~ eps ‖K‖ ‖T‖²).
+    const double k_scale = max_abs(Eigen::MatrixXd(box.body.K)) * std::pow(max_abs(r.T), 2);
+    EXPECT_LE(max_abs(r.body.K - TKT), kProjectionTolerance * k_scale);
+    EXPECT_LE(max_abs(r.body.M - TMT), kProjectionTolerance * max_abs(TMT));
+  }
+}
+
+TEST(CraigBamptonFloating, BodyHeldOnOneEdgeOrNodeSpansRigidMotionAndIsExactForStatics) {
+  const floating::FreeBox box = floating::free_box(8, 3, 3, 0.08, 0.03, 0.03);
+  const Eigen::VectorXd full = floating::full_eigenvalues(box.body);
+  const int n = static_cast<int>(box.body.K.rows());
+  struct Holding {
+    std::string name;
+    std::vector<int> nodes;
+    int rigid;  // rigid motions that leave those nodes at rest
+  };
+  std::vector<Holding> holdings = {
+      {"edge y = z = 0", {}, 1},
+      {"one node", {box.node(4, 1, 1)}, 3},
+  };
+  for (int i = 0; i <= box.ex; ++i) holdings[0].nodes.push_back(box.node(i, 0, 0));
+  for (const Holding& h : holdings) {
+    Body b = box.body;
+    for (int a : h.nodes)
+      for (int d = 0; d < 3; ++d) b.boundary.push_back(3 * a + d);
+    Eigen::VectorXd previous;
+    for (int modes : {0, 5, 20, 60}) {
+      const CraigBamptonResult r = reduce(b, modes);
+      ASSERT_TRUE(r.summary.ok()) << h.name << ": " << r.summary.message;
+      EXPECT_EQ(r.summary.num_rigid_modes, h.rigid) << h.name;
+      EXPECT_LT(floating::distance_from_span(r.T, b.M, box.rigid), 1e-10) << h.name;
+      // Modes: six rigid at 0 (round-off of the dense solve), the elastic ones Rayleigh–Ritz upper
+      // bounds of the full body's, falling as modes are added.
+      const ModalResult red = dense_modes(r.body.K, r.body.M);
+      ASSERT_TRUE(red.summary.ok());
+      for (int j = 0; j < 6; ++j)  // against the first elastic eigenvalue of the full body
+        EXPECT_LT(std::abs(red.eigenvalues(j)), 1e-12 * full(6)) << h.name << " mode " << j;
+      for (int j = 6; j < std::min<int>(16, red.eigenvalues.size()); ++j) {
+        EXPECT_GE(red.eigenvalues(j), full(j) * (1 - 1e-9)) << h.name << " mode " << j;
+        if (previous.size() > j) EXPECT_LE(red.eigenvalues(j), previous(j) * (1 + 1e-9));
+      }
+      if (modes == 60) {  // the lowest elastic modes converged (to 1e-3 of ω²)
+        for (int j = 6; j < 10; ++j)
+          EXPECT_NEAR(red.eigenvalues(j), full(j), 1e-3 * full(j)) << h.name << " mode " << j;
+      }
+      previous = red.eigenvalues;
+      // Statics: a self-equilibrated load on the boundary (zero force and moment resultants),
+      // solved on the reduced model (its rigid modes left free: least squares), expanded, solves
+      // the full K x = f.
+      if (h.nodes.size() == 1) continue;  // one node carries no self-equilibrated load
+      const int nb = static_cast<int>(b.boundary.size());
+      Eigen::MatrixXd Rb(nb, 6);  // the rigid motions at the boundary DOFs
+      for (int k = 0; k < nb; ++k) Rb.row(k) = box.rigid.row(b.boundary[k]);
+      std::mt19937 rng(5);
+      std::uniform_real_distribution<double> u(-1.0, 1.0);
+      Eigen::VectorXd fb(nb);
+      for (int k = 0; k < nb; ++k) fb(k) = u(rng);
+      fb -= Rb * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(Rb).solve(fb);
+      Eigen::VectorXd f = Eigen::VectorXd::Zero(n);
+      for (int k = 0; k < nb; ++k) f(b.boundary[k]) = fb(k);
+      ASSERT_LT((box.rigid.transpose() * f).norm(), 1e-12 * f.norm()) << h.name;
+      const Eigen::VectorXd fr = r.T.transpose() * f;
+      const Eigen::VectorXd q =
+          Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(r.body.K).solve(fr);
+      const Eigen::VectorXd residual = box.body.K * (r.T * q) - f;
+      EXPECT_LT(residual.norm(), 1e-8 * f.norm()) << h.name << ", " << modes << " modes";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace stickslip
