@@ -745,7 +745,9 @@ TEST(CraigBamptonFloating, BodyHeldOnOneEdgeOrNodeSpansRigidMotionAndIsExactForS
         EXPECT_LT(std::abs(red.eigenvalues(j)), 1e-12 * full(6)) << h.name << " mode " << j;
       for (int j = 6; j < std::min<int>(16, red.eigenvalues.size()); ++j) {
         EXPECT_GE(red.eigenvalues(j), full(j) * (1 - 1e-9)) << h.name << " mode " << j;
-        if (previous.size() > j) EXPECT_LE(red.eigenvalues(j), previous(j) * (1 + 1e-9));
+        if (previous.size() > j) {
+          EXPECT_LE(red.eigenvalues(j), previous(j) * (1 + 1e-9));
+        }
       }
       if (modes == 60) {  // the lowest elastic modes converged (to 1e-3 of ω²)
         for (int j = 6; j < 10; ++j)
