@@ -1,9 +1,11 @@
 #include "linalg/gmres.h"
 
-#include <random>
+#include <cmath>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
+
+#include "random_dense.h"
 
 namespace stickslip {
 namespace {
@@ -11,19 +13,9 @@ namespace {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-// GMRES's own stopping test is 1e-12 relative; the dense LU of these well-conditioned matrices
-// (cond < 1e3) is accurate to ~1e-13, so the two solutions must agree to ~1e-9.
-constexpr double kSolveTolerance = 1e-12;
-constexpr double kAgreement = 1e-9;
-
-MatrixXd random_matrix(int n, unsigned seed) {
-  std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  MatrixXd A(n, n);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) A(i, j) = u(gen);
-  return A;
-}
+using dense_test::kAgreement;
+using dense_test::kSolveTolerance;
+using dense_test::random_matrix;
 
 TEST(Gmres, MatchesDenseLuWithRestartsAndPreconditioner) {
   const int n = 60;
