@@ -873,60 +873,38 @@ Eigen::VectorXd integration_weights(ElementType type) {
   return w;
 }
 
+namespace {
+// One element's fixed-size shape functions into the dynamic N, dN of shape_functions.
+template <int kNodes>
+void evaluate_shape(void (*shape)(const Vector3d&, Matrix<double, kNodes, 1>&,
+                                  Matrix<double, 3, kNodes>&),
+                    const Eigen::Vector3d& xi, Eigen::VectorXd& N, Eigen::Matrix3Xd& dN) {
+  Matrix<double, kNodes, 1> n;
+  Matrix<double, 3, kNodes> d;
+  shape(xi, n, d);
+  N = n;
+  dN = d;
+}
+}  // namespace
+
 void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorXd& N,
                      Eigen::Matrix3Xd& dN) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
-    case ElementType::kC3D8B: {
-      Matrix<double, 8, 1> n;
-      Matrix<double, 3, 8> d;
-      shape_hex8(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
+    case ElementType::kC3D8B:
+      return evaluate_shape<8>(shape_hex8, xi, N, dN);
     case ElementType::kC3D20:
-    case ElementType::kC3D20R: {
-      Matrix<double, 20, 1> n;
-      Matrix<double, 3, 20> d;
-      shape_hex20(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
-    case ElementType::kC3D4: {
-      Matrix<double, 4, 1> n;
-      Matrix<double, 3, 4> d;
-      shape_tet4(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
-    case ElementType::kC3D10: {
-      Matrix<double, 10, 1> n;
-      Matrix<double, 3, 10> d;
-      shape_tet10(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
-    case ElementType::kC3D6: {
-      Matrix<double, 6, 1> n;
-      Matrix<double, 3, 6> d;
-      shape_wedge6(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
-    case ElementType::kC3D15: {
-      Matrix<double, 15, 1> n;
-      Matrix<double, 3, 15> d;
-      shape_wedge15(xi, n, d);
-      N = n;
-      dN = d;
-      return;
-    }
+    case ElementType::kC3D20R:
+      return evaluate_shape<20>(shape_hex20, xi, N, dN);
+    case ElementType::kC3D4:
+      return evaluate_shape<4>(shape_tet4, xi, N, dN);
+    case ElementType::kC3D10:
+      return evaluate_shape<10>(shape_tet10, xi, N, dN);
+    case ElementType::kC3D6:
+      return evaluate_shape<6>(shape_wedge6, xi, N, dN);
+    case ElementType::kC3D15:
+      return evaluate_shape<15>(shape_wedge15, xi, N, dN);
   }
 }
 
