@@ -223,8 +223,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     double bytes = 0;
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;
-      const double per_node =
-          8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
+      const double per_node = 8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
       bytes += per_node * body.mesh.num_nodes() * static_cast<double>(points.size());
     }
     if (bytes > kLargeOutput) {
@@ -247,6 +246,17 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         write_apdl_loads(dir, def, body.name, mesh, pi, rad_s_to_hz(p.omega), harmonics, F);
       }
       continue;
+    }
+    // A mesh body whose reduction kept no full matrices (GivenReduction: reduced matrices given in
+    // memory) cannot be recovered on its mesh.
+    if (!body.K || !body.M || (method == RecoveryMethod::kExpansion && !body.T)) {
+      throw InvalidInput(
+          def.where("bodies." + body.name),
+          "body " + body.name + " has no full " +
+              (body.K && body.M ? std::string("Craig-Bampton basis (recovery.method: expansion)")
+                                : std::string("stiffness and mass matrices")) +
+              ": its reduced model was given without them, so it cannot be recovered on its "
+              "mesh (recovery.points: none)");
     }
     // FRF DOFs of this body: full-model amplitude per recovered point (plotted against the
     // reduced nonlinear curve: the thesis's validation plot).
@@ -324,9 +334,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
       const Eigen::MatrixXcd x =
-          method == RecoveryMethod::kExpansion ? expand_reduced_response(
-                                      *body.T, p.master.middleRows(body.offset, body.reduced.size()))
-                                : harmonic_response(*solver, F, harmonics, p.omega, &summary);
+          method == RecoveryMethod::kExpansion
+              ? expand_reduced_response(*body.T,
+                                        p.master.middleRows(body.offset, body.reduced.size()))
+              : harmonic_response(*solver, F, harmonics, p.omega, &summary);
       if (!summary.ok()) {
         // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
         // harmonics are NaN in every output of this point; the other harmonics are valid.
@@ -356,19 +367,19 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         const Eigen::MatrixXd Mr = *body.M * xr, Mi = *body.M * xi;
         for (int h = 0; h < nh; ++h) {
           const double w = harmonics[h] * p.omega;
-          const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() +
-                                      std::complex<double>(0, 1) * Ki.col(h);
-          const Eigen::VectorXcd Mx = Mr.col(h).cast<std::complex<double>>() +
-                                      std::complex<double>(0, 1) * Mi.col(h);
+          const Eigen::VectorXcd Kx =
+              Kr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Ki.col(h);
+          const Eigen::VectorXcd Mx =
+              Mr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Mi.col(h);
           const Eigen::VectorXcd R =
-              Kx - w * w * Mx + std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) -
-              F.col(h);
+              Kx - w * w * Mx +
+              std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) - F.col(h);
           for (int node : held_nodes) {
             for (int d = 0; d < 3; ++d) {
               const std::complex<double> v = R(dof_of(node, d));
-              reactions_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name,
-                                           body.mesh.node_ids[node], kAxes[d], harmonics[h],
-                                           v.real(), v.imag());
+              reactions_csv +=
+                  fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, body.mesh.node_ids[node],
+                              kAxes[d], harmonics[h], v.real(), v.imag());
             }
           }
         }
