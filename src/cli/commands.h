@@ -85,6 +85,13 @@ struct PlotCommand {
 };
 int run_plot(const PlotCommand& command);
 
+struct KeysCommand {
+  std::string section;  // a key or section path ("analysis", "contacts[]"); empty: every key
+};
+// Prints the case file's keys (io/case_keys.h): path, type and rule, unit, default, whether a
+// study may vary it, and a line of help. InvalidInput for a section with no key.
+int run_keys(const KeysCommand& command);
+
 // --- plumbing shared by the stage commands -------------------------------------------------------
 
 // One analysis of a case: the case itself, or one value of its study (folder "<param>_<value>").

@@ -1,4 +1,5 @@
 #include "io/case_file.h"
+#include "io/case_keys.h"
 
 #include <algorithm>
 #include <charconv>
@@ -638,7 +639,7 @@ void parse_materials(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "materials",
       [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
-        MapView m(p, node, path, line, {"youngs_modulus", "poisson_ratio", "density"});
+        MapView m(p, node, path, line, case_keys_in("materials.NAME"));
         MaterialDefinition d;
         for (const char* key : {"youngs_modulus", "poisson_ratio", "density"}) m.require(key);
         m.number("youngs_modulus", &d.youngs_modulus);
@@ -727,9 +728,7 @@ void parse_meshes(Parser& p, const MapView& top) {
         const std::vector<std::string> two_beam_keys{"arrangement", "element",   "coarse",
                                                      "box",         "end_block", "beam_length",
                                                      "width",       "thickness", "end_length"};
-        std::vector<std::string> known{"generate", "file", "format", "hexahedron8", "hexahedron20"};
-        known.insert(known.end(), two_beam_keys.begin(), two_beam_keys.end());
-        MapView m(p, node, path, line, known);
+        MapView m(p, node, path, line, case_keys_in("meshes.NAME"));
         MeshDefinition d;
         m.exclusive("generate", "file");
         if (!m.has("file")) m.require("generate", "or 'file'");
@@ -781,7 +780,7 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = body.full("supports") + "[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]) > 0 ? line_of(list[i]) : body.line("supports"),
-              {"from_mesh", "nodes", "directions", "normal", "t1"});
+              case_keys_in("bodies.NAME.supports"));
     p.record(path, m.line());
     SupportDefinition d;
     m.boolean("from_mesh", &d.from_mesh);
@@ -841,8 +840,7 @@ void parse_bodies(Parser& p, const MapView& top) {
         p.check(name != "ground", path, line,
                 "'ground' is reserved (the fixed ground of contacts)");
         MapView m(p, node, path, line,
-                  {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes",
-                   "mass_rule", "modal_damping_ratio", "reduced"});
+                  case_keys_in("bodies.NAME"));
         BodyDefinition d;
         m.number("modal_damping_ratio", &d.modal_damping_ratio);
         if (m.has("reduced")) {
@@ -851,7 +849,7 @@ void parse_bodies(Parser& p, const MapView& top) {
                                   "modes", "mass_rule"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
-                    {"stiffness", "mass", "mapping", "format"});
+                    case_keys_in("bodies.NAME.reduced"));
           r.require("stiffness");
           r.require("mass");
           r.file("stiffness", &d.reduced.stiffness);
@@ -947,8 +945,7 @@ void parse_contacts(Parser& p, const MapView& top) {
     if (node.IsMap() && node["name"] && node["name"].IsScalar()) name = node["name"].Scalar();
     const std::string path = name.empty() ? index_path : "contacts." + name;
     MapView m(p, node, path, line_of(node),
-              {"name", "law", "between", "bodies", "pairs", "pairs_file", "tolerance", "normal",
-               "t1", "direction", "per_pair", "total", "preload_file", "gap"});
+              case_keys_in("contacts[]"));
     p.record(path, m.line());
     ContactDefinition d;
     m.require("name");
@@ -1207,8 +1204,7 @@ void parse_excitation(Parser& p, const MapView& top) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = "excitation[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]),
-              {"body", "node_set", "node", "direction", "amplitude", "phase_deg", "complex",
-               "force", "harmonic"});
+              case_keys_in("excitation[]"));
     p.record(path, m.line());
     ExcitationDefinition d;
     m.require("body");
@@ -1272,7 +1268,7 @@ void parse_static_loads(Parser& p, const MapView& top) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = "static_loads[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]),
-              {"body", "node_set", "node", "force", "total_force", "pressure"});
+              case_keys_in("static_loads[]"));
     p.record(path, m.line());
     StaticLoadDefinition d;
     m.require("body");
@@ -1310,14 +1306,12 @@ void parse_static_loads(Parser& p, const MapView& top) {
 void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
-            {"frequency", "method", "harmonics", "time_samples", "aft", "static", "tolerance",
-             "max_iterations", "max_points", "initial_guess", "predictor"});
+            case_keys_in("analysis"));
   AnalysisDefinition& a = p.out().analysis;
   m.choice("method", &a.method);
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
-            {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
-             "max_step_hz", "sweep"});
+            case_keys_in("analysis.frequency"));
   FrequencyDefinition& fr = a.frequency;
   auto positive = [&](const char* key, double* dst) {
     if (!f.has(key)) return;
@@ -1435,7 +1429,7 @@ void parse_analysis(Parser& p, const MapView& top) {
 void parse_recovery(Parser& p, const MapView& top) {
   if (!top.has("recovery")) return;
   MapView m(p, top.value("recovery"), "recovery", top.line("recovery"),
-            {"points", "method", "modes", "fields", "nodes"});
+            case_keys_in("recovery"));
   RecoveryDefinition& r = p.out().recovery;
   if (m.has("points")) {
     const YAML::Node& v = m.value("points");
@@ -1489,7 +1483,7 @@ void parse_output(Parser& p, const MapView& top) {
   if (!top.has("output")) return;
   MapView m(
       p, top.value("output"), "output", top.line("output"),
-      {"directory", "vtu", "plots", "apdl_macro", "calculix_deck", "histories", "frf", "quiet"});
+      case_keys_in("output"));
   if (m.has("directory")) {
     m.text("directory", &o.directory);
     p.check(!o.directory.empty(), m.full("directory"), m.line("directory"), "empty directory");
@@ -1526,7 +1520,7 @@ void parse_output(Parser& p, const MapView& top) {
     p.sequence(v, m.full("frf"), m.line("frf"));
     for (size_t i = 0; i < v.size(); ++i) {
       MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]",
-                line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), {"body", "node", "direction"});
+                line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), case_keys_in("output.frf[]"));
       p.record(d.path(), d.line());
       ResponseDofDefinition r;
       for (const char* key : {"body", "node", "direction"}) d.require(key);
@@ -1576,7 +1570,7 @@ void cross_check(Parser& p) {
 
 void parse_study(Parser& p, const MapView& top) {
   if (!top.has("study")) return;
-  MapView m(p, top.value("study"), "study", top.line("study"), {"parameter", "values"});
+  MapView m(p, top.value("study"), "study", top.line("study"), case_keys_in("study"));
   StudyDefinition& s = p.out().study;
   m.require("parameter", "the dotted key to vary, e.g. contacts.joint.per_pair.preload");
   m.require("values");
@@ -1712,8 +1706,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   if (!root.IsDefined() || root.IsNull())
     throw InvalidInput(SourceLocation{name_for_messages, 0, ""}, "the case file is empty");
   MapView top(p, root, "", 1,
-              {"stickslip", "title", "materials", "meshes", "bodies", "contacts", "excitation",
-               "static_loads", "damping", "analysis", "study", "recovery", "output"});
+              case_keys_in(""));
   top.require("stickslip", "the format version: stickslip: 1");
   top.integer("stickslip", &out.version, 1);
   p.check(out.version == kCaseFormatVersion, "stickslip", top.line("stickslip"),
@@ -1729,7 +1722,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   parse_excitation(p, top);
   parse_static_loads(p, top);
   if (top.has("damping")) {
-    MapView d(p, top.value("damping"), "damping", top.line("damping"), {"alpha", "beta"});
+    MapView d(p, top.value("damping"), "damping", top.line("damping"), case_keys_in("damping"));
     d.number("alpha", &out.damping.alpha);
     d.number("beta", &out.damping.beta);
   }
@@ -1847,11 +1840,7 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
   double* field = nullptr;
   double magnitude = 0.0;  // static_loads[i].force / total_force: the new magnitude (N)
   std::function<void()> after;
-  const std::string supported =
-      "supported: materials.M.{youngs_modulus,poisson_ratio,density}, "
-      "contacts.C.{per_pair,total}.<parameter>, contacts.C.gap, damping.{alpha,beta}, "
-      "bodies.B.modal_damping_ratio, excitation[i].amplitude, "
-      "static_loads[i].{force,total_force,pressure}";
+  const std::string supported = "supported: " + join(study_parameter_paths(), ", ");
   if (parts.size() == 3 && parts[0] == "materials") {
     auto it = c.materials.find(parts[1]);
     if (it == c.materials.end()) fail("no material '" + parts[1] + "'");
