@@ -116,6 +116,35 @@ I2.Tet, I2.1
   EXPECT_EQ(m.element_sets.at("I2.TET"), (std::vector<int>{0}));
 }
 
+// The fuzzers' seed of a deck with parts (fuzz/corpus/inp), read as a whole: ids, placement
+// (Tet-2: translated by (2, 0, 0), then turned 90 degrees about the vertical through (2, 0, 0)),
+// qualified names in sets, equations, springs and boundaries.
+TEST(InpParts, TheFuzzSeedWithPartsReadsAsWorkedOutByHand) {
+  const Mesh m =
+      read_inp(std::string(STICKSLIP_TEST_DATA_DIR) + "/../../fuzz/corpus/inp/parts_instances.inp");
+  ASSERT_EQ(m.num_nodes(), 8);
+  EXPECT_EQ(m.element_ids, (std::vector<int>{1, 3}));  // Tet-2 after Tet-1's C3D4 1 and MASS 2
+  const auto at = node_index_by_id(m);
+  EXPECT_LE((m.coordinates.col(at.at(6)) - Eigen::Vector3d(2, 1, 0)).norm(), kCoordinateRoundOff);
+  EXPECT_LE((m.coordinates.col(at.at(7)) - Eigen::Vector3d(1, 0, 0)).norm(), kCoordinateRoundOff);
+  EXPECT_LE((m.coordinates.col(at.at(8)) - Eigen::Vector3d(2, 0, 1)).norm(), kCoordinateRoundOff);
+  ASSERT_EQ(m.point_masses.size(), 2u);
+  EXPECT_EQ(m.point_masses[1].id, 4);
+  ASSERT_EQ(m.springs.size(), 1u);
+  EXPECT_EQ(m.springs[0].id, 5);  // after every element of the instances
+  EXPECT_EQ(m.node_ids[m.springs[0].node_a], 3);
+  EXPECT_EQ(m.node_ids[m.springs[0].node_b], 7);
+  EXPECT_EQ(ids(m.node_sets.at("FIX"), m.node_ids), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(ids(m.node_sets.at("TIPS"), m.node_ids), (std::vector<int>{4, 8}));
+  EXPECT_EQ(ids(m.element_sets.at("BOTH"), m.element_ids), (std::vector<int>{1, 3}));
+  ASSERT_EQ(m.equations.size(), 1u);
+  EXPECT_EQ(m.equations[0].dofs, (std::vector<int>{3 * at.at(5), 3 * at.at(2)}));
+  ASSERT_EQ(m.boundaries.size(), 2u);
+  EXPECT_EQ(ids(m.boundaries[0].nodes, m.node_ids), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(ids(m.boundaries[1].nodes, m.node_ids), (std::vector<int>{6}));
+  EXPECT_EQ(m.element_material, (std::vector<int>{0, 0}));
+}
+
 TEST(InpParts, APartWithoutInstanceIsAWarning) {
   std::vector<std::string> warnings;
   read_text("*Part, name=Unused\n*Node\n1, 0, 0, 0\n*End Part\n*Part, name=P\n" +
