@@ -355,6 +355,11 @@ int run_reduce(const ReduceCommand& reduce) {
       const std::string k = (dir / (body.name + "_K.hb")).string();
       const std::string m = (dir / (body.name + "_M.hb")).string();
       write_ansys_reduced_body(k, m, body.reduced);
+      // The same matrices as Matrix Market for SciPy's mmread (scipy.io.hb_read refuses the
+      // symmetric HB files), with the HB files' mapping (<body>_K.mapping, the same DOFs).
+      write_matrix_market_reduced_body((dir / (body.name + "_K.mtx")).string(),
+                                       (dir / (body.name + "_M.mtx")).string(),
+                                       ansys_mapping_path(k), body.reduced);
       if (reduce.basis || runs[r].definition.recovery.method == RecoveryMethod::kExpansion) {
         write_dense_matrix(dir / (body.name + "_T.bin"), *body.T);
       }
