@@ -123,7 +123,7 @@ std::vector<int> points_from_option(const std::string& spec, const CaseDefinitio
                                     const std::string& points_csv) {
   if (spec != "peak" && spec != "all") return numbered_points(spec, response, points_csv);
   CaseDefinition d = def;
-  d.recovery.points = spec;
+  d.recovery.points = spec == "peak" ? RecoveryPoints::kPeak : RecoveryPoints::kAll;
   std::vector<int> out = recovery_points(d, model, response);
   if (out.empty()) {
     throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
@@ -198,7 +198,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   if (points.empty()) return;
   const std::vector<int>& harmonics = response.harmonics;
   const int nh = static_cast<int>(harmonics.size());
-  const std::string& method = def.recovery.method;
+  const RecoveryMethod method = def.recovery.method;
   const RayleighDamping damping{def.damping.alpha, def.damping.beta};
   const bool want_stress = std::find(def.recovery.fields.begin(), def.recovery.fields.end(),
                                      "stress") != def.recovery.fields.end();
@@ -266,11 +266,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     }
     // Envelope over the recovered points.
     Eigen::VectorXd sweep_vm_max, sweep_vm_alt, sweep_p_max;
-    progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(), method));
+    progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(),
+                         case_name(method)));
     std::unique_ptr<HarmonicSolver> solver;
-    if (method == "direct") {
+    if (method == RecoveryMethod::kDirect) {
       solver = std::make_unique<DirectRecovery>(*body.K, *body.M, body.constraints, damping);
-    } else if (method == "modal") {
+    } else if (method == RecoveryMethod::kModal) {
       ModalRecoveryOptions o;
       o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
       solver = std::make_unique<ModalRecovery>(*body.K, *body.M, body.constraints, damping, o);
@@ -324,7 +325,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
       Eigen::MatrixXcd x =
-          method == "expansion" ? expand_reduced_response(
+          method == RecoveryMethod::kExpansion ? expand_reduced_response(
                                       *body.T, p.master.middleRows(body.offset, body.reduced.size()))
                                 : harmonic_response(*solver, F, harmonics, p.omega, &summary);
       // A body its clamps and supports do not hold: the static solve has no rigid motion; the

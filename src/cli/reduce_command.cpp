@@ -312,7 +312,7 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
   if (progress) progress("reduced matrices from " + dir.string());
   StoredReduction::Options options;
   options.full_matrices = full_matrices;
-  options.need_basis = full_matrices && def.recovery.method == "expansion";
+  options.need_basis = full_matrices && def.recovery.method == RecoveryMethod::kExpansion;
   options.load_basis_if_present = load_basis_if_present;
   const StoredReduction reduction(dir, std::move(fingerprint_of), reduce_hint, options, cache);
   PreparedModel model = prepare_model(def, std::move(bodies), reduction, progress);
@@ -355,7 +355,7 @@ int run_reduce(const ReduceCommand& reduce) {
       const std::string k = (dir / (body.name + "_K.hb")).string();
       const std::string m = (dir / (body.name + "_M.hb")).string();
       write_ansys_reduced_body(k, m, body.reduced);
-      if (reduce.basis || runs[r].definition.recovery.method == "expansion") {
+      if (reduce.basis || runs[r].definition.recovery.method == RecoveryMethod::kExpansion) {
         write_dense_matrix(dir / (body.name + "_T.bin"), *body.T);
       }
       manifest.body_fingerprint[body.name] = fingerprints[r][b];

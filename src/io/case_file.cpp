@@ -60,6 +60,91 @@ SourceLocation CaseDefinition::where(const std::string& path) const {
 
 namespace {
 
+// The names of the case file's choices (case_file.h), in the order the messages list them.
+template <class E>
+using Choices = std::vector<std::pair<const char*, E>>;
+const Choices<MeshFileFormat>& choices_of(MeshFileFormat) {
+  static const Choices<MeshFileFormat> c{
+      {"inp", MeshFileFormat::kInp}, {"msh", MeshFileFormat::kMsh}, {"cdb", MeshFileFormat::kCdb}};
+  return c;
+}
+const Choices<ReducedFileFormat>& choices_of(ReducedFileFormat) {
+  static const Choices<ReducedFileFormat> c{{"harwell_boeing", ReducedFileFormat::kHarwellBoeing},
+                                            {"matrix_market", ReducedFileFormat::kMatrixMarket},
+                                            {"abaqus_matrix", ReducedFileFormat::kAbaqusMatrix}};
+  return c;
+}
+const Choices<PreloadSplit>& choices_of(PreloadSplit) {
+  static const Choices<PreloadSplit> c{{"equal", PreloadSplit::kEqual},
+                                       {"area", PreloadSplit::kArea}};
+  return c;
+}
+const Choices<SweepMethod>& choices_of(SweepMethod) {
+  static const Choices<SweepMethod> c{{"stepped", SweepMethod::kStepped},
+                                      {"continuation", SweepMethod::kContinuation}};
+  return c;
+}
+const Choices<AftChoice>& choices_of(AftChoice) {
+  static const Choices<AftChoice> c{{"event", AftChoice::kEvent}, {"sampled", AftChoice::kSampled}};
+  return c;
+}
+const Choices<StaticChoice>& choices_of(StaticChoice) {
+  static const Choices<StaticChoice> c{{"uncoupled", StaticChoice::kUncoupled},
+                                       {"coupled", StaticChoice::kCoupled}};
+  return c;
+}
+const Choices<InitialGuessChoice>& choices_of(InitialGuessChoice) {
+  static const Choices<InitialGuessChoice> c{{"stuck", InitialGuessChoice::kStuck},
+                                             {"free", InitialGuessChoice::kFree}};
+  return c;
+}
+const Choices<PredictorChoice>& choices_of(PredictorChoice) {
+  static const Choices<PredictorChoice> c{{"secant", PredictorChoice::kSecant},
+                                          {"previous", PredictorChoice::kPrevious}};
+  return c;
+}
+const Choices<RecoveryPoints>& choices_of(RecoveryPoints) {
+  static const Choices<RecoveryPoints> c{{"peak", RecoveryPoints::kPeak},
+                                         {"all", RecoveryPoints::kAll},
+                                         {"none", RecoveryPoints::kNone},
+                                         {"list", RecoveryPoints::kList}};
+  return c;
+}
+const Choices<RecoveryMethod>& choices_of(RecoveryMethod) {
+  static const Choices<RecoveryMethod> c{{"direct", RecoveryMethod::kDirect},
+                                         {"modal", RecoveryMethod::kModal},
+                                         {"expansion", RecoveryMethod::kExpansion}};
+  return c;
+}
+const Choices<TwoBeamOptions::Arrangement>& choices_of(TwoBeamOptions::Arrangement) {
+  static const Choices<TwoBeamOptions::Arrangement> c{{"butt", TwoBeamOptions::Arrangement::kButt},
+                                                      {"lap", TwoBeamOptions::Arrangement::kLap}};
+  return c;
+}
+template <class E>
+const char* name_of(E v) {
+  for (const auto& [name, value] : choices_of(E{}))
+    if (value == v) return name;
+  STICKSLIP_VERIFY(false, "a value of a case-file choice without a name");
+  return "";
+}
+
+}  // namespace
+
+const char* case_name(MeshFileFormat v) { return name_of(v); }
+const char* case_name(ReducedFileFormat v) { return name_of(v); }
+const char* case_name(PreloadSplit v) { return name_of(v); }
+const char* case_name(SweepMethod v) { return name_of(v); }
+const char* case_name(AftChoice v) { return name_of(v); }
+const char* case_name(StaticChoice v) { return name_of(v); }
+const char* case_name(InitialGuessChoice v) { return name_of(v); }
+const char* case_name(PredictorChoice v) { return name_of(v); }
+const char* case_name(RecoveryPoints v) { return name_of(v); }
+const char* case_name(RecoveryMethod v) { return name_of(v); }
+const char* case_name(TwoBeamOptions::Arrangement v) { return name_of(v); }
+
+namespace {
+
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
@@ -399,6 +484,17 @@ class MapView {
               const std::vector<std::string>& options) const {
     if (has(key)) *dst = p_.choice(value(key), full(key), line(key), options);
   }
+  // One of the names of the enum's table (choices_of below).
+  template <class E>
+  void choice(const std::string& key, E* dst) const {
+    if (!has(key)) return;
+    const auto& table = choices_of(E{});
+    std::vector<std::string> names;
+    for (const auto& [name, value] : table) names.emplace_back(name);
+    const std::string v = p_.choice(value(key), full(key), line(key), names);
+    for (const auto& [name, value] : table)
+      if (v == name) *dst = value;
+  }
   void file(const std::string& key, std::string* dst) const {
     if (has(key)) *dst = p_.existing_file(value(key), full(key), line(key));
   }
@@ -553,7 +649,7 @@ void parse_materials(Parser& p, const MapView& top) {
 }
 
 void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
-  m.choice("arrangement", &d.arrangement, {"butt", "lap"});
+  m.choice("arrangement", &d.arrangement);
   if (m.has("element")) {
     std::string e = p.text(m.value("element"), m.full("element"), m.line("element"));
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::toupper(c); });
@@ -562,7 +658,7 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
             m.line("element"),
             "must be a hexahedron type, one of " + join(hexahedra, " | ") + ", got '" + e + "'" +
                 suggestion(e, hexahedra));
-    d.element = e;
+    parse_element_type(e, &d.element);
   }
   m.boolean("coarse", &d.coarse);
   for (const char* key : {"box", "end_block"}) {
@@ -614,6 +710,16 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
   }
 }
 
+// An element type among `allowed` (msh hexahedra).
+void element_choice(Parser& p, const MapView& m, const std::string& key,
+                    const std::vector<ElementType>& allowed, ElementType* dst) {
+  if (!m.has(key)) return;
+  std::vector<std::string> names;
+  for (ElementType t : allowed) names.emplace_back(element_type_name(t));
+  const std::string v = p.choice(m.value(key), m.full(key), m.line(key), names);
+  parse_element_type(v, dst);
+}
+
 void parse_meshes(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "meshes",
@@ -639,7 +745,7 @@ void parse_meshes(Parser& p, const MapView& top) {
             m.forbid(key, "with 'file' (it is for 'generate: two_beam')");
           m.file("file", &d.file);
           if (m.has("format")) {
-            m.choice("format", &d.format, {"inp", "msh", "cdb"});
+            m.choice("format", &d.format);
           } else {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -647,14 +753,19 @@ void parse_meshes(Parser& p, const MapView& top) {
             p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"), m.line("file"),
                     "cannot tell the format from the extension '" + ext +
                         "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
-            d.format = ext.substr(1);
+            d.format = ext == ".inp"   ? MeshFileFormat::kInp
+                       : ext == ".msh" ? MeshFileFormat::kMsh
+                                       : MeshFileFormat::kCdb;
           }
-          if (d.format != "msh") {
+          if (d.format != MeshFileFormat::kMsh) {
             for (const char* key : {"hexahedron8", "hexahedron20"})
-              m.forbid(key, "for a ." + d.format + " file (its element types are in the file)");
+              m.forbid(key, std::string("for a .") + case_name(d.format) +
+                                " file (its element types are in the file)");
           }
-          m.choice("hexahedron8", &d.hexahedron8, {"C3D8", "C3D8I"});
-          m.choice("hexahedron20", &d.hexahedron20, {"C3D20", "C3D20R"});
+          element_choice(p, m, "hexahedron8", {ElementType::kC3D8, ElementType::kC3D8I},
+                         &d.hexahedron8);
+          element_choice(p, m, "hexahedron20", {ElementType::kC3D20, ElementType::kC3D20R},
+                         &d.hexahedron20);
         }
         p.out().meshes[name] = d;
       });
@@ -746,16 +857,17 @@ void parse_bodies(Parser& p, const MapView& top) {
           r.file("stiffness", &d.reduced.stiffness);
           r.file("mass", &d.reduced.mass);
           const std::string ext = fs::path(d.reduced.stiffness).extension().string();
-          d.reduced.format = ext == ".mtx" ? "matrix_market" : "harwell_boeing";
-          r.choice("format", &d.reduced.format,
-                   {"harwell_boeing", "matrix_market", "abaqus_matrix"});
-          if (d.reduced.format == "abaqus_matrix") {
+          d.reduced.format = ext == ".mtx" ? ReducedFileFormat::kMatrixMarket
+                                           : ReducedFileFormat::kHarwellBoeing;
+          r.choice("format", &d.reduced.format);
+          if (d.reduced.format == ReducedFileFormat::kAbaqusMatrix) {
             // Abaqus matrix input format: every entry names its node and DOF, no mapping.
             r.forbid("mapping", "with format: abaqus_matrix (its entries name node and DOF)");
           } else if (r.has("mapping")) {
             r.file("mapping", &d.reduced.mapping);
           } else {
-            p.check(d.reduced.format == "harwell_boeing", r.full("mapping"), r.line(),
+            p.check(d.reduced.format == ReducedFileFormat::kHarwellBoeing, r.full("mapping"),
+                    r.line(),
                     "required key missing (only Harwell-Boeing matrices have a default mapping)");
             d.reduced.mapping =
                 fs::path(d.reduced.stiffness).replace_extension(".mapping").string();
@@ -1036,7 +1148,7 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
       params.number(key, contact_parameter(d.parameters, key));
     }
-    params.choice("split", &d.split, {"equal", "area"});
+    params.choice("split", &d.split);
 
     // Preload: uniform, per pair from a file, or a gap instead.
     if (m.has("preload_file")) {
@@ -1201,7 +1313,7 @@ void parse_analysis(Parser& p, const MapView& top) {
             {"frequency", "method", "harmonics", "time_samples", "aft", "static", "tolerance",
              "max_iterations", "max_points", "initial_guess", "predictor"});
   AnalysisDefinition& a = p.out().analysis;
-  m.choice("method", &a.method, {"stepped", "continuation"});
+  m.choice("method", &a.method);
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
             {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
@@ -1237,7 +1349,7 @@ void parse_analysis(Parser& p, const MapView& top) {
   fr.step_hz = p.number(f.value("step_hz"), f.full("step_hz"), f.line("step_hz"));
   p.check(fr.step_hz > 0, f.full("step_hz"), f.line("step_hz"),
           "must be > 0, got " + format_number(fr.step_hz));
-  if (a.method != "continuation") {
+  if (a.method != SweepMethod::kContinuation) {
     for (const char* key : {"min_step_hz", "max_step_hz"})
       f.forbid(key, "with method stepped (they bound the continuation step)");
   }
@@ -1291,18 +1403,19 @@ void parse_analysis(Parser& p, const MapView& top) {
               std::to_string(kTimeSamplesFloor) + ", " + std::to_string(kTimeSamplesPerHarmonic) +
               "(2H+1))) = " + std::to_string(most) + " for highest harmonic H = " +
               std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
-  m.choice("aft", &a.aft, {"event", "sampled"});
-  m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
+  a.aft_given = m.has("aft");
+  m.choice("aft", &a.aft);
+  m.choice("static", &a.static_coupling);
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
     p.check(a.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
             "must be > 0, got " + format_number(a.tolerance));
   }
   m.integer("max_iterations", &a.max_iterations, 1);
-  if (a.method != "continuation") m.forbid("max_points", "with method stepped");
+  if (a.method != SweepMethod::kContinuation) m.forbid("max_points", "with method stepped");
   m.integer("max_points", &a.max_points, 2, kMaxFrequencyPoints,
             "points of one continuation, each solved and written");
-  if (a.method != "continuation") {
+  if (a.method != SweepMethod::kContinuation) {
     // The points of the stepped sweep, window / step_hz + 1 (the window is known here for both
     // kinds of frequency definition), bounded as max_points is.
     const double window = fr.kind == FrequencyDefinition::Kind::kAroundMode
@@ -1314,9 +1427,9 @@ void parse_analysis(Parser& p, const MapView& top) {
                 format_number(window) + " Hz / step_hz + 1): at most " +
                 std::to_string(kMaxFrequencyPoints) + " are accepted");
   }
-  m.choice("initial_guess", &a.initial_guess, {"stuck", "free"});
-  if (a.method == "continuation") m.forbid("predictor", "with method continuation");
-  m.choice("predictor", &a.predictor, {"secant", "previous"});
+  m.choice("initial_guess", &a.initial_guess);
+  if (a.method == SweepMethod::kContinuation) m.forbid("predictor", "with method continuation");
+  m.choice("predictor", &a.predictor);
 }
 
 void parse_recovery(Parser& p, const MapView& top) {
@@ -1327,7 +1440,7 @@ void parse_recovery(Parser& p, const MapView& top) {
   if (m.has("points")) {
     const YAML::Node& v = m.value("points");
     if (v.IsSequence()) {
-      r.points = "list";
+      r.points = RecoveryPoints::kList;
       p.check(v.size() > 0, m.full("points"), m.line("points"), "expected at least one frequency");
       for (const YAML::Node& hz : v) {
         const double f = p.number(hz, m.full("points"), m.line("points"));
@@ -1336,11 +1449,14 @@ void parse_recovery(Parser& p, const MapView& top) {
         r.frequencies_hz.push_back(f);
       }
     } else {
-      r.points = p.choice(v, m.full("points"), m.line("points"), {"peak", "all", "none"});
+      const std::string name =
+          p.choice(v, m.full("points"), m.line("points"), {"peak", "all", "none"});
+      for (const auto& [n, value] : choices_of(RecoveryPoints{}))
+        if (name == n) r.points = value;
     }
   }
-  m.choice("method", &r.method, {"direct", "modal", "expansion"});
-  if (r.method != "modal") m.forbid("modes", "unless method is modal");
+  m.choice("method", &r.method);
+  if (r.method != RecoveryMethod::kModal) m.forbid("modes", "unless method is modal");
   m.integer("modes", &r.modes, 1, kMaxRecoveryModes, "full-model modes of the modal recovery");
   if (m.has("fields")) {
     const YAML::Node& v = m.value("fields");
@@ -1893,8 +2009,8 @@ std::string describe_case(const CaseDefinition& c) {
     if (m.source == MeshDefinition::Source::kGenerate) {
       const TwoBeamDefinition& t = m.two_beam;
       e << YAML::Key << "generate" << YAML::Value << m.generate;
-      e << YAML::Key << "arrangement" << YAML::Value << t.arrangement;
-      e << YAML::Key << "element" << YAML::Value << t.element;
+      e << YAML::Key << "arrangement" << YAML::Value << case_name(t.arrangement);
+      e << YAML::Key << "element" << YAML::Value << element_type_name(t.element);
       e << YAML::Key << "coarse" << YAML::Value << t.coarse;
       e << YAML::Key << "box" << YAML::Value;
       vec(t.box);
@@ -1906,10 +2022,10 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "end_length" << YAML::Value << num(t.end_length);
     } else {
       e << YAML::Key << "file" << YAML::Value << m.file;
-      e << YAML::Key << "format" << YAML::Value << m.format;
-      if (m.format == "msh") {
-        e << YAML::Key << "hexahedron8" << YAML::Value << m.hexahedron8;
-        e << YAML::Key << "hexahedron20" << YAML::Value << m.hexahedron20;
+      e << YAML::Key << "format" << YAML::Value << case_name(m.format);
+      if (m.format == MeshFileFormat::kMsh) {
+        e << YAML::Key << "hexahedron8" << YAML::Value << element_type_name(m.hexahedron8);
+        e << YAML::Key << "hexahedron20" << YAML::Value << element_type_name(m.hexahedron20);
       }
     }
     e << YAML::EndMap;
@@ -1957,7 +2073,7 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "stiffness" << YAML::Value << b.reduced.stiffness;
       e << YAML::Key << "mass" << YAML::Value << b.reduced.mass;
       e << YAML::Key << "mapping" << YAML::Value << b.reduced.mapping;
-      e << YAML::Key << "format" << YAML::Value << b.reduced.format << YAML::EndMap;
+      e << YAML::Key << "format" << YAML::Value << case_name(b.reduced.format) << YAML::EndMap;
     }
     e << YAML::Key << "modal_damping_ratio" << YAML::Value << num(b.modal_damping_ratio);
     e << YAML::EndMap;
@@ -2010,7 +2126,7 @@ std::string describe_case(const CaseDefinition& c) {
         e << num(*contact_parameter(params, key));
       }
     }
-    if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
+    if (!per_pair) e << YAML::Key << "split" << YAML::Value << case_name(d.split);
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
     if (gap) e << YAML::Key << "gap" << YAML::Value << num(d.gap);
@@ -2069,7 +2185,7 @@ std::string describe_case(const CaseDefinition& c) {
   }
   e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
   e << YAML::Key << "sweep" << YAML::Value << (a.frequency.downward ? "down" : "up");
-  if (a.method == "continuation") {
+  if (a.method == SweepMethod::kContinuation) {
     // 0: not given (the continuation derives them from step_hz)
     if (a.frequency.min_step_hz > 0)
       e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
@@ -2077,17 +2193,17 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
-  e << YAML::Key << "method" << YAML::Value << a.method;
+  e << YAML::Key << "method" << YAML::Value << case_name(a.method);
   e << YAML::Key << "harmonics" << YAML::Value;
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
-  if (!a.aft.empty()) e << YAML::Key << "aft" << YAML::Value << a.aft;
-  e << YAML::Key << "static" << YAML::Value << a.static_coupling;
+  if (a.aft_given) e << YAML::Key << "aft" << YAML::Value << case_name(a.aft);
+  e << YAML::Key << "static" << YAML::Value << case_name(a.static_coupling);
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
-  if (a.method == "continuation") e << YAML::Key << "max_points" << YAML::Value << a.max_points;
-  e << YAML::Key << "initial_guess" << YAML::Value << a.initial_guess;
-  if (a.method != "continuation") e << YAML::Key << "predictor" << YAML::Value << a.predictor;
+  if (a.method == SweepMethod::kContinuation) e << YAML::Key << "max_points" << YAML::Value << a.max_points;
+  e << YAML::Key << "initial_guess" << YAML::Value << case_name(a.initial_guess);
+  if (a.method != SweepMethod::kContinuation) e << YAML::Key << "predictor" << YAML::Value << case_name(a.predictor);
   e << YAML::EndMap;
   if (c.study.active()) {
     e << YAML::Key << "study" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -2099,13 +2215,13 @@ std::string describe_case(const CaseDefinition& c) {
   const RecoveryDefinition& r = c.recovery;
   e << YAML::Key << "recovery" << YAML::Value << YAML::Flow << YAML::BeginMap;
   e << YAML::Key << "points" << YAML::Value;
-  if (r.points == "list") {
+  if (r.points == RecoveryPoints::kList) {
     vec(r.frequencies_hz);
   } else {
-    e << r.points;
+    e << case_name(r.points);
   }
-  e << YAML::Key << "method" << YAML::Value << r.method;
-  if (r.method == "modal") e << YAML::Key << "modes" << YAML::Value << r.modes;
+  e << YAML::Key << "method" << YAML::Value << case_name(r.method);
+  if (r.method == RecoveryMethod::kModal) e << YAML::Key << "modes" << YAML::Value << r.modes;
   e << YAML::Key << "fields" << YAML::Value;
   vec(r.fields);
   e << YAML::Key << "nodes" << YAML::Value;

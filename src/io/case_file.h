@@ -35,6 +35,8 @@
 
 #include "core/errors.h"
 #include "fe/element.h"
+#include "io/two_beam_model.h"
+#include "mesh/mesh.h"
 
 namespace stickslip {
 
@@ -70,6 +72,31 @@ inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 // bodies.<name>.modes: at most kMaxReducedBodyDofs (io/ansys_mapping.h), the size of the largest
 // reduced body.
 
+// The case file's choices as types: each is spelled in the file as case_name() gives it, mapped
+// from text once here (parse_case) and back once (describe_case); the rest of the program switches
+// on the value.
+enum class MeshFileFormat { kInp, kMsh, kCdb };                        // meshes.M.format
+enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  // reduced.format
+enum class PreloadSplit { kEqual, kArea };                             // contacts.C.total.split
+enum class SweepMethod { kStepped, kContinuation };                    // analysis.method
+enum class AftChoice { kEvent, kSampled };                             // analysis.aft
+enum class StaticChoice { kUncoupled, kCoupled };                      // analysis.static
+enum class InitialGuessChoice { kStuck, kFree };                       // analysis.initial_guess
+enum class PredictorChoice { kSecant, kPrevious };                     // analysis.predictor
+enum class RecoveryPoints { kPeak, kAll, kNone, kList };               // recovery.points
+enum class RecoveryMethod { kDirect, kModal, kExpansion };             // recovery.method
+const char* case_name(MeshFileFormat v);
+const char* case_name(ReducedFileFormat v);
+const char* case_name(PreloadSplit v);
+const char* case_name(SweepMethod v);
+const char* case_name(AftChoice v);
+const char* case_name(StaticChoice v);
+const char* case_name(InitialGuessChoice v);
+const char* case_name(PredictorChoice v);
+const char* case_name(RecoveryPoints v);
+const char* case_name(RecoveryMethod v);
+const char* case_name(TwoBeamOptions::Arrangement v);
+
 struct MaterialDefinition {
   double youngs_modulus = 0.0;  // E, Pa (required, > 0)
   double poisson_ratio = 0.0;   // ν (required, −1 < ν < 0.5)
@@ -78,8 +105,8 @@ struct MaterialDefinition {
 
 // The reference two-beam model (io/two_beam_model.h, TwoBeamOptions), in the file's terms.
 struct TwoBeamDefinition {
-  std::string arrangement = "butt";       // butt | lap
-  std::string element = "C3D8I";          // C3D8 | C3D8I | C3D20 | C3D20R (upper case)
+  TwoBeamOptions::Arrangement arrangement = TwoBeamOptions::Arrangement::kButt;  // butt | lap
+  ElementType element = ElementType::kC3D8I;  // C3D8 | C3D8I | C3D20 | C3D20R (upper case)
   bool coarse = false;                    // thesis_coarse: 7x5x1 + 4x5x4, 240 nodes per beam
   std::array<int, 3> box{25, 5, 8};       // elements of the large box along x, y, z
   std::array<int, 3> end_block{5, 5, 4};  // elements of the end block along x, y, z
@@ -95,9 +122,10 @@ struct MeshDefinition {
   std::string generate = "two_beam";   // kGenerate: the generator (only two_beam)
   TwoBeamDefinition two_beam;          // kGenerate
   std::string file;                    // kFile: resolved path of a .inp, .msh or .cdb file
-  std::string format;                  // kFile: inp | msh | cdb (from the extension unless given)
-  std::string hexahedron8 = "C3D8I";   // msh: element of 8-node hexahedra (C3D8 | C3D8I)
-  std::string hexahedron20 = "C3D20";  // msh: element of 20-node hexahedra (C3D20 | C3D20R)
+  MeshFileFormat format = MeshFileFormat::kInp;  // kFile: inp | msh | cdb (from the extension
+                                                 // unless given)
+  ElementType hexahedron8 = ElementType::kC3D8I;   // msh: 8-node hexahedra (C3D8 | C3D8I)
+  ElementType hexahedron20 = ElementType::kC3D20;  // msh: 20-node hexahedra (C3D20 | C3D20R)
 };
 
 // A node selection: node sets by name and/or external node ids, in the order given.
@@ -124,7 +152,8 @@ struct ReducedMatricesDefinition {
   std::string stiffness;                  // resolved path (required)
   std::string mass;                       // resolved path (required)
   std::string mapping;                    // resolved path; HB default: stiffness with .mapping
-  std::string format = "harwell_boeing";  // harwell_boeing | matrix_market
+  ReducedFileFormat format = ReducedFileFormat::kHarwellBoeing;  // harwell_boeing |
+                                                                 // matrix_market | abaqus_matrix
 };
 
 struct BodyDefinition {
@@ -189,7 +218,7 @@ struct ContactDefinition {
   enum class Parameters { kPerPair, kTotal };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
-  std::string split = "equal";  // total: equal | area
+  PreloadSplit split = PreloadSplit::kEqual;  // total: equal | area
   std::string preload_file;     // resolved path (read_preloads_csv format), read at parse time:
   std::vector<std::pair<int, double>>
       preloads;      // (node id on A, N0 in N), "contacts.C.preloads[i]"
@@ -252,18 +281,19 @@ struct FrequencyDefinition {
 
 struct AnalysisDefinition {
   FrequencyDefinition frequency;   // required
-  std::string method = "stepped";  // stepped | continuation
+  SweepMethod method = SweepMethod::kStepped;  // stepped | continuation
   std::vector<int> harmonics{1};   // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                    // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;           // N per period, ≥ 2(2 H_max + 1)
-  std::string aft;                 // event | sampled (hbm/aft.h AftMethod); empty: not given
-                                   // (event, without the fall-back warning)
-  std::string static_coupling = "uncoupled";  // key `static`: uncoupled | coupled
+  AftChoice aft = AftChoice::kEvent;  // event | sampled (hbm/aft.h AftMethod)
+  bool aft_given = false;  // `aft` written in the file (then event warns where it falls back)
+  StaticChoice static_coupling = StaticChoice::kUncoupled;  // key `static`: uncoupled | coupled
   double tolerance = 1.0e-8;                  // Newton, relative residual (> 0)
   int max_iterations = 30;                    // Newton iterations per point (≥ 1)
   int max_points = 10000;                     // continuation: points at most (≥ 2)
-  std::string initial_guess = "stuck";        // stuck | free
-  std::string predictor = "secant";           // stepped: secant | previous (guess per point)
+  InitialGuessChoice initial_guess = InitialGuessChoice::kStuck;  // stuck | free
+  PredictorChoice predictor = PredictorChoice::kSecant;  // stepped: secant | previous (guess
+                                                         // per point)
   int max_harmonic() const { return harmonics.empty() ? 0 : harmonics.back(); }
 };
 
@@ -274,9 +304,9 @@ struct StudyDefinition {
 };
 
 struct RecoveryDefinition {
-  std::string points = "peak";         // peak | all | none | list (then frequencies_hz)
+  RecoveryPoints points = RecoveryPoints::kPeak;  // peak | all | none | list (frequencies_hz)
   std::vector<double> frequencies_hz;  // points: list
-  std::string method = "direct";       // direct | modal | expansion
+  RecoveryMethod method = RecoveryMethod::kDirect;  // direct | modal | expansion
   int modes = 100;                     // modal: full-model modes (≥ 1)
   std::vector<std::string> fields{"displacement", "stress"};  // displacement | stress
   std::vector<int> nodes;  // node ids whose recovered response is written

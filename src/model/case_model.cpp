@@ -64,8 +64,7 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
     if (m.source == MeshDefinition::Source::kGenerate) {
       TwoBeamOptions o;
       const TwoBeamDefinition& t = m.two_beam;
-      o.arrangement = t.arrangement == "lap" ? TwoBeamOptions::Arrangement::kLap
-                                             : TwoBeamOptions::Arrangement::kButt;
+      o.arrangement = t.arrangement;
       o.beam_length = t.beam_length;
       o.width = t.width;
       o.thickness = t.thickness;
@@ -73,24 +72,21 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
       o.box = {t.box[0], t.box[1], t.box[2]};
       o.end_block = {t.end_block[0], t.end_block[1], t.end_block[2]};
       o.thesis_coarse = t.coarse;
-      if (!parse_element_type(t.element, &o.element_type)) {
-        throw InvalidInput(where, "unknown element type " + t.element);
-      }
+      o.element_type = t.element;
       return make_two_beam_model(o).mesh;
     }
-    if (m.format == "msh") {
+    if (m.format == MeshFileFormat::kMsh) {
       GmshReadOptions o;
-      if (!parse_element_type(m.hexahedron8, &o.hexahedron8) ||
-          !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
-        throw InvalidInput(where, "unknown hexahedron element type");
-      }
+      o.hexahedron8 = m.hexahedron8;
+      o.hexahedron20 = m.hexahedron20;
       std::vector<std::string> warnings;
       Mesh mesh = read_gmsh(m.file, o, &warnings);
       for (const std::string& w : warnings) model_warning(w);
       return mesh;
     }
     std::vector<std::string> warnings;
-    Mesh mesh = m.format == "cdb" ? read_cdb(m.file, &warnings) : read_inp(m.file, &warnings);
+    Mesh mesh = m.format == MeshFileFormat::kCdb ? read_cdb(m.file, &warnings)
+                                                 : read_inp(m.file, &warnings);
     for (const std::string& w : warnings) model_warning(w);
     return mesh;
   } catch (const InvalidInput& e) {
@@ -173,15 +169,16 @@ std::string mesh_description(const MeshDefinition& m) {
     return fmt::format(
         "generate {} arrangement {} element {} coarse {} box {} {} {} end_block {} {} {} "
         "size {:.17g} {:.17g} {:.17g} {:.17g}",
-        m.generate, t.arrangement, t.element, t.coarse, t.box[0], t.box[1], t.box[2],
+        m.generate, case_name(t.arrangement), element_type_name(t.element), t.coarse, t.box[0], t.box[1], t.box[2],
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
   // The file by its contents, not its path (a moved project keeps its reductions), and the
   // contents of the files it includes, in the order read.
-  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format,
-                                 m.hexahedron8, m.hexahedron20, file_fingerprint_hex(m.file));
-  if (m.format == "inp") {
+  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", case_name(m.format),
+                                 element_type_name(m.hexahedron8),
+                                 element_type_name(m.hexahedron20), file_fingerprint_hex(m.file));
+  if (m.format == MeshFileFormat::kInp) {
     const std::vector<std::string> files = inp_files(m.file);
     for (size_t i = 1; i < files.size(); ++i) {  // unreadable: read_inp names the line
       const bool readable = std::ifstream(files[i]).good();
@@ -347,7 +344,7 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
   if (cd.parameters_given != ContactDefinition::Parameters::kTotal) {
     return std::vector<double>(np, 1.0);
   }
-  if (cd.split != "area") return std::vector<double>(np, 1.0 / static_cast<double>(np));
+  if (cd.split != PreloadSplit::kArea) return std::vector<double>(np, 1.0 / static_cast<double>(np));
   const std::string key = "contacts." + cd.name + ".total.split";
   // The mesh of a body (bodies given by matrices have none).
   const auto mesh_of = [&](int b) -> const Mesh* {
@@ -898,9 +895,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.harmonic_list = an.harmonics;
   model.hbm.harmonics = an.max_harmonic();
   model.hbm.time_samples = an.time_samples;
-  model.hbm.aft = an.aft == "sampled" ? AftMethod::kSampled : AftMethod::kEvent;
-  model.hbm.static_coupling =
-      an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
+  model.hbm.aft = an.aft == AftChoice::kSampled ? AftMethod::kSampled : AftMethod::kEvent;
+  model.hbm.static_coupling = an.static_coupling == StaticChoice::kCoupled
+                                  ? StaticCoupling::kCoupled
+                                  : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
   return model;
 }
@@ -921,8 +919,11 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
   return K;
 }
 
-ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& def) {
-  ModalResult eig = dense_modes(stuck_stiffness_matrix(model), model.M);  // Jacobi-scaled
+ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& def,
+                        Eigen::MatrixXd* stiffness) {
+  Eigen::MatrixXd K_stuck = stuck_stiffness_matrix(model);
+  ModalResult eig = dense_modes(K_stuck, model.M);  // Jacobi-scaled
+  if (stiffness) *stiffness = std::move(K_stuck);
   if (!eig.summary.ok()) {
     throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
   }
@@ -955,7 +956,7 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
   } else if (window) {
     *window = {start, stop, 0, 0.0};
   }
-  if (def.analysis.method == "continuation") {
+  if (def.analysis.method == SweepMethod::kContinuation) {
     if (f.downward) return {stop, start};
     return {start, stop};
   }
@@ -1009,9 +1010,9 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, const SweepProgress* sweep) {
   const auto t0 = Clock::now();
   SolvedCase solved;
-  solved.warn_aft_fallback = def.analysis.aft == "event";
+  solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft == AftChoice::kEvent;
   check_memory(model, def);
-  if (model.pairs.empty() && def.analysis.method == "continuation") {
+  if (model.pairs.empty() && def.analysis.method == SweepMethod::kContinuation) {
     throw InvalidInput(def.where("analysis.method"),
                        "a model without contacts is linear: its response is computed at the "
                        "frequencies of a stepped sweep (method: stepped, with step_hz), there is "
@@ -1034,7 +1035,8 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;
   o.initial_guess =
-      an.initial_guess == "free" ? InitialGuess::kLinearFree : InitialGuess::kLinearStuck;
+      an.initial_guess == InitialGuessChoice::kFree ? InitialGuess::kLinearFree
+                                                    : InitialGuess::kLinearStuck;
   NewtonOptions newton;
   newton.tolerance = an.tolerance;
   newton.max_iterations = an.max_iterations;
@@ -1055,7 +1057,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
       o.history_pairs.push_back(first + j);
     }
   }
-  if (an.method == "continuation") {
+  if (an.method == SweepMethod::kContinuation) {
     o.method = ContinuationMethod::kArcLength;
     const FrequencyDefinition& f = an.frequency;
     o.arclength.lambda_start = hz_to_rad_s(solved.frequencies_hz.front());
@@ -1071,13 +1073,13 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     o.method = ContinuationMethod::kSteppedSweep;
     for (double hz : solved.frequencies_hz) o.omegas.push_back(hz_to_rad_s(hz));
     o.sweep.newton = newton;
-    o.sweep.secant_predictor = an.predictor == "secant";
+    o.sweep.secant_predictor = an.predictor == PredictorChoice::kSecant;
   }
   if (progress) {
     progress(fmt::format(
         "harmonic balance: {} pairs, {} unknowns, {} {}", model.pairs.size(), solved.system->size(),
-        an.method == "continuation" ? "continuation over" : std::to_string(o.omegas.size()),
-        an.method == "continuation" ? "the range" : "points"));
+        an.method == SweepMethod::kContinuation ? "continuation over" : std::to_string(o.omegas.size()),
+        an.method == SweepMethod::kContinuation ? "the range" : "points"));
   }
   if (sweep && sweep->start) {
     sweep->start("harmonic balance", static_cast<int>(o.omegas.size()));  // 0: continuation

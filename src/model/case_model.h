@@ -214,8 +214,10 @@ std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vec
 
 // Modes of the assembled reduced model with every contact stuck (stuck_stiffness_matrix and
 // model.M, dense_modes: eigenvalues ω² ascending, modes M-normalised); InvalidInput at `bodies`
-// when the reduced mass matrix is not positive definite.
-ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& definition);
+// when the reduced mass matrix is not positive definite. `stiffness` (optional) receives the
+// stuck stiffness matrix the modes were computed from.
+ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& definition,
+                        Eigen::MatrixXd* stiffness = nullptr);
 // Their natural frequencies, Hz (ascending; negative round-off of ω² as 0).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 

@@ -36,15 +36,15 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
                                  const FrequencyResponse& response) {
   const auto& points = response.points;
   std::vector<int> out;
-  const std::string& mode = def.recovery.points;
-  if (mode == "none" || points.empty()) return out;
-  if (mode == "all") {
+  const RecoveryPoints mode = def.recovery.points;
+  if (mode == RecoveryPoints::kNone || points.empty()) return out;
+  if (mode == RecoveryPoints::kAll) {
     for (size_t i = 0; i < points.size(); ++i) {
       if (points[i].converged) out.push_back(static_cast<int>(i));
     }
     return out;
   }
-  if (mode == "peak") {
+  if (mode == RecoveryPoints::kPeak) {
     int best = -1;
     double best_value = -1;
     for (size_t i = 0; i < points.size(); ++i) {
