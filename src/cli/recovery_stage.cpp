@@ -291,6 +291,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                          "recovery of body " + body.name + " failed: " + solver->message());
     }
     const auto [full_dofs, reduced_dofs] = master_dofs(body);
+    const Eigen::MatrixXd rigid = solver ? solver->rigid_modes() : Eigen::MatrixXd();
     const int n = body.mesh.num_dofs();
     // Nodal stresses as one sparse operator, built once per body (element by element per point
     // would re-condense every C3D8I at every call).
@@ -333,11 +334,19 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       if (def.output.calculix_deck) {
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
-      const Eigen::MatrixXcd x =
+      Eigen::MatrixXcd x =
           method == RecoveryMethod::kExpansion
               ? expand_reduced_response(*body.T,
                                         p.master.middleRows(body.offset, body.reduced.size()))
               : harmonic_response(*solver, F, harmonics, p.omega, &summary);
+      // A body its clamps and supports do not hold: the static solve has no rigid motion; the
+      // reduced solution knows what the springs and contacts did with it (at the master DOFs).
+      for (int h = 0; h < nh && rigid.cols() > 0; ++h) {
+        if (harmonics[h] != 0) continue;
+        Eigen::VectorXcd target(static_cast<Eigen::Index>(full_dofs.size()));
+        for (size_t i = 0; i < full_dofs.size(); ++i) target(i) = p.master(reduced_dofs[i], h);
+        add_rigid_motion(rigid, full_dofs, target, x.col(h));
+      }
       if (!summary.ok()) {
         // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
         // harmonics are NaN in every output of this point; the other harmonics are valid.
