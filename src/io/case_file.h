@@ -186,7 +186,15 @@ struct ContactDefinition {
   // the frame `normal`/`t1` (friction; law linear's springs kt, kt, kn), false = along
   // `direction` (1D). A law registered both ways (linear) is chosen by the keys given.
   bool uses_frame = false;
-  enum class Parameters { kPerPair, kTotal };
+  // `between` pairs: `nodes` (coincident nodes, within `tolerance`) or `mortar` (the nodes of the
+  // two selections are surfaces: one contact point per node of A's faces, tied to B's nodes by
+  // the mortar weights of mesh/mortar.h).
+  std::string coupling = "nodes";
+  double search_distance = 0.0;     // m, mortar: how far B may lie from A's faces (0: automatic)
+  std::string unpaired = "error";   // mortar: points not wholly over B: error | skip
+  // per_pair: each pair's values; total: split over the pairs (`split`); per_area: the law's
+  // split keys per unit area (kt, kn in N/m³, preload in Pa) times each pair's area.
+  enum class Parameters { kPerPair, kTotal, kPerArea };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
   std::string split = "equal";  // total: equal | area
