@@ -434,7 +434,8 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   } catch (const InvalidInput& e) {
     throw InvalidInput(def.where(key + ".between"),
                        "contact nodes are not coincident within tolerance " +
-                           fmt::format("{:g}", cd.tolerance) + " m: " + e.message());
+                           fmt::format("{:g}", cd.tolerance) + " m: " + e.message() +
+                           " (surfaces meshed differently: give 'coupling: mortar')");
   }
   if (rc.node_pairs.empty()) {
     throw InvalidInput(def.where(key + ".between"), "the contact has no node pairs");
