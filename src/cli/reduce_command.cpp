@@ -73,7 +73,7 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
   static const std::set<std::string> kResults = {
       "points.csv",    "master_response.csv", "contact_forces.csv", "contact_state.csv",
       "histories.csv", "summary.json",        "recovery_check.csv", "recovered_nodes.csv",
-      "reactions.csv"};
+      "reactions.csv", "contact_coupling.csv"};
   static const std::set<std::string> kPlots = {"frf", "contact_state", "hysteresis",
                                                "frf_full_vs_reduced", "frf_study"};
   for (const std::string& input : inputs) {

@@ -80,6 +80,16 @@ const Choices<PreloadSplit>& choices_of(PreloadSplit) {
                                        {"area", PreloadSplit::kArea}};
   return c;
 }
+const Choices<ContactCoupling>& choices_of(ContactCoupling) {
+  static const Choices<ContactCoupling> c{{"nodes", ContactCoupling::kNodes},
+                                          {"mortar", ContactCoupling::kMortar}};
+  return c;
+}
+const Choices<UnpairedChoice>& choices_of(UnpairedChoice) {
+  static const Choices<UnpairedChoice> c{{"error", UnpairedChoice::kError},
+                                         {"skip", UnpairedChoice::kSkip}};
+  return c;
+}
 const Choices<SweepMethod>& choices_of(SweepMethod) {
   static const Choices<SweepMethod> c{{"stepped", SweepMethod::kStepped},
                                       {"continuation", SweepMethod::kContinuation}};
@@ -135,6 +145,8 @@ const char* name_of(E v) {
 const char* case_name(MeshFileFormat v) { return name_of(v); }
 const char* case_name(ReducedFileFormat v) { return name_of(v); }
 const char* case_name(PreloadSplit v) { return name_of(v); }
+const char* case_name(ContactCoupling v) { return name_of(v); }
+const char* case_name(UnpairedChoice v) { return name_of(v); }
 const char* case_name(SweepMethod v) { return name_of(v); }
 const char* case_name(AftChoice v) { return name_of(v); }
 const char* case_name(StaticChoice v) { return name_of(v); }
@@ -185,6 +197,16 @@ std::string numeric_rule_violation(const std::string& key, double value) {
 
 // The law variant a parsed contact has (contact/contact_law.h).
 const ContactLaw& law_of(const ContactDefinition& d) { return contact_law(d.law, d.uses_frame); }
+
+// The key of a contact's parameter block.
+std::string parameter_block(const ContactDefinition& d) {
+  switch (d.parameters_given) {
+    case ContactDefinition::Parameters::kPerPair: return "per_pair";
+    case ContactDefinition::Parameters::kTotal: return "total";
+    case ContactDefinition::Parameters::kPerArea: return "per_area";
+  }
+  return "per_pair";
+}
 
 // Every parameter key of a law name, over its variants (1D and frame), in registration order.
 std::vector<std::string> law_name_keys(const std::string& law) {
@@ -985,10 +1007,25 @@ void parse_contacts(Parser& p, const MapView& top) {
         (k == 0 ? d.nodes_a : d.nodes_b) = node_selection(p, it->second, bpath + "." + body, at);
       }
       if (d.body_b.empty()) d.body_b = "ground";
-      m.number("tolerance", &d.tolerance);
-      p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
-              "must be > 0, got " + format_number(d.tolerance));
+      m.choice("coupling", &d.coupling);
+      if (d.coupling == ContactCoupling::kMortar) {
+        p.check(d.body_b != "ground", m.full("coupling"), m.line("coupling"),
+                "mortar couples two surfaces: 'between' needs two bodies");
+        m.forbid("tolerance", "with coupling: mortar (use 'search_distance')");
+        m.number("search_distance", &d.search_distance);
+        p.check(d.search_distance >= 0, m.full("search_distance"), m.line("search_distance"),
+                "must be >= 0 (0: automatic), got " + format_number(d.search_distance));
+        m.choice("unpaired", &d.unpaired);
+      } else {
+        m.forbid("search_distance", "without coupling: mortar");
+        m.forbid("unpaired", "without coupling: mortar");
+        m.number("tolerance", &d.tolerance);
+        p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
+                "must be > 0, got " + format_number(d.tolerance));
+      }
     } else {
+      for (const char* key : {"coupling", "search_distance", "unpaired"})
+        m.forbid(key, "with listed pairs (it belongs to 'between')");
       m.forbid("tolerance", "with listed pairs (it is the coincidence distance of 'between')");
       m.require("bodies", "the two bodies the pair node ids belong to, e.g. [beam1, beam2]");
       const YAML::Node& b = m.value("bodies");
@@ -1061,7 +1098,10 @@ void parse_contacts(Parser& p, const MapView& top) {
         std::string key, path;
         int line = 0;
       };
-      const std::string block = m.has("per_pair") ? "per_pair" : m.has("total") ? "total" : "";
+      const std::string block = m.has("per_pair")   ? "per_pair"
+                                : m.has("total")    ? "total"
+                                : m.has("per_area") ? "per_area"
+                                                    : "";
       const auto find =
           [&](const std::vector<std::string>& frame_keys,
               const std::vector<std::string>& parameter_keys) -> std::optional<Given> {
@@ -1119,10 +1159,13 @@ void parse_contacts(Parser& p, const MapView& top) {
 
     // Parameters.
     m.exclusive("per_pair", "total");
-    if (!m.has("total")) m.require("per_pair", "or 'total'");
-    const std::string block = m.has("per_pair") ? "per_pair" : "total";
+    m.exclusive("per_pair", "per_area");
+    m.exclusive("total", "per_area");
+    if (!m.has("total") && !m.has("per_area")) m.require("per_pair", "or 'total' or 'per_area'");
+    const std::string block = m.has("per_pair") ? "per_pair" : m.has("total") ? "total" : "per_area";
     d.parameters_given = block == "per_pair" ? ContactDefinition::Parameters::kPerPair
-                                             : ContactDefinition::Parameters::kTotal;
+                         : block == "total"  ? ContactDefinition::Parameters::kTotal
+                                             : ContactDefinition::Parameters::kPerArea;
     std::vector<std::string> known = law_name_keys(d.law);
     if (block == "total") known.push_back("split");
     MapView params(p, m.value(block), m.full(block), m.line(block), known, " for law " + d.law);
@@ -1550,11 +1593,7 @@ void cross_check(Parser& p) {
   }
   for (const ContactDefinition& d : c.contacts) {
     if (!d.preload_computed) continue;
-    const std::string path = "contacts." + d.name + "." +
-                             (d.parameters_given == ContactDefinition::Parameters::kPerPair
-                                  ? "per_pair"
-                                  : "total") +
-                             ".preload";
+    const std::string path = "contacts." + d.name + "." + parameter_block(d) + ".preload";
     p.check(!c.static_loads.empty(), path, c.where(path).line,
             "a computed preload needs 'static_loads' (the loads that press the contact); "
             "none are given");
@@ -1855,14 +1894,14 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
       if (!law_of(*it).has_gap) fail("law " + it->law + " has no gap");
       const std::string base = "contacts." + it->name + ".";
       if (c.locations.count(base + "per_pair.preload") ||
+          c.locations.count(base + "per_area.preload") ||
           c.locations.count(base + "total.preload") || !it->preload_file.empty())
         fail("contact '" + it->name + "' gives a preload; give either a preload or a gap");
       field = &it->gap;
-    } else if (parts.size() == 4 && (parts[2] == "per_pair" || parts[2] == "total")) {
-      const bool per_pair = it->parameters_given == ContactDefinition::Parameters::kPerPair;
-      if (per_pair != (parts[2] == "per_pair"))
-        fail("contact '" + it->name + "' gives its parameters " +
-             (per_pair ? "per_pair" : "as total"));
+    } else if (parts.size() == 4 &&
+               (parts[2] == "per_pair" || parts[2] == "total" || parts[2] == "per_area")) {
+      if (parts[2] != parameter_block(*it))
+        fail("contact '" + it->name + "' gives its parameters in '" + parameter_block(*it) + "'");
       const std::vector<std::string> allowed = parameter_keys(*it);
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
         fail("'" + key + "' is not a parameter of law " + it->law);
@@ -2082,7 +2121,13 @@ std::string describe_case(const CaseDefinition& c) {
         selection(d.nodes_b);
       }
       e << YAML::EndMap;
-      e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
+      if (d.coupling == ContactCoupling::kMortar) {
+        e << YAML::Key << "coupling" << YAML::Value << case_name(d.coupling);
+        e << YAML::Key << "search_distance" << YAML::Value << num(d.search_distance);
+        e << YAML::Key << "unpaired" << YAML::Value << case_name(d.unpaired);
+      } else {
+        e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
+      }
     } else {
       e << YAML::Key << "bodies" << YAML::Value;
       vec(std::vector<std::string>{d.body_a, d.body_b});
@@ -2100,9 +2145,8 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "t1" << YAML::Value;
       vec(d.t1);
     }
-    const bool per_pair = d.parameters_given == ContactDefinition::Parameters::kPerPair;
-    e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
-      << YAML::BeginMap;
+    const bool with_split = d.parameters_given == ContactDefinition::Parameters::kTotal;
+    e << YAML::Key << parameter_block(d) << YAML::Value << YAML::Flow << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
     // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
     const bool gap = law_of(d).has_gap && d.gap != 0;
@@ -2115,7 +2159,7 @@ std::string describe_case(const CaseDefinition& c) {
         e << num(*contact_parameter(params, key));
       }
     }
-    if (!per_pair) e << YAML::Key << "split" << YAML::Value << case_name(d.split);
+    if (with_split) e << YAML::Key << "split" << YAML::Value << case_name(d.split);
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
     if (gap) e << YAML::Key << "gap" << YAML::Value << num(d.gap);

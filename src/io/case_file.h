@@ -78,6 +78,8 @@ inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 enum class MeshFileFormat { kInp, kMsh, kCdb };                        // meshes.M.format
 enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  // reduced.format
 enum class PreloadSplit { kEqual, kArea };                             // contacts.C.total.split
+enum class ContactCoupling { kNodes, kMortar };                        // contacts.C.coupling
+enum class UnpairedChoice { kError, kSkip };                           // contacts.C.unpaired
 enum class SweepMethod { kStepped, kContinuation };                    // analysis.method
 enum class AftChoice { kEvent, kSampled };                             // analysis.aft
 enum class StaticChoice { kUncoupled, kCoupled };                      // analysis.static
@@ -88,6 +90,8 @@ enum class RecoveryMethod { kDirect, kModal, kExpansion };             // recove
 const char* case_name(MeshFileFormat v);
 const char* case_name(ReducedFileFormat v);
 const char* case_name(PreloadSplit v);
+const char* case_name(ContactCoupling v);
+const char* case_name(UnpairedChoice v);
 const char* case_name(SweepMethod v);
 const char* case_name(AftChoice v);
 const char* case_name(StaticChoice v);
@@ -215,7 +219,15 @@ struct ContactDefinition {
   // the frame `normal`/`t1` (friction; law linear's springs kt, kt, kn), false = along
   // `direction` (1D). A law registered both ways (linear) is chosen by the keys given.
   bool uses_frame = false;
-  enum class Parameters { kPerPair, kTotal };
+  // `between` pairs: `nodes` (coincident nodes, within `tolerance`) or `mortar` (the nodes of the
+  // two selections are surfaces: one contact point per node of A's faces, tied to B's nodes by
+  // the mortar weights of mesh/mortar.h).
+  ContactCoupling coupling = ContactCoupling::kNodes;
+  double search_distance = 0.0;     // m, mortar: how far B may lie from A's faces (0: automatic)
+  UnpairedChoice unpaired = UnpairedChoice::kError;  // mortar: points not wholly over B: error | skip
+  // per_pair: each pair's values; total: split over the pairs (`split`); per_area: the law's
+  // split keys per unit area (kt, kn in N/m³, preload in Pa) times each pair's area.
+  enum class Parameters { kPerPair, kTotal, kPerArea };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
   PreloadSplit split = PreloadSplit::kEqual;  // total: equal | area

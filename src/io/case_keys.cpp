@@ -58,6 +58,9 @@ const std::vector<CaseKey>& case_keys() {
     {"contacts[]", "law", "see above", "", "required", false, "friction | jenkins | gap | cubic | linear, or a law registered by the program"},
     {"contacts[]", "between", "map body → node selection", "", "one of `between`/`pairs`/`pairs_file`", false, "two bodies"},
     {"contacts[]", "tolerance", "number > 0", "m", "`1.0e-6`", false, "coincidence distance for between"},
+    {"contacts[]", "coupling", "`nodes` | `mortar`", "", "`nodes`", false, "between two bodies: coincident nodes, or the two surfaces coupled by mortar weights"},
+    {"contacts[]", "search_distance", "number ≥ 0", "m", "`0` (automatic: half the median edge of A's faces)", false, "coupling: mortar: how far from A's faces B's faces are looked for"},
+    {"contacts[]", "unpaired", "`error` | `skip`", "", "`error`", false, "coupling: mortar: a point not wholly over B is an error, or left out with a warning"},
     {"contacts[]", "bodies", "[A, B]", "", "required with `pairs`/`pairs_file`", false, "the bodies the listed node ids belong to"},
     {"contacts[]", "pairs", "list of [id_A, id_B]", "", "", false, "pairs by external node ids"},
     {"contacts[]", "pairs_file", "path", "", "", false, "CSV, one pair per line: id_A,id_B"},
@@ -67,6 +70,7 @@ const std::vector<CaseKey>& case_keys() {
     {"contacts[]", "per_pair", "map of parameters", "", "one of `per_pair`/`total`", true, "the law's parameters for every pair"},
     {"contacts[]", "total", "map of parameters + `split`", "", "", true, "totals over all pairs: kt, kn, k, k1, k3, preload are split over the pairs"},
     {"contacts[]", "total.split", "`equal` | `area`", "", "`equal`", false, "split equally, or in proportion to each pair's tributary area"},
+    {"contacts[]", "per_area", "map of parameters", "", "", true, "values per unit area, multiplied by each pair's area (N/m³; preload in Pa)"},
     {"contacts[]", "preload_file", "path", "", "none", false, "CSV, one line per pair: id_A,preload"},
     {"contacts[]", "gap", "number ≥ 0", "m", "`0`", true, "initial gap g0"},
     {"excitation[]", "body", "body name", "", "required", false, "the body the force acts on"},
@@ -148,7 +152,7 @@ std::vector<std::string> study_parameter_paths() {
       section = section.substr(0, section.size() - 2) + "[i]";
     }
     std::string path = section + "." + std::string(k.key);
-    if (k.key == "per_pair" || k.key == "total") path += ".<parameter>";
+    if (k.key == "per_pair" || k.key == "total" || k.key == "per_area") path += ".<parameter>";
     out.push_back(path);
   }
   return out;

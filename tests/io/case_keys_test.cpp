@@ -168,14 +168,18 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
   const YAML::Node root = YAML::Load(describe_case(c));
   // Keys whose default describe_case does not write as the value: the output folder is written
   // resolved (an absolute path), `aft` only when the case gives it (the default then warns less),
-  // `max_points` and recovery `modes` only with the method they belong to (continuation, modal),
-  // `gap` is exclusive with the preload this case gives, `mass_rule` only when it is calculix
-  // (describe_case enters the reduction's fingerprint, which stays that of earlier runs for the
-  // default), the .msh-only and `supports` keys belong to blocks this case does not have.
+  // `coupling` and `unpaired` only for mortar contacts (the default keeps the fingerprints of
+  // earlier runs), `max_points` and recovery `modes` only with the method they belong to
+  // (continuation, modal), `gap` is exclusive with the preload this case gives, `mass_rule` only
+  // when it is calculix (describe_case enters the reduction's fingerprint, which stays that of
+  // earlier runs for the default), the .msh-only and `supports` keys belong to blocks this case
+  // does not have.
   const std::set<std::string> not_written{"output.directory",
                                           "analysis.aft",
                                           "bodies.NAME.mass_rule",
                                           "contacts[].gap",
+                                          "contacts[].coupling",
+                                          "contacts[].unpaired",
                                           "analysis.max_points",
                                           "recovery.modes",
                                           "meshes.NAME.hexahedron8",
@@ -222,6 +226,7 @@ static_loads:
        {"contacts.joint.per_pair.kt", "contacts.joint.per_pair.mu",
         "contacts.joint.per_pair.preload"}},
       {"contacts.NAME.total.<parameter>", {}},  // per_pair here: refused below
+      {"contacts.NAME.per_area.<parameter>", {}},
       {"contacts.NAME.gap", {"contacts.joint.gap"}},
       {"excitation[i].amplitude", {"excitation[0].amplitude"}},
       {"static_loads[i].force", {"static_loads[0].force"}},
