@@ -388,8 +388,9 @@ TEST(DamperCli, FreeBlockHeldBySpringsBetweenClampedBlocksMatchesCalculix) {
     int checked = 0;
     for (const auto& row : read_csv(out / "recovery_check.csv")) {
       if (row.at("body") != "D") continue;
-      if (!modal || row.at("harmonic") == "0")
+      if (!modal || row.at("harmonic") == "0") {
         EXPECT_LT(std::stod(row.at("max_relative")), 1e-8) << "harmonic " << row.at("harmonic");
+      }
       ++checked;
     }
     EXPECT_EQ(checked, 2);  // harmonics 0 and 1 at the one recovered point
