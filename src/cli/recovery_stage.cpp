@@ -201,7 +201,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   const RecoveryMethod method = def.recovery.method;
   const RayleighDamping damping{def.damping.alpha, def.damping.beta};
   const bool want_stress = std::find(def.recovery.fields.begin(), def.recovery.fields.end(),
-                                     "stress") != def.recovery.fields.end();
+                                     RecoveryField::kStress) != def.recovery.fields.end();
 
   struct Row {
     int point, body, harmonic;

@@ -127,6 +127,11 @@ const Choices<RecoveryMethod>& choices_of(RecoveryMethod) {
                                          {"expansion", RecoveryMethod::kExpansion}};
   return c;
 }
+const Choices<RecoveryField>& choices_of(RecoveryField) {
+  static const Choices<RecoveryField> c{{"displacement", RecoveryField::kDisplacement},
+                                        {"stress", RecoveryField::kStress}};
+  return c;
+}
 const Choices<TwoBeamOptions::Arrangement>& choices_of(TwoBeamOptions::Arrangement) {
   static const Choices<TwoBeamOptions::Arrangement> c{{"butt", TwoBeamOptions::Arrangement::kButt},
                                                       {"lap", TwoBeamOptions::Arrangement::kLap}};
@@ -154,6 +159,7 @@ const char* case_name(InitialGuessChoice v) { return name_of(v); }
 const char* case_name(PredictorChoice v) { return name_of(v); }
 const char* case_name(RecoveryPoints v) { return name_of(v); }
 const char* case_name(RecoveryMethod v) { return name_of(v); }
+const char* case_name(RecoveryField v) { return name_of(v); }
 const char* case_name(TwoBeamOptions::Arrangement v) { return name_of(v); }
 
 namespace {
@@ -792,6 +798,13 @@ void parse_meshes(Parser& p, const MapView& top) {
       });
 }
 
+// A support direction's name: x, y, z, or t1, t2, n in a local frame.
+const char* support_direction_name(int row, bool local_frame) {
+  static const char* const kGlobal[3] = {"x", "y", "z"};
+  static const char* const kLocal[3] = {"t1", "t2", "n"};
+  return (local_frame ? kLocal : kGlobal)[row];
+}
+
 // bodies.B.supports: a list of {nodes, directions, normal, t1}.
 std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
   const YAML::Node& list = body.value("supports");
@@ -846,9 +859,10 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
               "unknown direction '" + name + "': expected " + join(names, ", ") +
                   (d.local_frame ? " (the rows of the frame of 'normal')"
                                  : " (global axes; t1, t2, n need 'normal')"));
-      p.check(std::find(d.directions.begin(), d.directions.end(), name) == d.directions.end(),
+      const int row = static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
+      p.check(std::find(d.directions.begin(), d.directions.end(), row) == d.directions.end(),
               m.full("directions"), m.line("directions"), "direction '" + name + "' given twice");
-      d.directions.push_back(name);
+      d.directions.push_back(row);
     }
     out.push_back(std::move(d));
   }
@@ -1502,9 +1516,11 @@ void parse_recovery(Parser& p, const MapView& top) {
     for (const YAML::Node& f : v) {
       const std::string s =
           p.choice(f, m.full("fields"), m.line("fields"), {"displacement", "stress"});
-      p.check(std::find(r.fields.begin(), r.fields.end(), s) == r.fields.end(), m.full("fields"),
-              m.line("fields"), "'" + s + "' listed twice");
-      r.fields.push_back(s);
+      const RecoveryField field =
+          s == "stress" ? RecoveryField::kStress : RecoveryField::kDisplacement;
+      p.check(std::find(r.fields.begin(), r.fields.end(), field) == r.fields.end(),
+              m.full("fields"), m.line("fields"), "'" + s + "' listed twice");
+      r.fields.push_back(field);
     }
   }
   if (m.has("nodes")) {
@@ -2078,7 +2094,9 @@ std::string describe_case(const CaseDefinition& c) {
           }
           e << YAML::BeginMap << YAML::Key << "nodes" << YAML::Value;
           selection(sd.nodes);
-          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << sd.directions;
+          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+          for (int d : sd.directions) e << support_direction_name(d, sd.local_frame);
+          e << YAML::EndSeq;
           if (sd.local_frame) {
             e << YAML::Key << "normal" << YAML::Value << YAML::Flow
               << std::vector<double>(sd.normal.begin(), sd.normal.end());
@@ -2255,8 +2273,9 @@ std::string describe_case(const CaseDefinition& c) {
   }
   e << YAML::Key << "method" << YAML::Value << case_name(r.method);
   if (r.method == RecoveryMethod::kModal) e << YAML::Key << "modes" << YAML::Value << r.modes;
-  e << YAML::Key << "fields" << YAML::Value;
-  vec(r.fields);
+  e << YAML::Key << "fields" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (RecoveryField f : r.fields) e << case_name(f);
+  e << YAML::EndSeq;
   e << YAML::Key << "nodes" << YAML::Value;
   vec(r.nodes);
   e << YAML::EndMap;

@@ -769,10 +769,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
                                 : frame_from_normal(Eigen::Vector3d(sd.normal.data()),
                                                     Eigen::Vector3d(sd.t1.data())))
                          : Eigen::Matrix3d::Identity();
-      for (const std::string& d : sd.directions) {
-        const int row = (d == "x" || d == "t1") ? 0 : (d == "y" || d == "t2") ? 1 : 2;
-        directions.push_back(R.row(row).transpose());
-      }
+      for (int row : sd.directions) directions.push_back(R.row(row).transpose());
       for (int n : resolve_nodes(def, key + ".nodes", body, sd.nodes))
         body.supports.push_back({n, directions, origin});
     }

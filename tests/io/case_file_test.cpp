@@ -1,4 +1,5 @@
 #include "io/case_file.h"
+#include "minimal_case.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -23,25 +24,7 @@ const std::string kDir = std::string(STICKSLIP_TEST_DATA_DIR) + "/case";
 constexpr double kComputed = 1e-12;  // a few ulps of O(1) products of sin/cos/sqrt
 
 // A minimal valid case; the line numbers matter to the tests below (line 1 = "stickslip: 1").
-const std::string kMinimal = R"(stickslip: 1
-materials:
-  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
-meshes:
-  joint: {generate: two_beam}
-bodies:
-  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
-  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}
-contacts:
-  - name: joint
-    law: friction
-    between: {beam1: CONTACT1, beam2: CONTACT2}
-    normal: [1, 0, 0]
-    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}
-excitation:
-  - {body: beam1, node_set: FORCE1, direction: z, amplitude: 50}
-analysis:
-  frequency: {start_hz: 1852, stop_hz: 1856, step_hz: 0.01}
-)";
+const std::string& kMinimal = testing_cases::kMinimalCase;
 
 // kMinimal with `old` (which must occur once) replaced by `replacement`.
 std::string edited(const std::string& old, const std::string& replacement) {
@@ -171,7 +154,8 @@ TEST(CaseFile, ReferenceCaseParsesIntoTheExpectedDefinition) {
 
   EXPECT_EQ(c.recovery.points, RecoveryPoints::kPeak);
   EXPECT_EQ(c.recovery.method, RecoveryMethod::kDirect);
-  EXPECT_EQ(c.recovery.fields, (std::vector<std::string>{"displacement", "stress"}));
+  EXPECT_EQ(c.recovery.fields,
+            (std::vector<RecoveryField>{RecoveryField::kDisplacement, RecoveryField::kStress}));
 
   EXPECT_EQ(c.output.directory, kDir + "/results");  // resolved against the case file
   EXPECT_TRUE(c.output.vtu);
@@ -282,7 +266,7 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(c.recovery.frequencies_hz, (std::vector<double>{150, 250.5}));
   EXPECT_EQ(c.recovery.method, RecoveryMethod::kModal);
   EXPECT_EQ(c.recovery.modes, 40);
-  EXPECT_EQ(c.recovery.fields, std::vector<std::string>{"stress"});
+  EXPECT_EQ(c.recovery.fields, std::vector<RecoveryField>{RecoveryField::kStress});
   EXPECT_EQ(c.recovery.nodes, std::vector<int>{7});
 
   EXPECT_EQ(c.output.directory, "/tmp/out");  // absolute: kept
@@ -858,6 +842,22 @@ TEST(CaseFile, EveryChoiceIsReadIntoItsValueAndWrittenBackByName) {
           return c.recovery.points == RecoveryPoints::kNone &&
                  c.recovery.method == RecoveryMethod::kExpansion;
         });
+  check("recovery: {fields: [stress]}\n", "fields: [stress]", [](const CaseDefinition& c) {
+    return c.recovery.fields == std::vector<RecoveryField>{RecoveryField::kStress};
+  });
+  // Support directions: rows 0, 1, 2 named x, y, z, or t1, t2, n in a local frame.
+  const std::string beam1 =
+      "  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}\n";
+  const CaseDefinition held = parse(
+      edited(beam1,
+             "  beam1: {mesh: joint, element_set: BEAM1, material: steel, supports: [{nodes: "
+             "CLAMP1, directions: [z, x]}, {nodes: FORCE1, directions: n, normal: [0, 0, 1]}]}\n"));
+  const std::vector<SupportDefinition>& s = held.bodies.at("beam1").supports;
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].directions, (std::vector<int>{2, 0}));
+  EXPECT_EQ(s[1].directions, (std::vector<int>{2}));
+  EXPECT_NE(describe_case(held).find("directions: [z, x]"), std::string::npos);
+  EXPECT_NE(describe_case(held).find("directions: [n]"), std::string::npos);
   // Not given: the default, and no `aft` written (event without the fall-back warning).
   const CaseDefinition plain = parse(kMinimal);
   EXPECT_FALSE(plain.analysis.aft_given);

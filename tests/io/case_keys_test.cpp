@@ -18,6 +18,7 @@
 
 #include "core/errors.h"
 #include "io/case_file.h"
+#include "minimal_case.h"
 
 namespace stickslip {
 namespace {
@@ -101,25 +102,7 @@ TEST(CaseKeys, TheDocumentationDescribesExactlyTheTableKeysWithTheSameDefaults) 
 }
 
 // A case that gives nothing optional: describe_case writes the defaults.
-const std::string kMinimal = R"(stickslip: 1
-materials:
-  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
-meshes:
-  joint: {generate: two_beam}
-bodies:
-  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
-  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}
-contacts:
-  - name: joint
-    law: friction
-    between: {beam1: CONTACT1, beam2: CONTACT2}
-    normal: [1, 0, 0]
-    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}
-excitation:
-  - {body: beam1, node_set: FORCE1, direction: z, amplitude: 50}
-analysis:
-  frequency: {start_hz: 1852, stop_hz: 1856, step_hz: 0.01}
-)";
+const std::string& kMinimal = testing_cases::kMinimalCase;
 
 // The node of `section` in a described case (NAME: the first entry, []: the first element).
 YAML::Node section_node(YAML::Node root, const std::string& section) {
