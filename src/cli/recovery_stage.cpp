@@ -15,6 +15,7 @@
 #include <fmt/ostream.h>
 
 #include "cli/progress.h"
+#include "cli/results_files.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "fe/stress.h"
@@ -178,7 +179,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                   const PreparedModel& model, const FrequencyResponse& response,
                   const std::vector<int>& points,
                   const std::function<void(const std::string&)>& progress,
-                  std::vector<PlotSeries>* full_frf) {
+                  std::vector<PlotSeries>* full_frf, double study_value) {
   if (points.empty()) return;
   const std::vector<int>& harmonics = response.harmonics;
   const int nh = static_cast<int>(harmonics.size());
@@ -191,8 +192,11 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     double max_rel, rms_rel, reference_max, max_abs;
   };
   std::vector<Row> check;
-  std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
-  std::string reactions_csv = "point,body,node,dof,harmonic,real,imag\n";
+  // Every number the shortest decimal that reads back to the same double, units in the column
+  // names, and with a study the parameter and value on every row (docs/output-files.md).
+  const StudyColumns study = study_columns(def, study_value);
+  std::string nodes_csv = "point,body,node,axis,harmonic,real_m,imag_m" + study.header + "\n";
+  std::string reactions_csv = "point,body,node,axis,harmonic,real_n,imag_n" + study.header + "\n";
   bool any_reactions = false;
 
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
@@ -297,9 +301,9 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (size_t i = 0; i < held_nodes.size(); ++i) {
           for (int d = 0; d < 3; ++d) {
             const std::complex<double> v = r.reactions(3 * static_cast<Eigen::Index>(i) + d, h);
-            reactions_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name,
+            reactions_csv += fmt::format("{},{},{},{},{},{},{}{}\n", pi, body.name,
                                          body.mesh.node_ids[held_nodes[i]], kAxes[d],
-                                         harmonics[h], v.real(), v.imag());
+                                         harmonics[h], v.real(), v.imag(), study.cells);
           }
         }
       }
@@ -311,8 +315,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int d = 0; d < 3; ++d) {
           for (int h = 0; h < nh; ++h) {
             const std::complex<double> v = x(dof_of(node, d), h);
-            nodes_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, id, kAxes[d],
-                                     harmonics[h], v.real(), v.imag());
+            nodes_csv += fmt::format("{},{},{},{},{},{},{}{}\n", pi, body.name, id, kAxes[d],
+                                     harmonics[h], v.real(), v.imag(), study.cells);
           }
         }
       }
@@ -372,11 +376,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);
   write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
     out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative,"
-           "max_absolute_m\n";
+           "max_absolute_m"
+        << study.header << "\n";
     for (const Row& r : check) {
-      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e},{:.6e}\n", r.point,
+      fmt::print(out, "{},{},{},{},{},{},{},{}{}\n", r.point,
                  rad_s_to_hz(response.points[r.point].omega), model.bodies[r.body].name, r.harmonic,
-                 r.reference_max, r.max_rel, r.rms_rel, r.max_abs);
+                 r.reference_max, r.max_rel, r.rms_rel, r.max_abs, study.cells);
     }
   });
   if (any_reactions) {

@@ -124,7 +124,7 @@ std::map<int, std::array<double, 3>> static_reactions(const fs::path& results) {
   std::map<int, std::array<double, 3>> out;
   for (const auto& row : read_csv(results / "reactions.csv")) {
     if (row.at("point") != "0" || row.at("harmonic") != "0") continue;
-    out[std::stoi(row.at("node"))][row.at("dof")[0] - 'x'] = std::stod(row.at("real"));
+    out[std::stoi(row.at("node"))][row.at("axis")[0] - 'x'] = std::stod(row.at("real_n"));
   }
   return out;
 }
@@ -134,9 +134,9 @@ std::map<std::pair<int, int>, std::complex<double>> response(const fs::path& res
   std::map<std::pair<int, int>, std::complex<double>> out;
   for (const auto& row : read_csv(results / "master_response.csv")) {
     if (row.at("point") != "0" || row.at("node") != std::to_string(node)) continue;
-    const int dof = row.at("dof")[0] - 'x';
-    out[{std::stoi(row.at("harmonic")), dof}] = {std::stod(row.at("real")),
-                                                 std::stod(row.at("imag"))};
+    const int dof = row.at("axis")[0] - 'x';
+    out[{std::stoi(row.at("harmonic")), dof}] = {std::stod(row.at("real_m")),
+                                                 std::stod(row.at("imag_m"))};
   }
   return out;
 }
