@@ -81,7 +81,8 @@ const Choices<PreloadSplit>& choices_of(PreloadSplit) {
   return c;
 }
 const Choices<ContactCoupling>& choices_of(ContactCoupling) {
-  static const Choices<ContactCoupling> c{{"nodes", ContactCoupling::kNodes},
+  static const Choices<ContactCoupling> c{{"auto", ContactCoupling::kAuto},
+                                          {"nodes", ContactCoupling::kNodes},
                                           {"mortar", ContactCoupling::kMortar}};
   return c;
 }
@@ -690,34 +691,56 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
     parse_element_type(e, &d.element);
   }
   m.boolean("coarse", &d.coarse);
-  for (const char* key : {"box", "end_block"}) {
-    if (!m.has(key)) continue;
+  const auto counts = [&](const char* key, std::array<int, 3>& dst) {
     const YAML::Node& v = m.value(key);
     p.sequence(v, m.full(key), m.line(key));
     p.check(v.size() == 3, m.full(key), m.line(key),
             "expected 3 element counts [x, y, z], got " + std::to_string(v.size()));
-    std::array<int, 3>& dst = std::string(key) == "box" ? d.box : d.end_block;
     for (size_t i = 0; i < 3; ++i) {
       dst[i] = p.integer(v[i], m.full(key), m.line(key));
       p.check(dst[i] >= 1, m.full(key), m.line(key), "element counts must be >= 1");
     }
-  }
-  if (m.has("box") || m.has("end_block")) {
-    // Elements of one beam, the product saturated at the limit (three counts below 2^31 each
-    // could overflow 64 bits).
-    const auto elements = [](const std::array<int, 3>& c) {
-      long long e = 1;
-      for (int n : c) e = std::min(e * n, kMaxGeneratedElements + 1);
-      return e;
-    };
-    const auto text = [](const std::array<int, 3>& c) {
-      return fmt::format("[{}, {}, {}]", c[0], c[1], c[2]);
-    };
-    const char* key = m.has("end_block") ? "end_block" : "box";
-    p.check(elements(d.box) + elements(d.end_block) <= kMaxGeneratedElements, m.full(key),
+  };
+  if (m.has("box")) counts("box", d.box);
+  if (m.has("end_block")) counts("end_block", d.end_block);
+  if (m.has("beam2_box")) counts("beam2_box", d.beam2_box.emplace());
+  if (m.has("beam2_end_block")) counts("beam2_end_block", d.beam2_end_block.emplace());
+  // Elements of one beam, the product saturated at the limit (three counts below 2^31 each
+  // could overflow 64 bits).
+  const auto elements = [](const std::array<int, 3>& c) {
+    long long e = 1;
+    for (int n : c) e = std::min(e * n, kMaxGeneratedElements + 1);
+    return e;
+  };
+  const auto text = [](const std::array<int, 3>& c) {
+    return fmt::format("[{}, {}, {}]", c[0], c[1], c[2]);
+  };
+  // Each beam's box and end block (beam 2's under the keys `prefix`), checked where given.
+  const auto check_beam = [&](const std::array<int, 3>& box, const std::array<int, 3>& end_block,
+                              const std::string& prefix) {
+    const std::string box_key = prefix + "box", end_key = prefix + "end_block";
+    if (!m.has(box_key) && !m.has(end_key)) return;
+    const std::string key = m.has(end_key) ? end_key : box_key;
+    p.check(elements(box) + elements(end_block) <= kMaxGeneratedElements, m.full(key),
             m.line(key),
-            "box " + text(d.box) + " and end_block " + text(d.end_block) + " make more than " +
-                std::to_string(kMaxGeneratedElements) + " elements per beam");
+            prefix + "box " + text(box) + " and " + prefix + "end_block " + text(end_block) +
+                " make more than " + std::to_string(kMaxGeneratedElements) +
+                " elements per beam");
+    if (d.coarse) return;
+    const std::string y_key = m.has(end_key) ? end_key : box_key;
+    const std::string z_key = m.has(box_key) ? box_key : end_key;
+    p.check(end_block[1] == box[1], m.full(y_key), m.line(y_key),
+            "a conforming mesh needs " + end_key + "[1] (y) = " + box_key + "[1], got " +
+                std::to_string(end_block[1]) + " and " + std::to_string(box[1]));
+    p.check(box[2] > end_block[2], m.full(z_key), m.line(z_key),
+            "a conforming mesh needs " + box_key + "[2] (z) > " + end_key + "[2], got " +
+                std::to_string(box[2]) + " and " + std::to_string(end_block[2]));
+  };
+  check_beam(d.box, d.end_block, "");
+  if (d.beam2_box || d.beam2_end_block) {
+    p.check(!d.coarse, m.full("coarse"), m.line("coarse"),
+            "the thesis's coarse mesh has no beam2_box or beam2_end_block");
+    check_beam(d.beam2_box.value_or(d.box), d.beam2_end_block.value_or(d.end_block), "beam2_");
   }
   for (const char* key : {"beam_length", "width", "thickness", "end_length"}) {
     if (!m.has(key)) continue;
@@ -728,14 +751,6 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
      : k == "width"     ? d.width
      : k == "thickness" ? d.thickness
                         : d.end_length) = v;
-  }
-  if (!d.coarse) {
-    p.check(d.end_block[1] == d.box[1], m.full("end_block"), m.line("end_block"),
-            "a conforming mesh needs end_block[1] (y) = box[1], got " +
-                std::to_string(d.end_block[1]) + " and " + std::to_string(d.box[1]));
-    p.check(d.box[2] > d.end_block[2], m.full("box"), m.line("box"),
-            "a conforming mesh needs box[2] (z) > end_block[2], got " + std::to_string(d.box[2]) +
-                " and " + std::to_string(d.end_block[2]));
   }
 }
 
@@ -753,9 +768,9 @@ void parse_meshes(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "meshes",
       [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
-        const std::vector<std::string> two_beam_keys{"arrangement", "element",   "coarse",
-                                                     "box",         "end_block", "beam_length",
-                                                     "width",       "thickness", "end_length"};
+        const std::vector<std::string> two_beam_keys{
+            "arrangement", "element",     "coarse", "box",       "end_block",  "beam2_box",
+            "beam2_end_block", "beam_length", "width", "thickness", "end_length"};
         MapView m(p, node, path, line, case_keys_in("meshes.NAME"));
         MeshDefinition d;
         m.exclusive("generate", "file");
@@ -1026,13 +1041,24 @@ void parse_contacts(Parser& p, const MapView& top) {
         p.check(d.body_b != "ground", m.full("coupling"), m.line("coupling"),
                 "mortar couples two surfaces: 'between' needs two bodies");
         m.forbid("tolerance", "with coupling: mortar (use 'search_distance')");
+      }
+      // One body (to the ground): each node is a pair, nothing is mortar's.
+      const bool nodes_only = d.coupling == ContactCoupling::kNodes || d.body_b == "ground";
+      if (nodes_only) {
+        const std::string why = d.body_b == "ground" ? "with one body (it is mortar's)"
+                                                     : "with coupling: nodes (it is mortar's)";
+        m.forbid("search_distance", why);
+        m.forbid("unpaired", why);
+      }
+      // auto: the coincidence tolerance decides whether the surfaces match; mortar's keys
+      // apply when they do not.
+      if (!nodes_only) {
         m.number("search_distance", &d.search_distance);
         p.check(d.search_distance >= 0, m.full("search_distance"), m.line("search_distance"),
                 "must be >= 0 (0: automatic), got " + format_number(d.search_distance));
         m.choice("unpaired", &d.unpaired);
-      } else {
-        m.forbid("search_distance", "without coupling: mortar");
-        m.forbid("unpaired", "without coupling: mortar");
+      }
+      if (d.coupling != ContactCoupling::kMortar) {
         m.number("tolerance", &d.tolerance);
         p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
                 "must be > 0, got " + format_number(d.tolerance));
@@ -2061,6 +2087,14 @@ std::string describe_case(const CaseDefinition& c) {
       vec(t.box);
       e << YAML::Key << "end_block" << YAML::Value;
       vec(t.end_block);
+      if (t.beam2_box) {  // only when given: the default keeps earlier fingerprints
+        e << YAML::Key << "beam2_box" << YAML::Value;
+        vec(*t.beam2_box);
+      }
+      if (t.beam2_end_block) {
+        e << YAML::Key << "beam2_end_block" << YAML::Value;
+        vec(*t.beam2_end_block);
+      }
       e << YAML::Key << "beam_length" << YAML::Value << num(t.beam_length);
       e << YAML::Key << "width" << YAML::Value << num(t.width);
       e << YAML::Key << "thickness" << YAML::Value << num(t.thickness);
@@ -2140,13 +2174,15 @@ std::string describe_case(const CaseDefinition& c) {
         selection(d.nodes_b);
       }
       e << YAML::EndMap;
-      if (d.coupling == ContactCoupling::kMortar) {
+      // The default (auto) and its defaults are not written: earlier fingerprints stay.
+      if (d.coupling != ContactCoupling::kAuto)
         e << YAML::Key << "coupling" << YAML::Value << case_name(d.coupling);
-        e << YAML::Key << "search_distance" << YAML::Value << num(d.search_distance);
-        e << YAML::Key << "unpaired" << YAML::Value << case_name(d.unpaired);
-      } else {
+      if (d.coupling != ContactCoupling::kMortar)
         e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
-      }
+      if (d.coupling == ContactCoupling::kMortar || d.search_distance != 0.0)
+        e << YAML::Key << "search_distance" << YAML::Value << num(d.search_distance);
+      if (d.coupling == ContactCoupling::kMortar || d.unpaired != UnpairedChoice::kError)
+        e << YAML::Key << "unpaired" << YAML::Value << case_name(d.unpaired);
     } else {
       e << YAML::Key << "bodies" << YAML::Value;
       vec(std::vector<std::string>{d.body_a, d.body_b});

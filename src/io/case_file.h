@@ -29,6 +29,7 @@
 #include <complex>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -78,7 +79,7 @@ inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 enum class MeshFileFormat { kInp, kMsh, kCdb };                                 // meshes.M.format
 enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  // reduced.format
 enum class PreloadSplit { kEqual, kArea };                  // contacts.C.total.split
-enum class ContactCoupling { kNodes, kMortar };             // contacts.C.coupling
+enum class ContactCoupling { kAuto, kNodes, kMortar };      // contacts.C.coupling
 enum class UnpairedChoice { kError, kSkip };                // contacts.C.unpaired
 enum class SweepMethod { kStepped, kContinuation };         // analysis.method
 enum class AftChoice { kEvent, kSampled };                  // analysis.aft
@@ -116,10 +117,12 @@ struct TwoBeamDefinition {
   bool coarse = false;                        // thesis_coarse: 7x5x1 + 4x5x4, 240 nodes per beam
   std::array<int, 3> box{25, 5, 8};           // elements of the large box along x, y, z
   std::array<int, 3> end_block{5, 5, 4};      // elements of the end block along x, y, z
-  double beam_length = 0.25;                  // L, m
-  double width = 0.05;                        // W, m
-  double thickness = 0.03;                    // T, m
-  double end_length = 0.05;                   // e, m
+  // Beam 2's own box and end block (a contact face meshed unlike beam 1's); unset: box, end_block.
+  std::optional<std::array<int, 3>> beam2_box, beam2_end_block;
+  double beam_length = 0.25;  // L, m
+  double width = 0.05;        // W, m
+  double thickness = 0.03;    // T, m
+  double end_length = 0.05;   // e, m
 };
 
 struct MeshDefinition {
@@ -225,8 +228,9 @@ struct ContactDefinition {
   bool uses_frame = false;
   // `between` pairs: `nodes` (coincident nodes, within `tolerance`) or `mortar` (the nodes of the
   // two selections are surfaces: one contact point per node of A's faces, tied to B's nodes by
-  // the mortar weights of mesh/mortar.h).
-  ContactCoupling coupling = ContactCoupling::kNodes;
+  // the mortar weights of mesh/mortar.h); `auto`: nodes when the two selections coincide node for
+  // node (each node of either one exactly one partner in the other), else mortar.
+  ContactCoupling coupling = ContactCoupling::kAuto;
   double search_distance = 0.0;  // m, mortar: how far B may lie from A's faces (0: automatic)
   UnpairedChoice unpaired =
       UnpairedChoice::kError;  // mortar: points not wholly over B: error | skip

@@ -178,21 +178,30 @@ void validate(const TwoBeamOptions& o) {
           "must be a hexahedron (C3D8, C3D8I, C3D20, C3D20R)");
   if (o.thesis_coarse) return;
   constexpr int kMaxDivisions = 10000;
-  auto count = [&](int v, const char* field) {
-    require(v >= 1 && v <= kMaxDivisions, std::string("TwoBeamOptions::") + field,
-            std::to_string(v), "must be in 1.." + std::to_string(kMaxDivisions));
+  auto count = [&](int v, const std::string& field) {
+    require(v >= 1 && v <= kMaxDivisions, "TwoBeamOptions::" + field, std::to_string(v),
+            "must be in 1.." + std::to_string(kMaxDivisions));
   };
-  count(o.box.x, "box.x");
-  count(o.box.y, "box.y");
-  count(o.box.z, "box.z");
-  count(o.end_block.x, "end_block.x");
-  count(o.end_block.y, "end_block.y");
-  count(o.end_block.z, "end_block.z");
-  require(o.end_block.y == o.box.y, "TwoBeamOptions::end_block.y", std::to_string(o.end_block.y),
-          "must equal box.y = " + std::to_string(o.box.y) + " (conforming interface)");
-  require(o.end_block.z < o.box.z, "TwoBeamOptions::end_block.z", std::to_string(o.end_block.z),
-          "must be less than box.z = " + std::to_string(o.box.z) +
-              " (end_block.z layers of the large box lie below mid-thickness, the rest above)");
+  const auto check = [&](const BlockDivisions& box, const BlockDivisions& end_block,
+                         const std::string& prefix) {
+    count(box.x, (prefix + "box.x").c_str());
+    count(box.y, (prefix + "box.y").c_str());
+    count(box.z, (prefix + "box.z").c_str());
+    count(end_block.x, (prefix + "end_block.x").c_str());
+    count(end_block.y, (prefix + "end_block.y").c_str());
+    count(end_block.z, (prefix + "end_block.z").c_str());
+    require(
+        end_block.y == box.y, "TwoBeamOptions::" + prefix + "end_block.y",
+        std::to_string(end_block.y),
+        "must equal " + prefix + "box.y = " + std::to_string(box.y) + " (conforming interface)");
+    require(end_block.z < box.z, "TwoBeamOptions::" + prefix + "end_block.z",
+            std::to_string(end_block.z),
+            "must be less than " + prefix + "box.z = " + std::to_string(box.z) +
+                " (end_block.z layers of the large box lie below mid-thickness, the rest above)");
+  };
+  check(o.box, o.end_block, "");
+  if (o.beam2_box || o.beam2_end_block)
+    check(o.beam2_box.value_or(o.box), o.beam2_end_block.value_or(o.end_block), "beam2_");
 }
 
 TwoBeamModel make_two_beam_model(const TwoBeamOptions& o) {
@@ -201,26 +210,35 @@ TwoBeamModel make_two_beam_model(const TwoBeamOptions& o) {
   const bool butt = o.arrangement == TwoBeamOptions::Arrangement::kButt;
   const double tolerance = kRelativeGeometryTolerance * std::max({L, W, T, e});
 
-  // Beam 1's boxes; beam 2's are their images under the arrangement's map.
-  std::vector<Box> beam1;
-  if (o.thesis_coarse) {
-    beam1.push_back({{0, 0, 0}, {L, W, T}, {7, 5, 1}});
-    beam1.push_back({{L, 0, 0}, {L + e, W, T / 2}, {4, 5, 4}});
-  } else {
-    const int below = o.end_block.z, above = o.box.z - o.end_block.z;
-    beam1.push_back({{0, 0, 0}, {L, W, T / 2}, {o.box.x, o.box.y, below}});
-    beam1.push_back({{0, 0, T / 2}, {L, W, T}, {o.box.x, o.box.y, above}});
-    beam1.push_back({{L, 0, 0}, {L + e, W, T / 2}, {o.end_block.x, o.box.y, below}});
-  }
+  // Each beam's boxes in beam 1's place; beam 2's are their images under the arrangement's map.
+  const auto boxes = [&](const BlockDivisions& box, const BlockDivisions& end_block) {
+    std::vector<Box> beam;
+    if (o.thesis_coarse) {
+      beam.push_back({{0, 0, 0}, {L, W, T}, {7, 5, 1}});
+      beam.push_back({{L, 0, 0}, {L + e, W, T / 2}, {4, 5, 4}});
+    } else {
+      const int below = end_block.z, above = box.z - end_block.z;
+      beam.push_back({{0, 0, 0}, {L, W, T / 2}, {box.x, box.y, below}});
+      beam.push_back({{0, 0, T / 2}, {L, W, T}, {box.x, box.y, above}});
+      beam.push_back({{L, 0, 0}, {L + e, W, T / 2}, {end_block.x, box.y, below}});
+    }
+    return beam;
+  };
+  const std::vector<Box> beam1 = boxes(o.box, o.end_block);
   auto image = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
     if (butt) return {2 * (L + e) - x.x(), x.y(), x.z()};
     return {2 * L + e - x.x(), x.y(), T - x.z()};
   };
   std::vector<Box> beam2;
-  for (const Box& b : beam1) {
+  for (const Box& b : boxes(o.beam2_box.value_or(o.box), o.beam2_end_block.value_or(o.end_block))) {
     const Eigen::Vector3d a = image(b.lower), c = image(b.upper);
     beam2.push_back({a.cwiseMin(c), a.cwiseMax(c), b.divisions});
   }
+  // The contact faces match node for node when beam 2's divisions of them are beam 1's.
+  const BlockDivisions b2 = o.beam2_box.value_or(o.box),
+                       e2 = o.beam2_end_block.value_or(o.end_block);
+  const bool matching = o.thesis_coarse ||
+                        (b2.y == o.box.y && (butt ? e2.z == o.end_block.z : e2.x == o.end_block.x));
 
   Mesh m1, m2;
   {
@@ -239,9 +257,11 @@ TwoBeamModel make_two_beam_model(const TwoBeamOptions& o) {
     contact1 = nodes_in_box(m1, {L, 0, T / 2}, {L + e, W, T / 2}, tolerance);
     contact2 = nodes_in_box(m2, {L, 0, T / 2}, {L + e, W, T / 2}, tolerance);
   }
-  STICKSLIP_VERIFY(contact1.size() == contact2.size() && !contact1.empty(),
-                   "two-beam model: contact faces do not match");
-  const auto pairs = match_coincident_nodes(m1, contact1, m2, contact2, tolerance);
+  STICKSLIP_VERIFY(
+      !contact1.empty() && !contact2.empty() && (!matching || contact1.size() == contact2.size()),
+      "two-beam model: contact faces do not match");
+  std::vector<std::pair<int, int>> pairs;
+  if (matching) pairs = match_coincident_nodes(m1, contact1, m2, contact2, tolerance);
 
   const Eigen::Vector3d force1(L, 0, T);
   const int f1 = node_at(m1, force1, tolerance, "FORCE1");

@@ -23,6 +23,9 @@
 // transfinite volumes that share only the nodes of their common edge (x = L, z = 0): 240 nodes and
 // 115 elements per beam. Non-conforming: the end block hangs on the large box by that edge only.
 // 20-node types give serendipity hexahedra (Gmsh's incomplete second order) on the same grid.
+// Beam 2 may have its own divisions (beam2_box, beam2_end_block; same rules): its contact face is
+// then meshed differently from beam 1's (non-matching: no node pairs, a contact needs mortar
+// coupling). Unset, beam 2 is beam 1's mirror image, node for node.
 //
 // Numbering: beam 1's nodes and elements get ids 1..n1 and 1..e1, beam 2's n1+1.. and e1+1..
 // (indices = ids − 1). Sets: element sets BEAM1, BEAM2; node sets BEAM1, BEAM2, CLAMP1 (x = 0),
@@ -35,6 +38,7 @@
 // each forced node coincides with a tip corner of the other beam's end block, unpaired.)
 #pragma once
 
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -57,6 +61,8 @@ struct TwoBeamOptions {
   double end_length = 0.05;           // e: x extent of the end block (and lap overlap), m
   BlockDivisions box{25, 5, 8};       // large box; conforming: box.z > end_block.z
   BlockDivisions end_block{5, 5, 4};  // end block; conforming: y must equal box.y
+  // Beam 2's divisions where they differ from beam 1's (box, end_block when unset).
+  std::optional<BlockDivisions> beam2_box, beam2_end_block;
   bool thesis_coarse = false;  // 7x5x1 + 4x5x4, only the shared edge merged; ignores the above
   ElementType element_type = ElementType::kC3D8I;  // a hexahedron type
 };
@@ -66,7 +72,7 @@ void validate(const TwoBeamOptions& options);
 struct TwoBeamModel {
   Mesh mesh;  // both beams
   // (node index on beam 1, node index on beam 2), coincident, one per node of the contact face,
-  // sorted by the beam-1 index.
+  // sorted by the beam-1 index; empty when beam 2's contact face is meshed differently.
   std::vector<std::pair<int, int>> contact_pairs;
   Eigen::Vector3d contact_normal;  // unit, out of beam 1 into beam 2
   int force_node_1 = -1;           // node indices (see the header comment)

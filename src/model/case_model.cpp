@@ -73,6 +73,10 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
       o.end_length = t.end_length;
       o.box = {t.box[0], t.box[1], t.box[2]};
       o.end_block = {t.end_block[0], t.end_block[1], t.end_block[2]};
+      if (t.beam2_box) o.beam2_box = BlockDivisions{(*t.beam2_box)[0], (*t.beam2_box)[1], (*t.beam2_box)[2]};
+      if (t.beam2_end_block)
+        o.beam2_end_block =
+            BlockDivisions{(*t.beam2_end_block)[0], (*t.beam2_end_block)[1], (*t.beam2_end_block)[2]};
       o.thesis_coarse = t.coarse;
       o.element_type = t.element;
       return make_two_beam_model(o).mesh;
@@ -168,12 +172,16 @@ IsotropicMaterial body_material(const CaseDefinition& def, const std::string& na
 std::string mesh_description(const MeshDefinition& m) {
   if (m.source == MeshDefinition::Source::kGenerate) {
     const TwoBeamDefinition& t = m.two_beam;
+    std::string beam2;  // only when given: the default keeps earlier fingerprints
+    for (const auto& [name, c] : {std::pair{"beam2_box", t.beam2_box},
+                                  std::pair{"beam2_end_block", t.beam2_end_block}})
+      if (c) beam2 += fmt::format(" {} {} {} {}", name, (*c)[0], (*c)[1], (*c)[2]);
     return fmt::format(
         "generate {} arrangement {} element {} coarse {} box {} {} {} end_block {} {} {} "
         "size {:.17g} {:.17g} {:.17g} {:.17g}",
         m.generate, case_name(t.arrangement), element_type_name(t.element), t.coarse, t.box[0], t.box[1], t.box[2],
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
-        t.end_length);
+        t.end_length) + beam2;
   }
   // The file by its contents, not its path (a moved project keeps its reductions), and the
   // contents of the files it includes, in the order read.
@@ -281,6 +289,10 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
                     const std::vector<int>& nodes_a, const CaseBody& B,
                     const std::vector<int>& nodes_b, CaseContact& rc) {
   const std::string key = "contacts." + cd.name + ".between";
+  // What the messages start with: the coupling asked for, or chosen (auto).
+  const std::string lead = cd.coupling == ContactCoupling::kAuto
+                               ? "the surfaces do not match node for node, so coupling: mortar: "
+                               : "coupling: mortar: ";
   std::vector<ElementFace> faces[2];
   for (int side = 0; side < 2; ++side) {
     const CaseBody& body = side == 0 ? A : B;
@@ -288,14 +300,14 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
     if (const auto [e1, e2] = interior_face(body.mesh, nodes); e1 >= 0) {
       throw InvalidInput(
           def.where(key + "." + body.name),
-          fmt::format("coupling: mortar: the nodes of body {} hold a face shared by elements {} "
+          lead + fmt::format("the nodes of body {} hold a face shared by elements {} "
                       "and {}, inside the body: a contact surface is made of boundary faces only",
                       body.name, body.mesh.element_ids[e1], body.mesh.element_ids[e2]));
     }
     faces[side] = faces_within(body.mesh, nodes);
     if (faces[side].empty()) {
       throw InvalidInput(def.where(key + "." + body.name),
-                         fmt::format("coupling: mortar: the nodes of body {} hold no element face "
+                         lead + fmt::format("the nodes of body {} hold no element face "
                                      "(select whole faces of its surface)",
                                      body.name));
     }
@@ -306,7 +318,7 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
       if (!on_face.count(n)) stray.push_back(n);
     if (!stray.empty()) {
       throw InvalidInput(def.where(key + "." + body.name),
-                         fmt::format("coupling: mortar: node(s) {} of body {} lie on no element "
+                         lead + fmt::format("node(s) {} of body {} lie on no element "
                                      "face whose nodes are all selected (select whole faces)",
                                      listed_ids(body, stray), body.name));
     }
@@ -338,7 +350,7 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
                           what.empty() ? "" : "; ", listed_ids(A, partial), A.name, B.name);
     if (cd.unpaired != UnpairedChoice::kSkip) {
       throw InvalidInput(def.where(key),
-                         "coupling: mortar: " + what +
+                         lead + what +
                              ". Select on body " + A.name +
                              " only the part of its surface that faces the other body, raise "
                              "search_distance if the surfaces are apart, or give 'unpaired: "
@@ -367,13 +379,13 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
   if (!turned.empty()) {
     throw InvalidInput(
         def.where("contacts." + cd.name + ".normal"),
-        fmt::format("coupling: mortar: the surface of body {} at node(s) {} faces more than {}° "
+        lead + fmt::format("the surface of body {} at node(s) {} faces more than {}° "
                     "away from the contact's normal (out of {} into {})",
                     A.name, listed_ids(A, turned), format_number(kMaxNormalAngleDeg), A.name,
                     B.name));
   }
   if (rc.mortar.empty()) {
-    throw InvalidInput(def.where(key), "coupling: mortar: the contact has no points");
+    throw InvalidInput(def.where(key), lead + "the contact has no points");
   }
 }
 
@@ -421,18 +433,34 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
                        "pairs_file): there are no coordinates to match");
   }
   const std::vector<int> nodes_b = resolve_nodes(def, key + ".between", B, cd.nodes_b);
-  if (cd.coupling == ContactCoupling::kMortar) {
+  // auto: node-to-node only where the two selections coincide node for node (every node of
+  // either has one partner in the other); anything else is a non-matching interface, for which
+  // node pairs would leave B's other nodes untied and node-to-surface fails the patch test
+  // (docs/case-file.md, "Non-matching surfaces").
+  bool mortar = cd.coupling == ContactCoupling::kMortar;
+  if (cd.coupling == ContactCoupling::kAuto) {
+    try {
+      rc.node_pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
+      mortar = rc.node_pairs.size() != nodes_b.size();
+    } catch (const InvalidInput&) {
+      mortar = true;
+    }
+    if (mortar) rc.node_pairs.clear();
+  }
+  if (mortar) {
     resolve_mortar(def, cd, A, nodes_a, B, nodes_b, rc);
     check_preload_nodes(def, cd, A, rc);
     return rc;
   }
   try {
-    rc.node_pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
+    if (rc.node_pairs.empty())
+      rc.node_pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
   } catch (const InvalidInput& e) {
     throw InvalidInput(def.where(key + ".between"),
                        "contact nodes are not coincident within tolerance " +
                            fmt::format("{:g}", cd.tolerance) + " m: " + e.message() +
-                           " (surfaces meshed differently: give 'coupling: mortar')");
+                           " (surfaces meshed differently: leave 'coupling' out or give "
+                           "'coupling: mortar')");
   }
   if (rc.node_pairs.empty()) {
     throw InvalidInput(def.where(key + ".between"), "the contact has no node pairs");

@@ -408,6 +408,68 @@ TEST(MortarContactCli, TiedBarsModesAgainstCalculixTie) {
   }
 }
 
+// The default coupling (auto) is node-to-node where the surfaces match node for node and mortar
+// where they do not. Matching (2 x 2 | 2 x 2): the default pairs nodes (no coupling file) and its
+// results are those of coupling: mortar (every row of master_response.csv and contact_forces.csv,
+// relative to the largest value of its harmonic). Non-matching (2 x 2 | 3 x 3): the default is
+// mortar, the same results as coupling: mortar.
+TEST(MortarContactCli, MatchingSurfacesGiveTheSameAnswerWithEitherCoupling) {
+  const fs::path dir = fresh_dir("mortar_default");
+  // Mortar's weights are 1 to round-off on matching faces; the two runs' friction contacts stop at
+  // different Newton iterates within analysis.tolerance (1e-8): measured 1.5e-10.
+  constexpr double kSameAnswer = 1e-8;
+  const std::string law = fmt::format(
+      "    law: friction\n{{}}    per_area: {{{{kt: {}, kn: {}, mu: 0.5, preload: computed}}}}\n",
+      kKtPerArea, kKnPerArea);
+  // Each file's rows, keyed by everything but the value, and the largest |value| per harmonic.
+  struct Table {
+    std::map<std::string, std::pair<double, double>> rows;
+    std::map<std::string, double> largest;
+  };
+  const auto table = [](const fs::path& file) {
+    Table t;
+    for (const auto& r : read_csv(file)) {
+      std::string key;
+      for (const auto& [column, value] : r)
+        if (column != "real" && column != "imag") key += column + "=" + value + " ";
+      const double re = std::stod(r.at("real")), im = std::stod(r.at("imag"));
+      t.rows[key] = {re, im};
+      double& big = t.largest[r.at("harmonic")];
+      big = std::max(big, std::hypot(re, im));
+    }
+    return t;
+  };
+  for (const int ns2 : {2, 3}) {
+    const fs::path sub = dir / std::to_string(ns2);
+    fs::create_directories(sub);
+    std::ofstream(sub / "bars.inp") << two_bars_inp(2, ns2);
+    std::map<std::string, fs::path> out;
+    for (const std::string coupling : {"", "    coupling: mortar\n"}) {
+      const std::string name = coupling.empty() ? "default" : "mortar";
+      const fs::path c =
+          write_case(sub, name, pressed_bars_case(fmt::format(fmt::runtime(law), coupling)));
+      out[name] = sub / ("out_" + name);
+      ASSERT_EQ(run("run -q " + c.string() + " -o " + out[name].string(), sub / "run.log"), 0)
+          << slurp(sub / "run.log");
+    }
+    // The default pairs nodes only where the meshes match.
+    EXPECT_EQ(fs::exists(out["default"] / "contact_coupling.csv"), ns2 != 2) << ns2;
+    EXPECT_TRUE(fs::exists(out["mortar"] / "contact_coupling.csv"));
+    for (const char* file : {"master_response.csv", "contact_forces.csv"}) {
+      const Table a = table(out["default"] / file), b = table(out["mortar"] / file);
+      ASSERT_EQ(a.rows.size(), b.rows.size()) << file;
+      ASSERT_GT(a.rows.size(), 0u) << file;
+      for (const auto& [key, value] : a.rows) {
+        const auto it = b.rows.find(key);
+        ASSERT_NE(it, b.rows.end()) << file << " " << key;
+        const double scale = a.largest.at(key.substr(key.find("harmonic=") + 9, 1));
+        EXPECT_NEAR(value.first, it->second.first, kSameAnswer * scale) << file << " " << key;
+        EXPECT_NEAR(value.second, it->second.second, kSameAnswer * scale) << file << " " << key;
+      }
+    }
+  }
+}
+
 // On a conforming mesh mortar is node-to-node, and stiffness per unit area is today's total
 // split by area: the stuck stiffness of the reduced model is the same (round-off), and each
 // pair's kt, kn are the same.

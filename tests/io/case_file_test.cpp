@@ -434,6 +434,39 @@ TEST(CaseFileErrors, ListWhereAMapIsExpected) {
                  14, "contacts.joint.per_pair", "expected a map of keys, got a list");
 }
 
+// Beam 2's own mesh density and the coupling choice: rules at their keys, and both written back
+// by describe_case only when given (the default's fingerprints stay).
+TEST(CaseFileErrors, BeamTwoDivisionsAndCouplingKeysFollowTheirRules) {
+  const std::string mesh = "joint: {generate: two_beam}";
+  expect_invalid(edited(mesh,
+                        "joint: {generate: two_beam, box: [8, 2, 4], end_block: [2, 2, 2], "
+                        "beam2_box: [12, 3, 6], beam2_end_block: [3, 2, 3]}"),
+                 5, "meshes.joint.beam2_end_block",
+                 "needs beam2_end_block[1] (y) = beam2_box[1], got 2 and 3");
+  expect_invalid(edited(mesh, "joint: {generate: two_beam, coarse: true, beam2_box: [8, 5, 12]}"),
+                 5, "meshes.joint.coarse", "has no beam2_box or beam2_end_block");
+  const std::string normal = "    normal: [1, 0, 0]\n";
+  expect_invalid(edited(normal, normal + "    coupling: nodes\n    search_distance: 0.01\n"), 15,
+                 "contacts.joint.search_distance", "with coupling: nodes");
+  expect_invalid(edited(normal, normal + "    coupling: mortar\n    tolerance: 0.01\n"), 15,
+                 "contacts.joint.tolerance", "with coupling: mortar");
+  // Given: written back and read again the same; not given: not written.
+  const CaseDefinition given = parse(edited(
+      mesh, "joint: {generate: two_beam, beam2_box: [25, 8, 12], beam2_end_block: [5, 8, 6]}"));
+  const CaseDefinition nodes = parse(edited(normal, normal + "    coupling: nodes\n"));
+  EXPECT_EQ(parse(kMinimal).contacts[0].coupling, ContactCoupling::kAuto);
+  EXPECT_EQ(nodes.contacts[0].coupling, ContactCoupling::kNodes);
+  EXPECT_EQ(describe_case(parse(kMinimal)).find("coupling"), std::string::npos);
+  EXPECT_EQ(describe_case(parse(kMinimal)).find("beam2_"), std::string::npos);
+  const CaseDefinition again = parse(describe_case(nodes));
+  EXPECT_EQ(again.contacts[0].coupling, ContactCoupling::kNodes);
+  const CaseDefinition given_again = parse(describe_case(given));
+  ASSERT_TRUE(given_again.meshes.at("joint").two_beam.beam2_box.has_value());
+  EXPECT_EQ(*given_again.meshes.at("joint").two_beam.beam2_box, (std::array<int, 3>{25, 8, 12}));
+  EXPECT_EQ(*given_again.meshes.at("joint").two_beam.beam2_end_block,
+            (std::array<int, 3>{5, 8, 6}));
+}
+
 TEST(CaseFileErrors, IntegerExpected) {
   expect_invalid(edited("  frequency:", "  harmonics: 1.5\n  frequency:"), 18, "analysis.harmonics",
                  "expected an integer, got '1.5'");

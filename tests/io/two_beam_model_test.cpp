@@ -272,6 +272,38 @@ TEST(TwoBeamModel, NonDefaultCountsFollowTheClosedForms) {
   }
 }
 
+// Beam 2 with its own divisions (a non-matching joint): each beam's counts are the closed forms of
+// its own divisions, beam 2's contact face has (by + 1)(ez + 1) nodes of its own, and no node
+// pairs are made.
+TEST(TwoBeamModel, BeamTwoMeshedFinerHasItsOwnCountsAndNoPairs) {
+  TwoBeamOptions o;
+  o.element_type = ElementType::kC3D8;
+  o.box = {8, 2, 4};
+  o.end_block = {2, 2, 2};
+  TwoBeamOptions o2 = o;
+  o2.box = {12, 3, 6};
+  o2.end_block = {3, 3, 3};
+  o.beam2_box = o2.box;
+  o.beam2_end_block = o2.end_block;
+  const TwoBeamModel model = make_two_beam_model(o);
+  const Mesh& m = model.mesh;
+  EXPECT_EQ(m.node_sets.at("BEAM1").size(), static_cast<size_t>(linear_nodes(o)));
+  EXPECT_EQ(m.node_sets.at("BEAM2").size(), static_cast<size_t>(linear_nodes(o2)));
+  EXPECT_EQ(m.element_sets.at("BEAM2").size(), static_cast<size_t>(elements(o2)));
+  EXPECT_EQ(m.node_sets.at("CONTACT1").size(), 3u * 3u);
+  EXPECT_EQ(m.node_sets.at("CONTACT2").size(), 4u * 4u);
+  for (int n : m.node_sets.at("CONTACT2")) EXPECT_NEAR(x_of(m, n).x(), 0.3, 1e-12);
+  EXPECT_TRUE(model.contact_pairs.empty());
+  // Beam 2's rules are checked as beam 1's, under its own names.
+  o.beam2_end_block = BlockDivisions{3, 2, 3};
+  try {
+    validate(o);
+    ADD_FAILURE() << "beam2_end_block.y = 2 accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("beam2_end_block.y = 2"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TwoBeamModel, ThesisCoarseHas240NodesAnd115ElementsPerBeam) {
   TwoBeamOptions o;
   o.thesis_coarse = true;
