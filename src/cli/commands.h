@@ -82,6 +82,7 @@ int run_export(const ExportCommand& command);
 struct PlotCommand {
   std::string dir;
   bool quiet = false;
+  bool log = false;  // amplitude plots on a logarithmic axis (else as summary.json's plots says)
 };
 int run_plot(const PlotCommand& command);
 

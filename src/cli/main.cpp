@@ -143,6 +143,9 @@ int main(int argc, char** argv) {
       "plot", "(Re)render the plots (PNG, SVG with gnuplot) from the CSV files in DIR");
   plot_cmd->add_option("dir", plot.dir, "output folder of a solve")->required();
   plot_cmd->add_flag("-q,--quiet", plot.quiet, "print nothing but errors");
+  plot_cmd->add_flag("--log", plot.log,
+                     "amplitude (FRF) plots on a logarithmic axis (default: as the run drew them, "
+                     "output.log_amplitude)");
 
   KeysCommand keys;
   CLI::App* keys_cmd = app.add_subcommand(

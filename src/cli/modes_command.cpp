@@ -148,7 +148,7 @@ int run_modes(const ModesCommand& command) {
   create_output_folder(dir);
   write_file_atomically((dir / "frequencies.csv").string(), [&](std::ostream& out) {
     out << "mode,frequency_hz\n";
-    for (int j = 0; j < f.size(); ++j) fmt::print(out, "{},{:.9g}\n", j + 1, f(j));
+    for (int j = 0; j < f.size(); ++j) fmt::print(out, "{},{}\n", j + 1, f(j));
   });
   VtuData data;
   for (int j = 0; j < f.size(); ++j) {

@@ -30,9 +30,10 @@ int run_plot(const PlotCommand& command) {
   const auto plot_folder = [&](const fs::path& folder, const SolveResults& results,
                                const std::string& prefix) {
     const std::vector<PlotSeries> frf = frf_series(results, prefix);
+    const PlotOptions options{command.log || results.log_amplitude};
     interruption_doing("plotting in " + folder.string());
-    plot_solve_results(folder, results, frf, &plots);
-    redraw_full_vs_reduced(folder, results.title, &plots);
+    plot_solve_results(folder, results, frf, &plots, options);
+    redraw_full_vs_reduced(folder, results.title, &plots, options);
     interruption_done("plots in " + folder.string());
     say("plots in " + folder.string());
     return std::make_pair(results.title, frf);
@@ -65,7 +66,9 @@ int run_plot(const PlotCommand& command) {
                    [](const StudyFolder& a, const StudyFolder& b) { return a.value < b.value; });
   std::vector<std::vector<PlotSeries>> overlay;
   std::string title, parameter;
+  bool log_amplitude = command.log;
   for (const StudyFolder& f : folders) {
+    log_amplitude |= f.results.log_amplitude;
     const std::string name = f.folder.filename().string();
     auto [folder_title, frf] = plot_folder(f.folder, f.results, name + ": ");
     title = folder_title;
@@ -75,7 +78,7 @@ int run_plot(const PlotCommand& command) {
   }
   if (folders.size() > 1) {
     interruption_doing("plotting the study overlay in " + dir.string());
-    plot_study(dir, title, parameter, overlay, &plots);
+    plot_study(dir, title, parameter, overlay, &plots, PlotOptions{log_amplitude});
   }
   return plots_exit_code(plots, dir);
 }

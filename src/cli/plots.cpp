@@ -58,6 +58,7 @@ struct PlotSpec {
   std::vector<PlotSeries> series;
   // The script draws x · x_scale and y · y_scale (the .dat keeps SI values).
   double x_scale = 1.0, y_scale = 1.0;
+  bool log_y = false;  // `set logscale y`
 };
 
 // A length axis ("... (m)") in the unit that suits its largest value: m from 0.1 m, mm from
@@ -95,11 +96,11 @@ std::string plot_script(const PlotSpec& p, const std::string& data, const std::s
                         gp_string(data), i, x, y, p.series[i].style, gp_string(p.series[i].label));
   }
   return fmt::format(
-      "set title {}\nset xlabel {}\nset ylabel {}\nset grid\nset key outside\n"
+      "set title {}\nset xlabel {}\nset ylabel {}\nset grid\n{}set key outside\n"
       "set terminal pngcairo size 1000,600 noenhanced\nset output {}\n{}\n"
       "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\nunset output\n",
-      gp_string(p.title), gp_string(p.xlabel), gp_string(p.ylabel), gp_string(png), plot,
-      gp_string(svg), plot);
+      gp_string(p.title), gp_string(p.xlabel), gp_string(p.ylabel),
+      p.log_y ? "set logscale y\n" : "", gp_string(png), plot, gp_string(svg), plot);
 }
 
 std::string file_bytes(const fs::path& p) {
@@ -230,7 +231,7 @@ int plots_exit_code(const PlotLog& log, const fs::path& redraw_dir) {
 
 bool plot_curves(const fs::path& dir, const std::string& stem, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<PlotSeries>& series, PlotLog* log) {
+                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y) {
   PlotSpec spec{stem, title, xlabel, ylabel, series};
   double x_max = 0, y_max = 0;
   for (const PlotSeries& c : series) {
@@ -239,10 +240,17 @@ bool plot_curves(const fs::path& dir, const std::string& stem, const std::string
   }
   spec.x_scale = length_axis(spec.xlabel, x_max);
   spec.y_scale = length_axis(spec.ylabel, y_max);
+  // gnuplot refuses a logarithmic axis on which no value is > 0 ("all points undefined").
+  bool any_positive = false;
+  for (const PlotSeries& c : series) {
+    for (double v : c.y) any_positive |= v > 0;
+  }
+  spec.log_y = log_y && any_positive;
   return plot_spec(dir, spec, log);
 }
 
-void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotLog* log) {
+void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotLog* log,
+                            const PlotOptions& options) {
   const fs::path data = dir / "frf_full_vs_reduced.dat";
   if (!fs::exists(data)) return;
   std::ifstream in(data);
@@ -270,7 +278,7 @@ void redraw_full_vs_reduced(const fs::path& dir, const std::string& title, PlotL
     series.back().y.push_back(y);
   }
   plot_curves(dir, "frf_full_vs_reduced", title, "frequency (Hz)", "amplitude of harmonic 1 (m)",
-              series, log);
+              series, log, options.log_amplitude);
 }
 
 namespace {
@@ -316,10 +324,12 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
 }
 
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
-                        const std::vector<PlotSeries>& frf, PlotLog* log) {
+                        const std::vector<PlotSeries>& frf, PlotLog* log,
+                        const PlotOptions& options) {
   const std::string title = results.title.empty() ? "stickslip" : results.title;
   if (!frf.empty()) {
-    plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", frf, log);
+    plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", frf, log,
+                options.log_amplitude);
     plot_curves(dir, "frf_phase", title, "frequency (Hz)", "phase of harmonic 1 (deg)",
                 frf_phase_series(results), log);
   }
@@ -415,18 +425,20 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
 
 void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
                           const std::vector<PlotSeries>& frf,
-                          const std::vector<PlotSeries>& full_frf, PlotLog* log) {
+                          const std::vector<PlotSeries>& full_frf, PlotLog* log,
+                          const PlotOptions& options) {
   if (full_frf.empty() || full_frf.front().x.size() < 2) return;
   std::vector<PlotSeries> both = frf;  // the same curves, relabelled
   for (PlotSeries& c : both) c.label = "reduced: " + c.label;
   both.insert(both.end(), full_frf.begin(), full_frf.end());
   plot_curves(dir, "frf_full_vs_reduced", title, "frequency (Hz)", "amplitude of harmonic 1 (m)",
-              both, log);
+              both, log, options.log_amplitude);
 }
 
 void plot_study(const std::filesystem::path& dir, const std::string& title,
                 const std::string& parameter,
-                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log) {
+                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log,
+                const PlotOptions& options) {
   // One colour per studied value, one dash type per FRF DOF: x and y of one value alike.
   std::vector<PlotSeries> overlay;
   for (size_t v = 0; v < per_value.size(); ++v) {
@@ -438,7 +450,7 @@ void plot_study(const std::filesystem::path& dir, const std::string& title,
   }
   if (overlay.empty()) return;
   plot_curves(dir, "frf_study", title + ": " + parameter, "frequency (Hz)",
-              "amplitude of harmonic 1 (m)", overlay, log);
+              "amplitude of harmonic 1 (m)", overlay, log, options.log_amplitude);
 }
 
 }  // namespace stickslip

@@ -30,6 +30,14 @@ struct PlotSeries {
   std::string style = "lines lw 2";  // gnuplot "with" clause, e.g. "points pt 6 ps 1.2"
 };
 
+// How the plots are drawn: output.log_amplitude of the case (kept in summary.json, so that
+// `stickslip plot` draws what `run` drew), or `stickslip plot --log`.
+struct PlotOptions {
+  // The amplitude axis of frf, frf_full_vs_reduced and frf_study logarithmic (drawn linear when
+  // no amplitude is > 0: a logarithmic axis has nothing to show then).
+  bool log_amplitude = false;
+};
+
 // What the plots of one command did not draw. Each failure is printed as a warning when it
 // happens (stickslip: warning: ...) and remembered.
 class PlotLog {
@@ -54,7 +62,7 @@ int plots_exit_code(const PlotLog& log, const std::filesystem::path& redraw_dir)
 // Returns false (and logs the pictures not drawn) if gnuplot is missing or fails.
 bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
                  const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<PlotSeries>& series, PlotLog* log);
+                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y = false);
 
 // Amplitude of the first dynamic harmonic of each output.frf DOF over the converged points,
 // labelled "<prefix><body> node <id> <axis>".
@@ -67,25 +75,28 @@ std::vector<PlotSeries> frf_series(const SolveResults& results, const std::strin
 // hysteresis, hysteresis_t2 (force against relative displacement along t1, t2 of the contact
 // frame, of the histories.csv pairs at the most dissipative point; t2 for 3D pairs only).
 void plot_solve_results(const std::filesystem::path& dir, const SolveResults& results,
-                        const std::vector<PlotSeries>& frf, PlotLog* log);
+                        const std::vector<PlotSeries>& frf, PlotLog* log,
+                        const PlotOptions& options = {});
 
 // The thesis's validation plot frf_full_vs_reduced: the reduced nonlinear FRF curves and the
 // full-model recovery at the recovered points (drawn when there are at least two).
 void plot_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
                           const std::vector<PlotSeries>& frf,
-                          const std::vector<PlotSeries>& full_frf, PlotLog* log);
+                          const std::vector<PlotSeries>& full_frf, PlotLog* log,
+                          const PlotOptions& options = {});
 
 // frf_full_vs_reduced again from its data file dir/frf_full_vs_reduced.dat (the recovered
 // full-model amplitudes are in no CSV); nothing if there is none. A damaged data file throws
 // InvalidInput naming its line.
 void redraw_full_vs_reduced(const std::filesystem::path& dir, const std::string& title,
-                            PlotLog* log);
+                            PlotLog* log, const PlotOptions& options = {});
 
 // The overlay frf_study of a study's FRF curves (per studied value, in the study's order, the
 // frf_series of its folder, labelled by folder), titled "<title>: <parameter>": one colour per
 // value, one dash type per FRF DOF. Nothing when there are no curves.
 void plot_study(const std::filesystem::path& dir, const std::string& title,
                 const std::string& parameter,
-                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log);
+                const std::vector<std::vector<PlotSeries>>& per_value, PlotLog* log,
+                const PlotOptions& options = {});
 
 }  // namespace stickslip

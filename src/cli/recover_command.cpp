@@ -186,10 +186,11 @@ int run_recover(const RecoverCommand& command) {
       continue;
     }
     std::vector<PlotSeries> full_frf;
-    run_recovery(run.dir, def, model, response, points, progress, &full_frf);
+    run_recovery(run.dir, def, model, response, points, progress, &full_frf, run.value);
     if (def.output.plots) {
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots,
+                           PlotOptions{def.output.log_amplitude});
     }
     const std::vector<std::string> removed = remove_stale_results(run.dir, ResultFamily::kRecovery);
     if (!removed.empty()) progress(describe_removed(removed));

@@ -15,6 +15,7 @@
 #include <fmt/ostream.h>
 
 #include "cli/progress.h"
+#include "cli/results_files.h"
 #include "core/errors.h"
 #include "core/types.h"
 #include "fe/stress.h"
@@ -23,6 +24,7 @@
 #include "io/calculix_deck.h"
 #include "io/vtu_writer.h"
 #include "mesh/mesh.h"
+#include "model/body_recovery.h"
 #include "recovery/harmonic_response.h"
 #include "recovery/stress_envelope.h"
 
@@ -30,23 +32,6 @@ namespace stickslip {
 namespace {
 
 const char* kAxes[3] = {"x", "y", "z"};
-
-// The physical (master) DOFs of a body in the order of body.reduced: their full-model DOF and
-// their DOF in the assembled reduced model.
-struct MasterDofs {
-  std::vector<int> full, reduced;
-};
-MasterDofs master_dofs(const PreparedBody& body) {
-  MasterDofs out;
-  for (int j = 0; j < body.reduced.size(); ++j) {
-    const ReducedDof& d = body.reduced.dofs[j];
-    if (d.kind == ReducedDof::Kind::kPhysical) {
-      out.full.push_back(d.full_dof);
-      out.reduced.push_back(body.offset + j);
-    }
-  }
-  return out;
-}
 
 struct RecoveredVtu {
   int point;
@@ -194,12 +179,11 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                   const PreparedModel& model, const FrequencyResponse& response,
                   const std::vector<int>& points,
                   const std::function<void(const std::string&)>& progress,
-                  std::vector<PlotSeries>* full_frf) {
+                  std::vector<PlotSeries>* full_frf, double study_value) {
   if (points.empty()) return;
   const std::vector<int>& harmonics = response.harmonics;
   const int nh = static_cast<int>(harmonics.size());
   const RecoveryMethod method = def.recovery.method;
-  const RayleighDamping damping{def.damping.alpha, def.damping.beta};
   const bool want_stress = std::find(def.recovery.fields.begin(), def.recovery.fields.end(),
                                      RecoveryField::kStress) != def.recovery.fields.end();
 
@@ -208,8 +192,11 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     double max_rel, rms_rel, reference_max, max_abs;
   };
   std::vector<Row> check;
-  std::string nodes_csv = "point,body,node,dof,harmonic,real,imag\n";
-  std::string reactions_csv = "point,body,node,dof,harmonic,real,imag\n";
+  // Every number the shortest decimal that reads back to the same double, units in the column
+  // names, and with a study the parameter and value on every row (docs/output-files.md).
+  const StudyColumns study = study_columns(def, study_value);
+  std::string nodes_csv = "point,body,node,axis,harmonic,real_m,imag_m" + study.header + "\n";
+  std::string reactions_csv = "point,body,node,axis,harmonic,real_n,imag_n" + study.header + "\n";
   bool any_reactions = false;
 
   const int h1 = nh > 1 ? 1 : 0;  // column of the first dynamic harmonic
@@ -247,17 +234,6 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       }
       continue;
     }
-    // A mesh body whose reduction kept no full matrices (GivenReduction: reduced matrices given in
-    // memory) cannot be recovered on its mesh.
-    if (!body.K || !body.M || (method == RecoveryMethod::kExpansion && !body.T)) {
-      throw InvalidInput(
-          def.where("bodies." + body.name),
-          "body " + body.name + " has no full " +
-              (body.K && body.M ? std::string("Craig-Bampton basis (recovery.method: expansion)")
-                                : std::string("stiffness and mass matrices")) +
-              ": its reduced model was given without them, so it cannot be recovered on its "
-              "mesh (recovery.points: none)");
-    }
     // FRF DOFs of this body: full-model amplitude per recovered point (plotted against the
     // reduced nonlinear curve: the thesis's validation plot).
     std::vector<std::pair<int, int>> frf_dofs;  // (full DOF, index into full_frf)
@@ -278,39 +254,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     Eigen::VectorXd sweep_vm_max, sweep_vm_alt, sweep_p_max;
     progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(),
                          case_name(method)));
-    std::unique_ptr<HarmonicSolver> solver;
-    if (method == RecoveryMethod::kDirect) {
-      solver = std::make_unique<DirectRecovery>(*body.K, *body.M, body.constraints, damping);
-    } else if (method == RecoveryMethod::kModal) {
-      ModalRecoveryOptions o;
-      o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
-      solver = std::make_unique<ModalRecovery>(*body.K, *body.M, body.constraints, damping, o);
-    }
-    if (solver && !solver->ok()) {
-      throw InvalidInput(def.where("recovery.method"),
-                         "recovery of body " + body.name + " failed: " + solver->message());
-    }
-    const auto [full_dofs, reduced_dofs] = master_dofs(body);
-    const Eigen::MatrixXd rigid = solver ? solver->rigid_modes() : Eigen::MatrixXd();
-    const int n = body.mesh.num_dofs();
-    // Nodal stresses as one sparse operator, built once per body (element by element per point
-    // would re-condense every C3D8I at every call).
-    std::optional<NodalStressOperator> stress_operator;
-    if (want_stress && def.output.vtu) {
-      stress_operator.emplace(body.mesh, body.material, AssemblyOptions{});
-    }
-    // Nodes with a clamped, supported or equation-dependent DOF: their reactions are reported.
-    std::vector<int> held_nodes;
-    for (int node = 0; node < body.mesh.num_nodes(); ++node) {
-      for (int d = 0; d < 3; ++d) {
-        if (body.constraints.is_constrained(dof_of(node, d))) {
-          held_nodes.push_back(node);
-          break;
-        }
-      }
-    }
+    const BodyRecovery recovery(def, model, static_cast<int>(b),
+                                {.stresses = want_stress && def.output.vtu});
+    const std::vector<int>& held_nodes = recovery.held_nodes();
     any_reactions = any_reactions || !held_nodes.empty();
-    RecoverySummary summary;
     const auto t_body = std::chrono::steady_clock::now();
     int done = 0, last_decile = 0;
     for (int pi : points) {
@@ -326,7 +273,9 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       }
       ++done;
       const FrequencyPoint& p = response.points[pi];
-      const Eigen::MatrixXcd F = recovery_loads(model, body, harmonics, p);
+      const RecoveredPoint r = recovery.recover(p, harmonics);
+      const Eigen::MatrixXcd& F = r.loads;
+      const Eigen::MatrixXcd& x = r.displacement;
       const double f_hz = rad_s_to_hz(p.omega);
       if (def.output.apdl_macro) {
         write_apdl_loads(dir, def, body.name, body.mesh, pi, f_hz, harmonics, F);
@@ -334,62 +283,27 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       if (def.output.calculix_deck) {
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
-      Eigen::MatrixXcd x =
-          method == RecoveryMethod::kExpansion
-              ? expand_reduced_response(*body.T,
-                                        p.master.middleRows(body.offset, body.reduced.size()))
-              : harmonic_response(*solver, F, harmonics, p.omega, &summary);
-      // A body its clamps and supports do not hold: the static solve has no rigid motion; the
-      // reduced solution knows what the springs and contacts did with it (at the master DOFs).
-      for (int h = 0; h < nh && rigid.cols() > 0; ++h) {
-        if (harmonics[h] != 0) continue;
-        Eigen::VectorXcd target(static_cast<Eigen::Index>(full_dofs.size()));
-        for (size_t i = 0; i < full_dofs.size(); ++i) target(i) = p.master(reduced_dofs[i], h);
-        add_rigid_motion(rigid, full_dofs, target, x.col(h));
-      }
-      if (!summary.ok()) {
+      if (!r.summary.ok()) {
         // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
         // harmonics are NaN in every output of this point; the other harmonics are valid.
         stderr_warning(fmt::format("recovery of {} at point {} ({:.6g} Hz): {}", body.name, pi,
-                                   rad_s_to_hz(p.omega), summary.message));
+                                   f_hz, r.summary.message));
       }
       for (const auto& [dof, series] : frf_dofs) {
         (*full_frf)[series].x.push_back(rad_s_to_hz(p.omega));
         (*full_frf)[series].y.push_back(std::abs(x(dof, h1)));
       }
-      // Check against the reduced nonlinear response at the master DOFs.
-      Eigen::MatrixXcd reduced = Eigen::MatrixXcd::Zero(n, nh);
-      for (size_t i = 0; i < full_dofs.size(); ++i)
-        reduced.row(full_dofs[i]) = p.master.row(reduced_dofs[i]);
-      const ResponseDifference diff = compare_responses(x, reduced, full_dofs);
       for (int h = 0; h < nh; ++h) {
-        double ref = 0;
-        for (int dof : full_dofs) ref = std::max(ref, std::abs(reduced(dof, h)));
-        check.push_back({pi, static_cast<int>(b), harmonics[h], diff.max_relative[h],
-                         diff.rms_relative[h], ref, diff.max_absolute[h]});
+        check.push_back({pi, static_cast<int>(b), harmonics[h], r.check.max_relative[h],
+                         r.check.rms_relative[h], r.reduced_max[h], r.check.max_absolute[h]});
       }
-      // Reactions: the forces the clamps and supports exert on the body, R_k = D_k x_k − F_k with
-      // D_k = K − (kΩ)²M + i kΩ (αM + βK) (zero at free DOFs to the solver's round-off).
-      if (!held_nodes.empty()) {
-        const Eigen::MatrixXd xr = x.real(), xi = x.imag();
-        const Eigen::MatrixXd Kr = *body.K * xr, Ki = *body.K * xi;
-        const Eigen::MatrixXd Mr = *body.M * xr, Mi = *body.M * xi;
-        for (int h = 0; h < nh; ++h) {
-          const double w = harmonics[h] * p.omega;
-          const Eigen::VectorXcd Kx =
-              Kr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Ki.col(h);
-          const Eigen::VectorXcd Mx =
-              Mr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Mi.col(h);
-          const Eigen::VectorXcd R =
-              Kx - w * w * Mx +
-              std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) - F.col(h);
-          for (int node : held_nodes) {
-            for (int d = 0; d < 3; ++d) {
-              const std::complex<double> v = R(dof_of(node, d));
-              reactions_csv +=
-                  fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, body.mesh.node_ids[node],
-                              kAxes[d], harmonics[h], v.real(), v.imag());
-            }
+      for (int h = 0; h < nh; ++h) {
+        for (size_t i = 0; i < held_nodes.size(); ++i) {
+          for (int d = 0; d < 3; ++d) {
+            const std::complex<double> v = r.reactions(3 * static_cast<Eigen::Index>(i) + d, h);
+            reactions_csv += fmt::format("{},{},{},{},{},{},{}{}\n", pi, body.name,
+                                         body.mesh.node_ids[held_nodes[i]], kAxes[d],
+                                         harmonics[h], v.real(), v.imag(), study.cells);
           }
         }
       }
@@ -401,8 +315,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         for (int d = 0; d < 3; ++d) {
           for (int h = 0; h < nh; ++h) {
             const std::complex<double> v = x(dof_of(node, d), h);
-            nodes_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, id, kAxes[d],
-                                     harmonics[h], v.real(), v.imag());
+            nodes_csv += fmt::format("{},{},{},{},{},{},{}{}\n", pi, body.name, id, kAxes[d],
+                                     harmonics[h], v.real(), v.imag(), study.cells);
           }
         }
       }
@@ -417,8 +331,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         data.point_data.push_back({fmt::format("displacement_h{}_real", harmonics[h]), re});
         data.point_data.push_back({fmt::format("displacement_h{}_imag", harmonics[h]), im});
       }
-      if (stress_operator) {
-        const std::vector<ComplexStressMatrix> S = stress_operator->apply(x);
+      if (want_stress) {
+        const std::vector<ComplexStressMatrix> S = recovery.stresses(x);
         for (int h = 0; h < nh; ++h) {
           // VTU tensors are in ParaView order xx, yy, zz, xy, yz, xz; ours xx, yy, zz, xy, xz, yz.
           Eigen::MatrixXd re = S[h].real(), im = S[h].imag();
@@ -462,11 +376,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);
   write_file_atomically((dir / "recovery_check.csv").string(), [&](std::ostream& out) {
     out << "point,frequency_hz,body,harmonic,reduced_max_m,max_relative,rms_relative,"
-           "max_absolute_m\n";
+           "max_absolute_m"
+        << study.header << "\n";
     for (const Row& r : check) {
-      fmt::print(out, "{},{:.10g},{},{},{:.6e},{:.6e},{:.6e},{:.6e}\n", r.point,
+      fmt::print(out, "{},{},{},{},{},{},{},{}{}\n", r.point,
                  rad_s_to_hz(response.points[r.point].omega), model.bodies[r.body].name, r.harmonic,
-                 r.reference_max, r.max_rel, r.rms_rel, r.max_abs);
+                 r.reference_max, r.max_rel, r.rms_rel, r.max_abs, study.cells);
     }
   });
   if (any_reactions) {

@@ -10,7 +10,9 @@
 //                        nonlinear response (relative to the reduced one), max_absolute_m
 //                        (largest |full − reduced|, m: the measure where the reduced response
 //                        of a harmonic is zero and the relative ones are 0 or inf)
-//   recovered_nodes.csv  point, body, node, dof, harmonic, real, imag (recovery.nodes)
+//   recovered_nodes.csv  point, body, node, axis, harmonic, real_m, imag_m (recovery.nodes)
+//   reactions.csv        point, body, node, axis, harmonic, real_n, imag_n (held DOFs)
+//   (with a study every table also has parameter, value)
 //   recovery_p<point>_<body>.vtu  displacement and stress amplitudes per harmonic and the
 //                        stress envelope over the period (von Mises max / alternating / mean,
 //                        max principal) when output.vtu is true
@@ -53,11 +55,12 @@ std::string write_calculix_loads(const std::filesystem::path& dir, const CaseDef
 
 // Recovers `points` (indices into response.points; each converged, with master and
 // pairs[q].force_global). full_frf (may be null) receives, per output.frf DOF of a mesh body,
-// the full-model amplitude of the first dynamic harmonic at each recovered point.
+// the full-model amplitude of the first dynamic harmonic at each recovered point. With a study,
+// study_value (the folder's value) goes into the `value` column of the tables.
 void run_recovery(const std::filesystem::path& dir, const CaseDefinition& definition,
                   const PreparedModel& model, const FrequencyResponse& response,
                   const std::vector<int>& points,
                   const std::function<void(const std::string&)>& progress,
-                  std::vector<PlotSeries>* full_frf = nullptr);
+                  std::vector<PlotSeries>* full_frf = nullptr, double study_value = 0.0);
 
 }  // namespace stickslip

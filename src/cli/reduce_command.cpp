@@ -121,6 +121,7 @@ std::string solve_fingerprint(const CaseDefinition& definition) {
   d.output.directory = defaults.directory;
   d.output.vtu = defaults.vtu;
   d.output.plots = defaults.plots;
+  d.output.log_amplitude = defaults.log_amplitude;
   d.output.apdl_macro = defaults.apdl_macro;
   d.output.calculix_deck = defaults.calculix_deck;
   d.output.quiet = defaults.quiet;

@@ -15,6 +15,7 @@
 #include <fmt/ostream.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/progress.h"
 #include "cli/summary_file.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -47,6 +48,17 @@ class CsvReader {
 
   bool has(const std::string& name) const { return columns_.count(name) > 0; }
   int column(const std::string& name) const { return columns_.at(name); }
+  // The column `name`, or in a file of an earlier version its former name `old` (with a
+  // warning naming the file); neither: fail.
+  int column(const std::string& name, const std::string& old) const {
+    if (has(name)) return column(name);
+    if (!has(old)) fail("no column '" + name + "' in the header");
+    stderr_warning(
+        fmt::format("{}: column '{}' is read as '{}' (a file of an earlier version; "
+                    "run the command that wrote it again to update it)",
+                    path_, old, name));
+    return column(old);
+  }
 
   bool next() {
     std::string text;
@@ -127,6 +139,11 @@ int axis_row(const std::string& axis, bool global) {
 
 }  // namespace
 
+StudyColumns study_columns(const CaseDefinition& definition, double value) {
+  if (!definition.study.active()) return {};
+  return {",parameter,value", fmt::format(",{},{}", definition.study.parameter, value)};
+}
+
 double dissipated_energy(const FrequencyPoint& point) {
   double e = 0;
   for (const PairResponse& r : point.pairs) e += r.cycle.dissipated_energy;
@@ -170,6 +187,15 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       out.study_parameter = study["parameter"].get<std::string>();
       out.study_value = study["value"].get<double>();
     }
+    // {"log_amplitude": bool}; absent in files of earlier versions (linear plots).
+    if (summary.contains("plots") && !summary["plots"].is_null()) {
+      const auto& plots = summary["plots"];
+      if (!plots.is_object() ||
+          (plots.contains("log_amplitude") && !plots["log_amplitude"].is_boolean())) {
+        fail("plots", "expected {\"log_amplitude\": true|false}");
+      }
+      out.log_amplitude = plots.value("log_amplitude", false);
+    }
     if (summary.contains("frf")) {
       const auto& frf = summary["frf"];
       if (!frf.is_array()) fail("frf", "expected a list of DOFs");
@@ -205,11 +231,10 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
 
   // points.csv
   {
-    CsvReader csv(dir / "points.csv",
-                  {"point", "frequency_hz", "converged", "iterations", "residual"}, hint);
+    CsvReader csv(dir / "points.csv", {"point", "frequency_hz", "converged", "iterations"}, hint);
     const int c_point = csv.column("point"), c_f = csv.column("frequency_hz"),
               c_conv = csv.column("converged"), c_it = csv.column("iterations"),
-              c_res = csv.column("residual");
+              c_res = csv.column("residual_m", "residual");
     while (csv.next()) {
       const int i = csv.integer(c_point);
       if (i != static_cast<int>(fr.points.size())) {
@@ -247,13 +272,13 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
   const fs::path forces_path = dir / "contact_forces.csv";
   {
     CsvReader csv(forces_path,
-                  {"point", "contact", "pair", "node_a", "node_b", "frame", "axis", "harmonic",
-                   "real", "imag"},
+                  {"point", "contact", "pair", "node_a", "node_b", "frame", "axis", "harmonic"},
                   hint);
     const int c_point = csv.column("point"), c_contact = csv.column("contact"),
               c_pair = csv.column("pair"), c_a = csv.column("node_a"), c_b = csv.column("node_b"),
               c_frame = csv.column("frame"), c_axis = csv.column("axis"),
-              c_h = csv.column("harmonic"), c_re = csv.column("real"), c_im = csv.column("imag");
+              c_h = csv.column("harmonic"), c_re = csv.column("real_n", "real"),
+              c_im = csv.column("imag_n", "imag");
     while (csv.next()) {
       ForceRow r;
       r.point = point_of(csv, c_point);
@@ -300,16 +325,16 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
   };
   std::vector<MasterRow> master_rows;
   {
-    CsvReader csv(dir / "master_response.csv",
-                  {"point", "body", "node", "dof", "harmonic", "real", "imag"}, hint);
+    CsvReader csv(dir / "master_response.csv", {"point", "body", "node", "harmonic"}, hint);
     const int c_point = csv.column("point"), c_body = csv.column("body"),
-              c_node = csv.column("node"), c_dof = csv.column("dof"), c_h = csv.column("harmonic"),
-              c_re = csv.column("real"), c_im = csv.column("imag");
+              c_node = csv.column("node"), c_dof = csv.column("axis", "dof"),
+              c_h = csv.column("harmonic"), c_re = csv.column("real_m", "real"),
+              c_im = csv.column("imag_m", "imag");
     while (csv.next()) {
       MasterRow r;
       r.point = point_of(csv, c_point);
       const int d = axis_row(csv.text(c_dof), true);
-      if (d < 0) csv.fail("dof must be x, y or z");
+      if (d < 0) csv.fail("axis must be x, y or z");
       r.key = MasterDofKey{csv.text(c_body), csv.integer(c_node), d};
       r.harmonic = csv.integer(c_h);
       if (r.harmonic < 0) csv.fail("negative harmonic");
@@ -373,12 +398,11 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
   // contact_state.csv
   {
     CsvReader csv(dir / "contact_state.csv",
-                  {"point", "contact", "pair", "stick", "slip", "separation", "dissipated_energy"},
-                  hint);
+                  {"point", "contact", "pair", "stick", "slip", "separation"}, hint);
     const int c_point = csv.column("point"), c_contact = csv.column("contact"),
               c_pair = csv.column("pair"), c_stick = csv.column("stick"),
               c_slip = csv.column("slip"), c_sep = csv.column("separation"),
-              c_e = csv.column("dissipated_energy");
+              c_e = csv.column("dissipated_energy_j", "dissipated_energy");
     size_t count = 0;
     while (csv.next()) {
       const int i = point_of(csv, c_point);
@@ -398,12 +422,11 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
 
   // histories.csv (optional): one row per point, pair, sample, axis.
   if (fs::exists(dir / "histories.csv")) {
-    CsvReader csv(dir / "histories.csv",
-                  {"point", "contact", "pair", "sample", "axis", "displacement", "force"}, hint);
+    CsvReader csv(dir / "histories.csv", {"point", "contact", "pair", "sample", "axis"}, hint);
     const int c_point = csv.column("point"), c_contact = csv.column("contact"),
               c_pair = csv.column("pair"), c_sample = csv.column("sample"),
-              c_axis = csv.column("axis"), c_u = csv.column("displacement"),
-              c_f = csv.column("force");
+              c_axis = csv.column("axis"), c_u = csv.column("displacement_m", "displacement"),
+              c_f = csv.column("force_n", "force");
     while (csv.next()) {
       const int i = point_of(csv, c_point);
       const auto it = pair_index.find({csv.text(c_contact), csv.integer(c_pair)});

@@ -7,9 +7,11 @@
 // rows) throws InvalidInput naming the file and line; a missing file also names the command that
 // makes it (`hint`, e.g. "stickslip solve case.yaml -o out").
 //
-// Numbers: the solve writes frequencies, master responses and contact forces with 17 significant
-// digits, so doubles read back exactly (a recovery from the files equals the one in memory to
-// round-off).
+// Numbers: every CSV number is the shortest decimal that reads back to the same double (at most
+// 17 significant digits), so doubles read back exactly (a recovery from the files equals the one
+// in memory to round-off). Columns with a unit name it (real_m, force_n, dissipated_energy_j);
+// the direction column is `axis`. Files of earlier versions (`dof`, `real`, `imag`,
+// `dissipated_energy`, ... without units) are still read, with a warning naming the file.
 #pragma once
 
 #include <complex>
@@ -51,6 +53,7 @@ struct SolveResults {
   // A study folder's studied key and value (summary.json "study"); empty / 0 otherwise.
   std::string study_parameter;
   double study_value = 0.0;
+  bool log_amplitude = false;  // the case's output.log_amplitude (summary.json "plots")
   // points: omega, converged, iterations, residual_norm, per pair force_local (local_rows x nh),
   // force_global (3 x nh), cycle statistics and (histories.csv) the sampled cycle. `master` and
   // `unknowns` stay empty (the files hold only the physical master DOFs: see `master` below).
@@ -60,6 +63,15 @@ struct SolveResults {
 };
 
 SolveResults read_solve_results(const std::filesystem::path& dir, const std::string& hint);
+
+// The study columns of every per-point table in a study folder (docs/output-files.md): header
+// ",parameter,value" and row cells ",<key>,<value>" (value as its shortest exact decimal), so
+// that the folders' tables concatenate; both empty without a study.
+struct StudyColumns {
+  std::string header;
+  std::string cells;
+};
+StudyColumns study_columns(const CaseDefinition& definition, double value);
 
 // Energy dissipated per cycle at a point, J: the sum over its pairs (points.csv's
 // dissipated_energy).

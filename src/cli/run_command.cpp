@@ -60,7 +60,7 @@ int run_case(const StageCommand& command) {
     const auto t_recovery = Clock::now();
     std::vector<PlotSeries> full_frf;
     run_recovery(run.dir, def, model, solved.response, recovery_points(def, model, solved.response),
-                 progress, &full_frf);
+                 progress, &full_frf, run.value);
     interruption_done("recovery files in " + where);
     SummaryTimings timings;
     const auto t_plots = Clock::now();
@@ -69,8 +69,9 @@ int run_case(const StageCommand& command) {
       interruption_doing("plotting in " + where);
       const SolveResults results = read_solve_results(run.dir, "stickslip run");
       const auto frf = frf_series(results, run.folder.empty() ? "" : run.folder + ": ");
-      plot_solve_results(run.dir, results, frf, &plots);
-      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots);
+      const PlotOptions options{def.output.log_amplitude};
+      plot_solve_results(run.dir, results, frf, &plots, options);
+      plot_full_vs_reduced(run.dir, def.title, frf, full_frf, &plots, options);
       overlay.emplace_back(run.value, frf);
       interruption_done("plots in " + where);
     }
@@ -87,7 +88,8 @@ int run_case(const StageCommand& command) {
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::vector<PlotSeries>> per_value;
     for (auto& entry : overlay) per_value.push_back(std::move(entry.second));
-    plot_study(out_dir, base.title, base.study.parameter, per_value, &plots);
+    plot_study(out_dir, base.title, base.study.parameter, per_value, &plots,
+               PlotOptions{base.output.log_amplitude});
   }
   const int solved_code = solve_exit_code(
       std::chrono::duration<double>(Clock::now() - t0).count(), outcome, progress);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 
@@ -23,6 +24,7 @@
 #include "core/types.h"
 #include "io/atomic_file.h"
 #include "io/case_file.h"
+#include "io/vtu_writer.h"
 
 #ifndef STICKSLIP_VERSION
 #define STICKSLIP_VERSION "unknown"
@@ -152,6 +154,89 @@ std::string describe_removed(const std::vector<std::string>& removed) {
                      removed.size(), list);
 }
 
+namespace {
+
+// contact_map.vtu (docs/output-files.md): one VTK vertex per contact pair at its A node (its B
+// node when A has no mesh; pairs on bodies given by matrices have no place and are left out), with
+// the cycle fractions and the friction energy of the converged point that dissipates most (the
+// point the hysteresis plots show). Nothing when no pair has a place or no point converged.
+void write_contact_map(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
+                       const FrequencyResponse& fr,
+                       const std::function<double(const CycleStatistics&)>& energy) {
+  int best = -1;
+  double most = -1;
+  for (size_t i = 0; i < fr.points.size(); ++i) {
+    const FrequencyPoint& p = fr.points[i];
+    if (!p.converged) continue;
+    double e = 0;
+    for (const PairResponse& r : p.pairs) e += energy(r.cycle);
+    if (e > most) most = e, best = static_cast<int>(i);
+  }
+  if (best < 0) return;
+  // The coordinates of node `id` of body `name`, if that body has a mesh holding it.
+  const auto place = [&](const std::string& name, int id, Eigen::Vector3d* x) {
+    const int b = model.body_index(name);
+    if (b < 0 || !model.bodies[b].from_mesh || id <= 0) return false;
+    const Mesh& mesh = model.bodies[b].mesh;
+    const auto it = std::find(mesh.node_ids.begin(), mesh.node_ids.end(), id);
+    if (it == mesh.node_ids.end()) return false;
+    *x = mesh.coordinates.col(it - mesh.node_ids.begin());
+    return true;
+  };
+  std::vector<int> pairs, ids;
+  std::vector<Eigen::Vector3d> places;
+  std::map<int, int> count;
+  std::vector<int> pair_in_contact;
+  for (size_t q = 0; q < model.pair_info.size(); ++q) {
+    const PreparedPair& info = model.pair_info[q];
+    pair_in_contact.push_back(count[info.contact]++);
+    const ContactDefinition& c = def.contacts[info.contact];
+    Eigen::Vector3d x;
+    if (place(c.body_a, info.node_a_id, &x)) {
+      ids.push_back(info.node_a_id);
+    } else if (place(c.body_b, info.node_b_id, &x)) {
+      ids.push_back(info.node_b_id);
+    } else {
+      continue;
+    }
+    pairs.push_back(static_cast<int>(q));
+    places.push_back(x);
+  }
+  if (pairs.empty()) return;
+  const int n = static_cast<int>(pairs.size());
+  Eigen::Matrix3Xd coordinates(3, n);
+  Eigen::MatrixXd stick(1, n), slip(1, n), separation(1, n), dissipated(1, n), contact(1, n),
+      pair(1, n), node_a(1, n), node_b(1, n);
+  const FrequencyPoint& p = fr.points[best];
+  for (int k = 0; k < n; ++k) {
+    const int q = pairs[k];
+    const CycleStatistics& c = p.pairs[q].cycle;
+    coordinates.col(k) = places[k];
+    stick(0, k) = c.stick_fraction;
+    slip(0, k) = c.slip_fraction;
+    separation(0, k) = c.separation_fraction;
+    dissipated(0, k) = energy(c);
+    contact(0, k) = model.pair_info[q].contact;
+    pair(0, k) = pair_in_contact[q];
+    node_a(0, k) = model.pair_info[q].node_a_id;
+    node_b(0, k) = model.pair_info[q].node_b_id;
+  }
+  VtuData data;
+  data.point_data = {{"stick", stick},
+                     {"slip", slip},
+                     {"separation", separation},
+                     {"dissipated_energy_j", dissipated},
+                     {"contact", contact},
+                     {"pair", pair},
+                     {"node_a", node_a},
+                     {"node_b", node_b}};
+  data.field_data = {{"frequency_hz", rad_s_to_hz(p.omega)},
+                     {"point", static_cast<double>(best)}};
+  write_vtu_points((dir / "contact_map.vtu").string(), coordinates, ids, data);
+}
+
+}  // namespace
+
 std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,
                                              const SolvedCase& solved, double seconds_total) {
   const fs::path& dir = run.dir;
@@ -175,18 +260,19 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   };
   // With a study, every row carries the studied parameter and its value: the folders' tables
   // concatenate into one (pandas.concat) without losing which value a row belongs to.
-  const bool study = def.study.active();
-  const std::string study_cells =
-      study ? fmt::format(",{},{}", def.study.parameter, run.value) : std::string();
+  // Every number in the shortest decimal that reads back to the same double ("{}"), every unit
+  // in its column's name (docs/output-files.md, "Tables").
+  const StudyColumns study = study_columns(def, run.value);
+  const std::string& study_cells = study.cells;
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
-    out << "point,frequency_hz,converged,iterations,residual,dissipated_energy,"
+    out << "point,frequency_hz,converged,iterations,residual_m,dissipated_energy_j,"
            "residual_relative,static_mismatch,static_warning"
-        << (study ? ",parameter,value" : "") << "\n";
+        << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       double e = 0;
       for (const PairResponse& r : p.pairs) e += energy(r.cycle);
-      fmt::print(out, "{},{},{},{},{:.6e},{:.9e},{:.3e},{:.3e},{}{}\n", i, rad_s_to_hz(p.omega),
+      fmt::print(out, "{},{},{},{},{},{},{},{},{}{}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
                  p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0,
                  study_cells);
@@ -194,15 +280,15 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   });
 
   write_file_atomically((dir / "master_response.csv").string(), [&](std::ostream& out) {
-    out << "point,body,node,dof,harmonic,real,imag\n";
+    out << "point,body,node,axis,harmonic,real_m,imag_m" << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       for (const PreparedBody& body : model.bodies) {
         for (const auto& [key, g] : body.master_dof) {
           for (size_t h = 0; h < harmonics.size(); ++h) {
             const std::complex<double> x = p.master(g, static_cast<int>(h));
-            fmt::print(out, "{},{},{},{},{},{},{}\n", i, body.name, key.first,
-                       kGlobalAxes[key.second], harmonics[h], x.real(), x.imag());
+            fmt::print(out, "{},{},{},{},{},{},{}{}\n", i, body.name, key.first,
+                       kGlobalAxes[key.second], harmonics[h], x.real(), x.imag(), study_cells);
           }
         }
       }
@@ -218,7 +304,8 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     }
   }
   write_file_atomically((dir / "contact_forces.csv").string(), [&](std::ostream& out) {
-    out << "point,contact,pair,node_a,node_b,frame,axis,harmonic,real,imag\n";
+    out << "point,contact,pair,node_a,node_b,frame,axis,harmonic,real_n,imag_n" << study.header
+        << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       for (size_t q = 0; q < p.pairs.size(); ++q) {
@@ -229,9 +316,9 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
           for (int row = 0; row < force.rows(); ++row) {
             for (size_t h = 0; h < harmonics.size(); ++h) {
               const std::complex<double> f = force(row, static_cast<int>(h));
-              fmt::print(out, "{},{},{},{},{},{},{},{},{},{}\n", i, contact,
+              fmt::print(out, "{},{},{},{},{},{},{},{},{},{}{}\n", i, contact,
                          pair_in_contact[q], info.node_a_id, info.node_b_id, frame, axis_name(row),
-                         harmonics[h], f.real(), f.imag());
+                         harmonics[h], f.real(), f.imag(), study_cells);
             }
           }
         };
@@ -250,7 +337,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
                                       [](const PreparedPair& info) { return info.mortar; });
   if (any_mortar) {
     write_file_atomically((dir / "contact_coupling.csv").string(), [&](std::ostream& out) {
-      out << "contact,pair,node_a,area,gap,node_b,weight,faces_b\n";
+      out << "contact,pair,node_a,area_m2,gap_m,node_b,weight,faces_b\n";
       for (size_t q = 0; q < model.pair_info.size(); ++q) {
         const PreparedPair& info = model.pair_info[q];
         if (!info.mortar) continue;
@@ -266,23 +353,26 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   }
 
   write_file_atomically((dir / "contact_state.csv").string(), [&](std::ostream& out) {
-    out << "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n";
+    out << "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy_j"
+        << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       for (size_t q = 0; q < p.pairs.size(); ++q) {
         const PreparedPair& info = model.pair_info[q];
         const CycleStatistics& c = p.pairs[q].cycle;
-        fmt::print(out, "{},{},{},{},{},{:.6f},{:.6f},{:.6f},{:.9e}\n", i,
-                   def.contacts[info.contact].name, pair_in_contact[q], info.node_a_id,
-                   info.node_b_id, c.stick_fraction, c.slip_fraction, c.separation_fraction,
-                   energy(c));
+        fmt::print(out, "{},{},{},{},{},{},{},{},{}{}\n", i, def.contacts[info.contact].name,
+                   pair_in_contact[q], info.node_a_id, info.node_b_id, c.stick_fraction,
+                   c.slip_fraction, c.separation_fraction, energy(c), study_cells);
       }
     }
   });
 
+  write_contact_map(dir, def, model, fr, energy);
+
   if (!def.output.histories.empty()) {
     write_file_atomically((dir / "histories.csv").string(), [&](std::ostream& out) {
-      out << "point,contact,pair,sample,t_over_period,axis,displacement,force\n";
+      out << "point,contact,pair,sample,t_over_period,axis,displacement_m,force_n" << study.header
+          << "\n";
       for (size_t i = 0; i < fr.points.size(); ++i) {
         const FrequencyPoint& p = fr.points[i];
         for (size_t q = 0; q < p.pairs.size(); ++q) {
@@ -291,10 +381,10 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
           const int n = static_cast<int>(s.u.cols());
           for (int j = 0; j < n; ++j) {
             for (int row = 0; row < s.u.rows(); ++row) {
-              fmt::print(out, "{},{},{},{},{:.8f},{},{:.10e},{:.10e}\n", i,
+              fmt::print(out, "{},{},{},{},{},{},{},{}{}\n", i,
                          def.contacts[model.pair_info[q].contact].name, pair_in_contact[q], j,
                          static_cast<double>(j) / n, local_axis(model, static_cast<int>(q), row),
-                         s.u(row, j), s.f(row, j));
+                         s.u(row, j), s.f(row, j), study_cells);
             }
           }
         }
@@ -320,6 +410,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   } else {
     summary["study"] = nullptr;
   }
+  summary["plots"] = {{"log_amplitude", def.output.log_amplitude}};
   const SweepWindow& w = solved.window;
   summary["window"] = {{"start_hz", w.start_hz},
                        {"stop_hz", w.stop_hz},

@@ -20,7 +20,8 @@ bool is_result_name(const std::string& relative, ResultFamily family) {
   static const std::regex everything(
       "(points|master_response|contact_forces|contact_state|contact_coupling|histories)\\.csv|"
       "summary\\.json|"
-      "(frf|contact_state|hysteresis)\\.(png|svg|dat|gp)|loads_p[0-9]+_[^/]+\\.mac|"
+      "(frf|frf_phase|contact_state|dissipation|hysteresis|hysteresis_t2)\\.(png|svg|dat|gp)|"
+      "contact_map\\.vtu|loads_p[0-9]+_[^/]+\\.mac|"
       "recovery_p[0-9]+_[^/]+\\.inp");
   if (std::regex_match(relative, recovery)) return true;
   return family == ResultFamily::kEverything && std::regex_match(relative, everything);

@@ -1576,6 +1576,7 @@ void parse_output(Parser& p, const MapView& top) {
   }
   m.boolean("vtu", &o.vtu);
   m.boolean("plots", &o.plots);
+  m.boolean("log_amplitude", &o.log_amplitude);
   m.boolean("apdl_macro", &o.apdl_macro);
   m.boolean("calculix_deck", &o.calculix_deck);
   m.boolean("quiet", &o.quiet);
@@ -2320,6 +2321,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "directory" << YAML::Value << o.directory;
   e << YAML::Key << "vtu" << YAML::Value << o.vtu;
   e << YAML::Key << "plots" << YAML::Value << o.plots;
+  e << YAML::Key << "log_amplitude" << YAML::Value << o.log_amplitude;
   e << YAML::Key << "apdl_macro" << YAML::Value << o.apdl_macro;
   e << YAML::Key << "calculix_deck" << YAML::Value << o.calculix_deck;
   e << YAML::Key << "histories" << YAML::Value << YAML::Flow << YAML::BeginMap;

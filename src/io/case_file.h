@@ -343,6 +343,7 @@ struct OutputDefinition {
   std::string directory = "results";  // resolved against the case file's directory
   bool vtu = true;
   bool plots = true;
+  bool log_amplitude = false;  // amplitude (FRF) plots on a logarithmic axis
   bool apdl_macro = false;     // contact forces as an ANSYS APDL macro
   bool calculix_deck = false;  // contact forces in a CalculiX *STEADY STATE DYNAMICS deck
   std::map<std::string, std::vector<int>> histories;  // contact -> 0-based pair indices

@@ -121,6 +121,7 @@ const std::vector<CaseKey>& case_keys() {
     {"output", "directory", "path", "", "`results`", false, "output folder, relative to the case file"},
     {"output", "vtu", "bool", "", "`true`", false, "ParaView files of the recovered fields"},
     {"output", "plots", "bool", "", "`true`", false, "PNG and SVG plots"},
+    {"output", "log_amplitude", "bool", "", "`false`", false, "amplitude plots (FRF) on a logarithmic axis"},
     {"output", "apdl_macro", "bool", "", "`false`", false, "the contact forces as an ANSYS APDL macro"},
     {"output", "calculix_deck", "bool", "", "`false`", false, "the contact forces in a CalculiX *STEADY STATE DYNAMICS deck"},
     {"output", "histories", "map contact name → pair index or list of 0-based pair indices", "", "none", false, "pairs whose hysteresis loop"},

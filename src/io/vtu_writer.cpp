@@ -222,11 +222,22 @@ int vtk_cell_type(ElementType type) {
   return 0;
 }
 
-void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
-               VtuEncoding encoding) {
-  check_mesh(mesh);
-  check_fields(data.point_data, mesh.num_nodes(), "point", "node_id");
-  check_fields(data.cell_data, mesh.num_elements(), "cell", "element_id");
+namespace {
+
+// The cells of an unstructured grid as VTK stores them.
+struct VtkCells {
+  std::vector<std::int64_t> connectivity, offsets;  // offsets: end of each cell
+  std::vector<std::uint8_t> types;
+  std::vector<std::int32_t> ids;  // written as cell data "element_id"
+};
+
+void write_grid(const std::string& path, const Eigen::Matrix3Xd& coordinates,
+                const std::vector<int>& node_ids, const VtkCells& cells, const VtuData& data,
+                VtuEncoding encoding) {
+  const int num_points = static_cast<int>(coordinates.cols());
+  const int num_cells = static_cast<int>(cells.types.size());
+  check_fields(data.point_data, num_points, "point", "node_id");
+  check_fields(data.cell_data, num_cells, "cell", "element_id");
   {
     std::set<std::string> names;
     for (const auto& [name, value] : data.field_data) {
@@ -253,34 +264,25 @@ void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
       }
       out << "    </FieldData>\n";
     }
-    out << "    <Piece NumberOfPoints=\"" << mesh.num_nodes() << "\" NumberOfCells=\""
-        << mesh.num_elements() << "\">\n";
+    out << "    <Piece NumberOfPoints=\"" << num_points << "\" NumberOfCells=\"" << num_cells
+        << "\">\n";
     const std::string in = "        ";
     out << "      <PointData>\n";
-    arrays.write("node_id", 1,
-                 std::vector<std::int32_t>(mesh.node_ids.begin(), mesh.node_ids.end()), in);
+    arrays.write("node_id", 1, std::vector<std::int32_t>(node_ids.begin(), node_ids.end()), in);
     for (const VtuField& f : data.point_data) {
       arrays.write(f.name, static_cast<int>(f.values.rows()), column_major(f.values), in);
     }
     out << "      </PointData>\n      <CellData>\n";
-    arrays.write("element_id", 1,
-                 std::vector<std::int32_t>(mesh.element_ids.begin(), mesh.element_ids.end()), in);
+    arrays.write("element_id", 1, cells.ids, in);
     for (const VtuField& f : data.cell_data) {
       arrays.write(f.name, static_cast<int>(f.values.rows()), column_major(f.values), in);
     }
     out << "      </CellData>\n      <Points>\n";
-    arrays.write("Points", 3, column_major(mesh.coordinates), in);
+    arrays.write("Points", 3, column_major(coordinates), in);
     out << "      </Points>\n      <Cells>\n";
-    arrays.write("connectivity", 1, vtk_connectivity(mesh), in);
-    arrays.write(
-        "offsets", 1,
-        std::vector<std::int64_t>(mesh.element_offsets.begin() + 1, mesh.element_offsets.end()),
-        in);
-    std::vector<std::uint8_t> types;
-    types.reserve(mesh.element_types.size());
-    for (ElementType t : mesh.element_types)
-      types.push_back(static_cast<std::uint8_t>(vtk_cell_type(t)));
-    arrays.write("types", 1, types, in);
+    arrays.write("connectivity", 1, cells.connectivity, in);
+    arrays.write("offsets", 1, cells.offsets, in);
+    arrays.write("types", 1, cells.types, in);
     out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
     if (encoding == VtuEncoding::kZlibAppended) {
       out << "  <AppendedData encoding=\"raw\">\n   _";
@@ -291,6 +293,40 @@ void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
     }
     out << "</VTKFile>\n";
   });
+}
+
+}  // namespace
+
+void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
+               VtuEncoding encoding) {
+  check_mesh(mesh);
+  VtkCells cells;
+  cells.connectivity = vtk_connectivity(mesh);
+  cells.offsets.assign(mesh.element_offsets.begin() + 1, mesh.element_offsets.end());
+  cells.types.reserve(mesh.element_types.size());
+  for (ElementType t : mesh.element_types)
+    cells.types.push_back(static_cast<std::uint8_t>(vtk_cell_type(t)));
+  cells.ids.assign(mesh.element_ids.begin(), mesh.element_ids.end());
+  write_grid(path, mesh.coordinates, mesh.node_ids, cells, data, encoding);
+}
+
+void write_vtu_points(const std::string& path, const Eigen::Matrix3Xd& coordinates,
+                      const std::vector<int>& ids, const VtuData& data, VtuEncoding encoding) {
+  if (static_cast<Eigen::Index>(ids.size()) != coordinates.cols()) {
+    throw InvalidInput("vtu writer: " + std::to_string(ids.size()) + " point ids for " +
+                       std::to_string(coordinates.cols()) + " points");
+  }
+  if (!coordinates.allFinite()) throw InvalidInput("vtu writer: a point is not finite");
+  constexpr std::uint8_t kVtkVertex = 1;
+  VtkCells cells;
+  const std::int64_t n = coordinates.cols();
+  for (std::int64_t i = 0; i < n; ++i) {
+    cells.connectivity.push_back(i);
+    cells.offsets.push_back(i + 1);
+    cells.types.push_back(kVtkVertex);
+    cells.ids.push_back(static_cast<std::int32_t>(i + 1));
+  }
+  write_grid(path, coordinates, ids, cells, data, encoding);
 }
 
 void write_vtm(const std::string& path, const std::vector<VtmBlock>& blocks) {

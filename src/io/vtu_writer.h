@@ -49,6 +49,12 @@ int vtk_cell_type(ElementType type);
 void write_vtu(const std::string& path, const Mesh& mesh, const VtuData& data,
                VtuEncoding encoding = VtuEncoding::kZlibAppended);
 
+// Points without a mesh (e.g. contact points), each one VTK_VERTEX cell (element_id 1..n, in
+// order); `ids` become point data "node_id". Same data rules and encodings as write_vtu.
+void write_vtu_points(const std::string& path, const Eigen::Matrix3Xd& coordinates,
+                      const std::vector<int>& ids, const VtuData& data,
+                      VtuEncoding encoding = VtuEncoding::kZlibAppended);
+
 // Collections of files written by write_vtu, for ParaView; `file` paths are relative to the
 // collection's own folder, written as given (XML-escaped). Atomic.
 // A multiblock file (.vtm): one named block per entry, in order.

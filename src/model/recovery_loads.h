@@ -1,8 +1,8 @@
 // The loads and points of the full-model recovery (docs/conventions.md, "Full-model recovery"), computed
 // from a solved model: which frequency points to recover, and the loads of each body at a point
 // (excitation, static and preload loads, and the harmonic contact forces the nonlinear solve
-// found, in global axes). The recovery itself (recovery/harmonic_response.h) and its files are
-// the caller's (cli/recovery_stage.h).
+// found, in global axes). The recovery of a body at a point: model/body_recovery.h; its files:
+// cli/recovery_stage.h.
 #pragma once
 
 #include <utility>

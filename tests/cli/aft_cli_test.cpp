@@ -76,11 +76,11 @@ double worst_error(const fs::path& dir) {
   int points = 0;
   const auto pts = read_csv(dir / "points.csv");
   for (const auto& r : read_csv(dir / "master_response.csv")) {
-    if (r.at("dof") != "x" || r.at("harmonic") != "1") continue;
+    if (r.at("axis") != "x" || r.at("harmonic") != "1") continue;
     const int point = std::stoi(r.at("point"));
     const double omega = 2 * M_PI * std::stod(pts.at(point).at("frequency_hz"));
     const double ref = describing_function_amplitude(omega);
-    const double amp = std::hypot(std::stod(r.at("real")), std::stod(r.at("imag")));
+    const double amp = std::hypot(std::stod(r.at("real_m")), std::stod(r.at("imag_m")));
     EXPECT_GT(amp, kFs / kKt) << "point " << point << " does not slip";
     worst = std::max(worst, std::abs(amp - ref) / ref);
     ++points;

@@ -109,8 +109,8 @@ TEST(CalculixExportCli, ReferenceJointDeckRunsInCcxAndAgreesToItsModalTruncation
   for (const auto& row : read_csv(dir / "out" / "recovered_nodes.csv")) {
     if (row.at("harmonic") != "1") continue;
     point = row.at("point");
-    const int d = row.at("dof") == "x" ? 0 : row.at("dof") == "y" ? 1 : 2;
-    ours[std::stoi(row.at("node"))][d] = {std::stod(row.at("real")), std::stod(row.at("imag"))};
+    const int d = row.at("axis") == "x" ? 0 : row.at("axis") == "y" ? 1 : 2;
+    ours[std::stoi(row.at("node"))][d] = {std::stod(row.at("real_m")), std::stod(row.at("imag_m"))};
   }
   ASSERT_EQ(ours.size(), 1554u);
   const std::string deck = slurp(dir / "out" / ("recovery_p" + point + "_beam1.inp"));

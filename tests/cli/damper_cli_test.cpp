@@ -358,8 +358,8 @@ TEST(DamperCli, FreeBlockHeldBySpringsBetweenClampedBlocksMatchesCalculix) {
     for (const auto& row : read_csv(out / "recovered_nodes.csv")) {
       if (row.at("body") != "D") continue;
       const int node = std::stoi(row.at("node"));
-      const int d = row.at("dof")[0] - 'x';
-      const Complex v(std::stod(row.at("real")), std::stod(row.at("imag")));
+      const int d = row.at("axis")[0] - 'x';
+      const Complex v(std::stod(row.at("real_m")), std::stod(row.at("imag_m")));
       auto& target = row.at("harmonic") == "0" ? ours0 : ours1;
       target.try_emplace(node, Eigen::Vector3cd::Zero());
       target[node](d) = v;

@@ -26,8 +26,10 @@ fs::path ex03_case_path(const fs::path& copy) {
   return copy / "examples" / "03_imported_hbmat" / "case.yaml";
 }
 
-std::complex<double> value(const std::map<std::string, std::string>& r) {
-  return {std::stod(r.at("real")), std::stod(r.at("imag"))};
+// A row's complex value: master_response.csv (m) or, with unit "n", contact_forces.csv (N).
+std::complex<double> value(const std::map<std::string, std::string>& r,
+                           const std::string& unit = "m") {
+  return {std::stod(r.at("real_" + unit)), std::stod(r.at("imag_" + unit))};
 }
 
 TEST(Examples, JenkinsOscillatorIsTheStuckLinearOscillatorBelowTheStickLimit) {
@@ -44,7 +46,7 @@ TEST(Examples, JenkinsOscillatorIsTheStuckLinearOscillatorBelowTheStickLimit) {
   ASSERT_LT(std::abs(x_stuck), 1e-5);
   bool found = false;
   for (const auto& r : read_csv(out / "master_response.csv")) {
-    if (r.at("point") == "0" && r.at("dof") == "x" && r.at("harmonic") == "1") {
+    if (r.at("point") == "0" && r.at("axis") == "x" && r.at("harmonic") == "1") {
       found = true;
       EXPECT_LT(std::abs(value(r) - x_stuck), 1e-9 * std::abs(x_stuck));
     }
@@ -106,7 +108,7 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
       << slurp(ex03 / "log.txt");
   std::map<std::string, std::complex<double>> a, b;
   const auto key = [](const std::map<std::string, std::string>& r) {
-    return r.at("point") + "/" + r.at("body") + "/" + r.at("node") + "/" + r.at("dof") + "/" +
+    return r.at("point") + "/" + r.at("body") + "/" + r.at("node") + "/" + r.at("axis") + "/" +
            r.at("harmonic");
   };
   for (const auto& r : read_csv(out02 / "preload_150" / "master_response.csv"))
@@ -146,7 +148,7 @@ TEST(Examples, TwoBeamJointRecoversTheReducedResponseOnTheFullMeshesAndHbmatImpo
         continue;
       }
       const int axis = r.at("axis") == "x" ? 0 : r.at("axis") == "y" ? 1 : 2;
-      expected[std::stoi(r.at("node_a"))][axis] -= value(r);
+      expected[std::stoi(r.at("node_a"))][axis] -= value(r, "n");
     }
     // F,node,FX|FY|FZ,Re,Im lines after HARFRQ (the harmonic-1 load step).
     std::ifstream mac(results03 / ("loads_p" + std::to_string(point) + "_beam1.mac"));
@@ -214,10 +216,10 @@ std::map<int, LiftOffPoint> lift_off_sweep(const fs::path& dir) {
     LiftOffPoint& p = pts[std::stoi(r.at("point"))];
     EXPECT_EQ(r.at("converged"), "1") << dir << " point " << r.at("point");
     p.omega = 2 * M_PI * std::stod(r.at("frequency_hz"));
-    p.friction_energy = std::stod(r.at("dissipated_energy"));
+    p.friction_energy = std::stod(r.at("dissipated_energy_j"));
   }
   for (const auto& r : read_csv(dir / "master_response.csv")) {
-    pts[std::stoi(r.at("point"))].X[{r.at("dof"), std::stoi(r.at("harmonic"))}] = value(r);
+    pts[std::stoi(r.at("point"))].X[{r.at("axis"), std::stoi(r.at("harmonic"))}] = value(r);
   }
   for (const auto& r : read_csv(dir / "contact_state.csv")) {
     pts[std::stoi(r.at("point"))].separation = std::stod(r.at("separation"));

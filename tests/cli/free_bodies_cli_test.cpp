@@ -127,8 +127,8 @@ output: {vtu: false, plots: false}
 double static_tip_uy(const fs::path& results) {
   for (const auto& row : read_csv(results / "master_response.csv")) {
     if (row.at("point") == "0" && row.at("node") == std::to_string(kTipNode) &&
-        row.at("dof") == "y" && row.at("harmonic") == "0")
-      return std::stod(row.at("real"));
+        row.at("axis") == "y" && row.at("harmonic") == "0")
+      return std::stod(row.at("real_m"));
   }
   ADD_FAILURE() << "no static tip row in " << results;
   return 0.0;

@@ -99,8 +99,8 @@ output:
     const Eigen::MatrixXcd D = K.cast<std::complex<double>>() - w * w * M.cast<std::complex<double>>() +
                                std::complex<double>(0, w) * (kAlpha * M + kBeta * K).cast<std::complex<double>>();
     const Eigen::VectorXcd X = D.partialPivLu().solve(h == 0 ? F0 : F1);
-    const int dof = 3 * (std::stoi(row.at("node")) - 1) + (row.at("dof")[0] - 'x');
-    const std::complex<double> got(std::stod(row.at("real")), std::stod(row.at("imag")));
+    const int dof = 3 * (std::stoi(row.at("node")) - 1) + (row.at("axis")[0] - 'x');
+    const std::complex<double> got(std::stod(row.at("real_m")), std::stod(row.at("imag_m")));
     // Modal expansion with all 9 modes against an LU: round-off of both, relative to the
     // response of the harmonic.
     EXPECT_NEAR(std::abs(got - X(dof)), 0.0, 1e-10 * X.cwiseAbs().maxCoeff())

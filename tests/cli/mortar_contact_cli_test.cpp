@@ -133,7 +133,7 @@ std::map<int, std::map<std::string, double>> static_pair_forces(const fs::path& 
   std::map<int, std::map<std::string, double>> f;
   for (const auto& r : read_csv(out / "contact_forces.csv")) {
     if (r.at("harmonic") != "0" || r.at("frame") != "local") continue;
-    f[std::stoi(r.at("pair"))][r.at("axis")] = std::stod(r.at("real"));
+    f[std::stoi(r.at("pair"))][r.at("axis")] = std::stod(r.at("real_n"));
   }
   return f;
 }
@@ -147,7 +147,7 @@ std::map<int, CouplingRow> coupling(const fs::path& out) {
   std::map<int, CouplingRow> rows;
   for (const auto& r : read_csv(out / "contact_coupling.csv")) {
     CouplingRow& row = rows[std::stoi(r.at("pair"))];
-    row.area = std::stod(r.at("area"));
+    row.area = std::stod(r.at("area_m2"));
     row.weight_sum += std::stod(r.at("weight"));
     ++row.partners;
   }

@@ -25,7 +25,7 @@ freq = {int(r['point']): float(r['frequency_hz']) for r in csv.DictReader(open(o
 nodes = {}
 for r in csv.DictReader(open(os.path.join(out, 'recovered_nodes.csv'))):
     if r['harmonic'] == '1':
-        nodes[(int(r['point']), r['body'], int(r['node']), r['dof'])] = complex(float(r['real']), float(r['imag']))
+        nodes[(int(r['point']), r['body'], int(r['node']), r['axis'])] = complex(float(r['real_m']), float(r['imag_m']))
 def read_vtu(path):
     reader = vtk.vtkXMLUnstructuredGridReader()
     reader.SetFileName(path)

@@ -51,7 +51,7 @@ Sweep read_sweep(const fs::path& out) {
   for (const auto& r : read_csv(out / "points.csv")) {
     EXPECT_EQ(r.at("converged"), "1") << "point " << r.at("point");
     s.f_hz.push_back(std::stod(r.at("frequency_hz")));
-    s.energy.push_back(std::stod(r.at("dissipated_energy")));
+    s.energy.push_back(std::stod(r.at("dissipated_energy_j")));
   }
   s.amplitude.assign(s.f_hz.size(), 0.0);
   s.slip.assign(s.f_hz.size(), 0.0);
@@ -64,10 +64,10 @@ Sweep read_sweep(const fs::path& out) {
   }
   for (double& v : s.slip) v /= static_cast<double>(contact_nodes.size());
   for (const auto& r : read_csv(out / "master_response.csv")) {
-    if (r.at("body") != "beam1" || r.at("dof") != "y" || r.at("harmonic") != "1") continue;
+    if (r.at("body") != "beam1" || r.at("axis") != "y" || r.at("harmonic") != "1") continue;
     if (contact_nodes.count(r.at("node"))) continue;
     const double a =
-        std::abs(std::complex<double>(std::stod(r.at("real")), std::stod(r.at("imag"))));
+        std::abs(std::complex<double>(std::stod(r.at("real_m")), std::stod(r.at("imag_m"))));
     double& slot = s.amplitude[std::stoi(r.at("point"))];
     slot = std::max(slot, a);
   }

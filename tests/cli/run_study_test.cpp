@@ -72,8 +72,8 @@ TEST(RunStudy, PreloadStudyMeshesAndReducesOnceAndEqualsSeparateRuns) {
   ASSERT_EQ(p50.size(), p5.size());
   double energy_50 = 0, energy_5 = 0;
   for (size_t i = 0; i < p50.size(); ++i) {
-    energy_50 += std::stod(p50[i].at("dissipated_energy"));
-    energy_5 += std::stod(p5[i].at("dissipated_energy"));
+    energy_50 += std::stod(p50[i].at("dissipated_energy_j"));
+    energy_5 += std::stod(p5[i].at("dissipated_energy_j"));
   }
   EXPECT_GT(std::abs(energy_5 - energy_50), 0.1 * std::max(energy_5, energy_50));
 }

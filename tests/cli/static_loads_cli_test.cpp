@@ -126,7 +126,7 @@ std::map<int, std::map<std::string, double>> static_pair_forces(const fs::path& 
   std::map<int, std::map<std::string, double>> f;
   for (const auto& r : read_csv(out / "contact_forces.csv")) {
     if (r.at("harmonic") != "0" || r.at("frame") != "local") continue;
-    f[std::stoi(r.at("pair"))][r.at("axis")] = std::stod(r.at("real"));
+    f[std::stoi(r.at("pair"))][r.at("axis")] = std::stod(r.at("real_n"));
   }
   return f;
 }
@@ -165,8 +165,8 @@ TEST(StaticLoadsCli, PressedJointHasTheHandCalculatedPreloadAndMeanStress) {
   // The recovered mean displacement of bar 1's contact node 91 (x = L1, y = z = 0).
   bool found = false;
   for (const auto& r : read_csv(dir / "out" / "recovered_nodes.csv")) {
-    if (r.at("node") != "91" || r.at("dof") != "x" || r.at("harmonic") != "0") continue;
-    EXPECT_NEAR(std::stod(r.at("real")), hand.delta_contact, 1e-7 * std::abs(hand.delta_contact));
+    if (r.at("node") != "91" || r.at("axis") != "x" || r.at("harmonic") != "0") continue;
+    EXPECT_NEAR(std::stod(r.at("real_m")), hand.delta_contact, 1e-7 * std::abs(hand.delta_contact));
     found = true;
   }
   EXPECT_TRUE(found);

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../required_tool.h"
 #include "cli_test_support.h"
 
 namespace stickslip::cli_test {
@@ -123,7 +124,7 @@ std::map<int, std::array<double, 3>> static_reactions(const fs::path& results) {
   std::map<int, std::array<double, 3>> out;
   for (const auto& row : read_csv(results / "reactions.csv")) {
     if (row.at("point") != "0" || row.at("harmonic") != "0") continue;
-    out[std::stoi(row.at("node"))][row.at("dof")[0] - 'x'] = std::stod(row.at("real"));
+    out[std::stoi(row.at("node"))][row.at("axis")[0] - 'x'] = std::stod(row.at("real_n"));
   }
   return out;
 }
@@ -133,9 +134,9 @@ std::map<std::pair<int, int>, std::complex<double>> response(const fs::path& res
   std::map<std::pair<int, int>, std::complex<double>> out;
   for (const auto& row : read_csv(results / "master_response.csv")) {
     if (row.at("point") != "0" || row.at("node") != std::to_string(node)) continue;
-    const int dof = row.at("dof")[0] - 'x';
-    out[{std::stoi(row.at("harmonic")), dof}] = {std::stod(row.at("real")),
-                                                 std::stod(row.at("imag"))};
+    const int dof = row.at("axis")[0] - 'x';
+    out[{std::stoi(row.at("harmonic")), dof}] = {std::stod(row.at("real_m")),
+                                                 std::stod(row.at("imag_m"))};
   }
   return out;
 }
@@ -241,7 +242,7 @@ std::string block_mesh() { return hex_grid_inp(kBx, kBy, kBz, kBlockL, kBlockW, 
 
 TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
   const std::optional<std::string> ccx = find_ccx();
-  if (!ccx) GTEST_SKIP() << "ccx (CalculiX) not installed";
+  STICKSLIP_REQUIRE_TOOL(ccx, "ccx (CalculiX)");
   const fs::path dir = fresh_dir("supports_321");
   std::ofstream(dir / "block.inp") << block_mesh();
   const int n1 = block_node(0, 0, 0), n2 = block_node(kBx, 0, 0), n3 = block_node(0, kBy, 0);

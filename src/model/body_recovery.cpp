@@ -1,0 +1,129 @@
+#include "model/body_recovery.h"
+
+#include <algorithm>
+#include <complex>
+#include <stdexcept>
+#include <string>
+
+#include "core/errors.h"
+#include "model/recovery_loads.h"
+
+namespace stickslip {
+
+BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model, int body,
+                           BodyRecoveryOptions options)
+    : model_(model),
+      body_(model.bodies.at(static_cast<size_t>(body))),
+      method_(def.recovery.method),
+      damping_{def.damping.alpha, def.damping.beta} {
+  if (!body_.from_mesh) {
+    throw std::invalid_argument("BodyRecovery: body " + body_.name + " is not given by a mesh");
+  }
+  // A mesh body whose reduction kept no full matrices (GivenReduction: reduced matrices given in
+  // memory) cannot be recovered on its mesh.
+  if (!body_.K || !body_.M || (method_ == RecoveryMethod::kExpansion && !body_.T)) {
+    throw InvalidInput(
+        def.where("bodies." + body_.name),
+        "body " + body_.name + " has no full " +
+            (body_.K && body_.M ? std::string("Craig-Bampton basis (recovery.method: expansion)")
+                                : std::string("stiffness and mass matrices")) +
+            ": its reduced model was given without them, so it cannot be recovered on its "
+            "mesh (recovery.points: none)");
+  }
+  if (method_ == RecoveryMethod::kDirect) {
+    solver_ = std::make_unique<DirectRecovery>(*body_.K, *body_.M, body_.constraints, damping_);
+  } else if (method_ == RecoveryMethod::kModal) {
+    ModalRecoveryOptions o;
+    o.num_modes = std::min(def.recovery.modes, body_.constraints.num_free() - 1);
+    solver_ = std::make_unique<ModalRecovery>(*body_.K, *body_.M, body_.constraints, damping_, o);
+  }
+  if (solver_ && !solver_->ok()) {
+    throw InvalidInput(def.where("recovery.method"),
+                       "recovery of body " + body_.name + " failed: " + solver_->message());
+  }
+  rigid_ = solver_ ? solver_->rigid_modes() : Eigen::MatrixXd();
+  // The physical (master) DOFs in the order of body.reduced: full-model and assembled-reduced.
+  for (int j = 0; j < body_.reduced.size(); ++j) {
+    const ReducedDof& d = body_.reduced.dofs[j];
+    if (d.kind == ReducedDof::Kind::kPhysical) {
+      full_dofs_.push_back(d.full_dof);
+      reduced_dofs_.push_back(body_.offset + j);
+    }
+  }
+  for (int node = 0; node < body_.mesh.num_nodes(); ++node) {
+    for (int d = 0; d < 3; ++d) {
+      if (body_.constraints.is_constrained(dof_of(node, d))) {
+        held_nodes_.push_back(node);
+        break;
+      }
+    }
+  }
+  // Nodal stresses as one sparse operator, built once per body (element by element per point
+  // would re-condense every C3D8I at every call).
+  if (options.stresses) stress_operator_.emplace(body_.mesh, body_.material, AssemblyOptions{});
+}
+
+BodyRecovery::~BodyRecovery() = default;
+
+RecoveredPoint BodyRecovery::recover(const FrequencyPoint& p,
+                                     const std::vector<int>& harmonics) const {
+  const int nh = static_cast<int>(harmonics.size());
+  const int n = body_.mesh.num_dofs();
+  RecoveredPoint out;
+  out.loads = recovery_loads(model_, body_, harmonics, p);
+  out.displacement = method_ == RecoveryMethod::kExpansion
+                         ? expand_reduced_response(
+                               *body_.T, p.master.middleRows(body_.offset, body_.reduced.size()))
+                         : harmonic_response(*solver_, out.loads, harmonics, p.omega, &out.summary);
+  Eigen::MatrixXcd& x = out.displacement;
+  // A body its clamps and supports do not hold: the static solve has no rigid motion; the
+  // reduced solution knows what the springs and contacts did with it (at the master DOFs).
+  for (int h = 0; h < nh && rigid_.cols() > 0; ++h) {
+    if (harmonics[h] != 0) continue;
+    Eigen::VectorXcd target(static_cast<Eigen::Index>(full_dofs_.size()));
+    for (size_t i = 0; i < full_dofs_.size(); ++i) target(i) = p.master(reduced_dofs_[i], h);
+    add_rigid_motion(rigid_, full_dofs_, target, x.col(h));
+  }
+  // Check against the reduced nonlinear response at the master DOFs.
+  Eigen::MatrixXcd reduced = Eigen::MatrixXcd::Zero(n, nh);
+  for (size_t i = 0; i < full_dofs_.size(); ++i)
+    reduced.row(full_dofs_[i]) = p.master.row(reduced_dofs_[i]);
+  out.check = compare_responses(x, reduced, full_dofs_);
+  out.reduced_max.assign(static_cast<size_t>(nh), 0.0);
+  for (int h = 0; h < nh; ++h) {
+    for (int dof : full_dofs_) {
+      out.reduced_max[h] = std::max(out.reduced_max[h], std::abs(reduced(dof, h)));
+    }
+  }
+  // Reactions at the held nodes (zero at free DOFs to the solver's round-off).
+  out.reactions.resize(3 * static_cast<Eigen::Index>(held_nodes_.size()), nh);
+  if (!held_nodes_.empty()) {
+    const Eigen::MatrixXd xr = x.real(), xi = x.imag();
+    const Eigen::MatrixXd Kr = *body_.K * xr, Ki = *body_.K * xi;
+    const Eigen::MatrixXd Mr = *body_.M * xr, Mi = *body_.M * xi;
+    const std::complex<double> i1(0, 1);
+    for (int h = 0; h < nh; ++h) {
+      const double w = harmonics[h] * p.omega;
+      const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() + i1 * Ki.col(h);
+      const Eigen::VectorXcd Mx = Mr.col(h).cast<std::complex<double>>() + i1 * Mi.col(h);
+      const Eigen::VectorXcd R =
+          Kx - w * w * Mx +
+          std::complex<double>(0, w) * (damping_.alpha * Mx + damping_.beta * Kx) -
+          out.loads.col(h);
+      for (size_t i = 0; i < held_nodes_.size(); ++i) {
+        for (int d = 0; d < 3; ++d) out.reactions(3 * i + d, h) = R(dof_of(held_nodes_[i], d));
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<ComplexStressMatrix> BodyRecovery::stresses(
+    const Eigen::MatrixXcd& displacement) const {
+  if (!stress_operator_) {
+    throw std::logic_error("BodyRecovery::stresses: built without options.stresses");
+  }
+  return stress_operator_->apply(displacement);
+}
+
+}  // namespace stickslip
