@@ -430,9 +430,16 @@ TEST(MortarContactCli, MatchingSurfacesGiveTheSameAnswerWithEitherCoupling) {
     Table t;
     for (const auto& r : read_csv(file)) {
       std::string key;
-      for (const auto& [column, value] : r)
-        if (column != "real" && column != "imag") key += column + "=" + value + " ";
-      const double re = std::stod(r.at("real")), im = std::stod(r.at("imag"));
+      double re = 0, im = 0;  // real_m / imag_m (responses) or real_n / imag_n (forces)
+      for (const auto& [column, value] : r) {
+        if (column.rfind("real_", 0) == 0) {
+          re = std::stod(value);
+        } else if (column.rfind("imag_", 0) == 0) {
+          im = std::stod(value);
+        } else {
+          key += column + "=" + value + " ";
+        }
+      }
       t.rows[key] = {re, im};
       double& big = t.largest[r.at("harmonic")];
       big = std::max(big, std::hypot(re, im));

@@ -188,12 +188,12 @@ Matrices read_matrices(const fs::path& dir, const std::string& job) {
   return out;
 }
 
-// Harmonic 1 of `dof` (x, y, z) at `node` of point 0 in master_response.csv.
+// Harmonic 1 along `dof` (axis x, y, z) at `node` of point 0 in master_response.csv.
 Complex response(const fs::path& out, int node, const std::string& dof) {
   for (const auto& r : read_csv(out / "master_response.csv")) {
     if (r.at("point") == "0" && r.at("harmonic") == "1" && std::stoi(r.at("node")) == node &&
-        r.at("dof") == dof)
-      return {std::stod(r.at("real")), std::stod(r.at("imag"))};
+        r.at("axis") == dof)
+      return {std::stod(r.at("real_m")), std::stod(r.at("imag_m"))};
   }
   ADD_FAILURE() << "no response of node " << node << " " << dof;
   return {};
