@@ -3,11 +3,10 @@
 # holds on main:
 #   1. the formatting of the C++ files (scripts/check_format.sh, clang-format 14);
 #   2. the `dev` preset: warnings are errors, assertions on (-O1 -g), the whole suite.
-# The `asan` preset (Address + UB sanitizers) is not in CI yet: on main f8a9fb9 its build took
-# 20 min and its suite 6 min on this machine (2026-11-25), 700 of 702 tests clean, the two others
-# failing inside libgmsh (README.md, "Developing": the preset now works around both); it goes in
-# once a whole run on main is clean. Run it before a change to memory handling:
-#   cmake --preset asan && cmake --build --preset asan && ctest --preset asan
+#   3. the `asan` preset: Address + UndefinedBehavior sanitizers (-O1 -g), the whole suite but the one
+#      test that only exercises a defect inside Debian's libgmsh 4.8 (README.md, "Developing").
+# Measured on this kind of machine (2 cores): the asan build about 20 min from scratch, its suite
+# 7 min (main b25e0f5, 2026-11-26); the whole CI run stays well inside its 90 min.
 # Needs what scripts/setup.sh installs (run scripts/test.sh, or setup.sh, first).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,3 +15,6 @@ export STICKSLIP_REQUIRE_TOOLS=1
 cmake --preset dev
 cmake --build --preset dev
 ctest --preset dev
+cmake --preset asan
+cmake --build --preset asan
+ctest --preset asan

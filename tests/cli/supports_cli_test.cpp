@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../required_tool.h"
 #include "cli_test_support.h"
 
 namespace stickslip::cli_test {
@@ -241,7 +242,7 @@ std::string block_mesh() { return hex_grid_inp(kBx, kBy, kBz, kBlockL, kBlockW, 
 
 TEST(SupportsCli, ThreeTwoOneSupportedFreeBlockMatchesCalculixAndStatics) {
   const std::optional<std::string> ccx = find_ccx();
-  if (!ccx) GTEST_SKIP() << "ccx (CalculiX) not installed";
+  STICKSLIP_REQUIRE_TOOL(ccx, "ccx (CalculiX)");
   const fs::path dir = fresh_dir("supports_321");
   std::ofstream(dir / "block.inp") << block_mesh();
   const int n1 = block_node(0, 0, 0), n2 = block_node(kBx, 0, 0), n3 = block_node(0, kBy, 0);
