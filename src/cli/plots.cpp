@@ -388,6 +388,12 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
   }
   if (best < 0) return;
   const FrequencyPoint& p = results.response.points[best];
+  size_t most_dissipative = 0;
+  for (size_t q = 1; q < p.pairs.size(); ++q) {
+    if (p.pairs[q].cycle.dissipated_energy > p.pairs[most_dissipative].cycle.dissipated_energy) {
+      most_dissipative = q;
+    }
+  }
   const auto loops_on_axis = [&](int axis) {
     std::vector<PlotSeries> loops;
     for (size_t q = 0; q < p.pairs.size(); ++q) {
@@ -395,10 +401,13 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
       if (h.u.cols() == 0 || h.u.rows() <= axis) continue;
       // A 3D pair has rows t1, t2, n; a 1D law one row: t2 exists only with three rows.
       if (axis == 1 && h.u.rows() < 3) continue;
-      const std::string name = q < results.pairs.size()
-                                   ? fmt::format("{} pair {}", results.pairs[q].contact,
-                                                 results.pairs[q].pair)
-                                   : fmt::format("pair {}", q);
+      std::string name = q < results.pairs.size()
+                             ? fmt::format("{} pair {}", results.pairs[q].contact,
+                                           results.pairs[q].pair)
+                             : fmt::format("pair {}", q);
+      if (q == most_dissipative && p.pairs[q].cycle.dissipated_energy > 0) {
+        name += " (most dissipative)";
+      }
       PlotSeries s{name, {}, {}};
       for (int j = 0; j <= h.u.cols(); ++j) {  // closed loop: repeat the first sample
         s.x.push_back(h.u(axis, j % h.u.cols()));

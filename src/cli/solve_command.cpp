@@ -156,13 +156,10 @@ std::string describe_removed(const std::vector<std::string>& removed) {
 
 namespace {
 
-// contact_map.vtu (docs/output-files.md): one VTK vertex per contact pair at its A node (its B
-// node when A has no mesh; pairs on bodies given by matrices have no place and are left out), with
-// the cycle fractions and the friction energy of the converged point that dissipates most (the
-// point the hysteresis plots show). Nothing when no pair has a place or no point converged.
-void write_contact_map(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
-                       const FrequencyResponse& fr,
-                       const std::function<double(const CycleStatistics&)>& energy) {
+// The converged point whose pairs dissipate most in all (the first of equals; -1: none converged),
+// with the energies as written (`energy`): the point of the contact map and the hysteresis plots.
+int most_dissipative_point(const FrequencyResponse& fr,
+                           const std::function<double(const CycleStatistics&)>& energy) {
   int best = -1;
   double most = -1;
   for (size_t i = 0; i < fr.points.size(); ++i) {
@@ -172,6 +169,17 @@ void write_contact_map(const fs::path& dir, const CaseDefinition& def, const Pre
     for (const PairResponse& r : p.pairs) e += energy(r.cycle);
     if (e > most) most = e, best = static_cast<int>(i);
   }
+  return best;
+}
+
+// contact_map.vtu (docs/output-files.md): one VTK vertex per contact pair at its A node (its B
+// node when A has no mesh; pairs on bodies given by matrices have no place and are left out), with
+// the cycle fractions and the friction energy of the converged point that dissipates most (the
+// point the hysteresis plots show). Nothing when no pair has a place or no point converged.
+void write_contact_map(const fs::path& dir, const CaseDefinition& def, const PreparedModel& model,
+                       const FrequencyResponse& fr,
+                       const std::function<double(const CycleStatistics&)>& energy) {
+  const int best = most_dissipative_point(fr, energy);
   if (best < 0) return;
   // The coordinates of node `id` of body `name`, if that body has a mesh holding it.
   const auto place = [&](const std::string& name, int id, Eigen::Vector3d* x) {
@@ -369,6 +377,26 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
 
   write_contact_map(dir, def, model, fr, energy);
 
+  // With output.histories, the cycle of the pair that dissipates most at the most dissipative
+  // point is kept too (when not asked for already): the hysteresis plots show it beside the
+  // requested pairs (docs/output-files.md).
+  int loop_point = -1, loop_pair = -1;
+  AftSamples loop;
+  if (!def.output.histories.empty() && solved.system) {
+    loop_point = most_dissipative_point(fr, energy);
+    if (loop_point >= 0) {
+      const FrequencyPoint& p = fr.points[loop_point];
+      double most = 0;
+      for (size_t q = 0; q < p.pairs.size(); ++q) {
+        if (energy(p.pairs[q].cycle) > most) {
+          most = energy(p.pairs[q].cycle), loop_pair = static_cast<int>(q);
+        }
+      }
+      if (loop_pair >= 0 && p.pairs[loop_pair].history.u.size() == 0 && p.unknowns.size() > 0) {
+        loop = solved.system->pair_cycle(p.unknowns, loop_pair);
+      }
+    }
+  }
   if (!def.output.histories.empty()) {
     write_file_atomically((dir / "histories.csv").string(), [&](std::ostream& out) {
       out << "point,contact,pair,sample,t_over_period,axis,displacement_m,force_n" << study.header
@@ -376,7 +404,9 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
       for (size_t i = 0; i < fr.points.size(); ++i) {
         const FrequencyPoint& p = fr.points[i];
         for (size_t q = 0; q < p.pairs.size(); ++q) {
-          const AftSamples& s = p.pairs[q].history;
+          const bool extra = static_cast<int>(i) == loop_point &&
+                             static_cast<int>(q) == loop_pair && loop.u.size() > 0;
+          const AftSamples& s = extra ? loop : p.pairs[q].history;
           if (s.u.size() == 0) continue;
           const int n = static_cast<int>(s.u.cols());
           for (int j = 0; j < n; ++j) {

@@ -28,7 +28,7 @@ output:
          std::string(plots ? "true" : "false") + R"(
   log_amplitude: )" +
          std::string(log_amplitude ? "true" : "false") + R"(
-  histories: {joint: [0, 1]}
+  histories: {joint: [0]}
   frf: [{body: beam1, node: 11, direction: y}]
 )";
 }
@@ -61,6 +61,42 @@ TEST(PlotOptions, LogAmplitudeOfTheCaseIsDrawnByRunAndAgainByPlot) {
   }
   ASSERT_EQ(run("plot -q " + out.string(), dir / "plot.log"), 0) << slurp(dir / "plot.log");
   for (const auto& [name, text] : drawn) EXPECT_EQ(slurp(out / name), text) << name;
+
+  // The hysteresis plots show the pair that dissipates most at the most dissipative point
+  // (contact_state.csv, points.csv), named so, with its cycle from histories.csv, beside the
+  // requested pair 0.
+  std::string best;
+  double most = -1;
+  for (const auto& r : read_csv(out / "points.csv")) {
+    if (r.at("converged") == "1" && std::stod(r.at("dissipated_energy_j")) > most) {
+      most = std::stod(r.at("dissipated_energy_j")), best = r.at("point");
+    }
+  }
+  ASSERT_GT(most, 0);
+  std::string pair;
+  double pair_most = -1;
+  for (const auto& r : read_csv(out / "contact_state.csv")) {
+    if (r.at("point") == best && std::stod(r.at("dissipated_energy_j")) > pair_most) {
+      pair_most = std::stod(r.at("dissipated_energy_j")), pair = r.at("pair");
+    }
+  }
+  size_t samples = 0;
+  for (const auto& r : read_csv(out / "histories.csv")) {
+    samples += r.at("point") == best && r.at("pair") == pair && r.at("axis") == "t1" ? 1 : 0;
+  }
+  EXPECT_EQ(samples, 32u) << "pair " << pair << " point " << best;  // time_samples: 32
+  for (const char* stem : {"hysteresis", "hysteresis_t2"}) {
+    const std::string label = "joint pair " + pair + " (most dissipative)";
+    EXPECT_NE(slurp(out / (std::string(stem) + ".gp")).find("'" + label + "'"), std::string::npos)
+        << stem << " " << label;
+    EXPECT_NE(slurp(out / (std::string(stem) + ".dat")).find("# " + label + "\n"),
+              std::string::npos)
+        << stem;
+    if (pair != "0") {
+      EXPECT_NE(slurp(out / (std::string(stem) + ".dat")).find("# joint pair 0\n"),
+                std::string::npos);
+    }
+  }
 }
 
 TEST(PlotOptions, PlotLogDrawsALinearRunLogarithmic) {

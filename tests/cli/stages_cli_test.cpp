@@ -436,7 +436,8 @@ TEST_F(StagesCli, PlotRedrawsTheFrfFromTheCsvFiles) {
     expected_loop.push_back(expected_loop[0]);
     expected_loop.push_back(expected_loop[1]);
     const auto loops = dat_blocks(dir / (stem + ".dat"));
-    ASSERT_EQ(loops.size(), 1u) << stem;
+    // Pair 0 first; then the pair that dissipates most, when it is another (plot_options_test).
+    ASSERT_GE(loops.size(), 1u) << stem;
     ASSERT_EQ(loops[0].size(), expected_loop.size()) << stem;
     for (size_t i = 0; i < expected_loop.size(); ++i) {
       EXPECT_NEAR(loops[0][i], expected_loop[i], 1e-9 * std::abs(expected_loop[i]) + 1e-20)
