@@ -1,5 +1,6 @@
 // The event AFT for FrictionContact3D with general (non-collinear) tangential motion
-// (aft.h, AftMethod::kEvent). Continuous law, θ = Ωt, u_t(θ) = u0 + C φ(θ), N(θ) = N0 + kn (w − g0):
+// (aft.h, AftMethod::kEvent). Continuous law, θ = Ωt, u_t(θ) = u0 + C φ(θ), N(θ) = N0 + kn (w −
+// g0):
 //   stick (ref, 2-vector):  τ = ref + kt u_t(θ); leaves when g = (μN)² − |τ|² < 0 (→ slip) or
 //                           N < 0 (→ open);
 //   slip (angle φ):         τ = μN e(φ), e = (cos φ, sin φ), e⊥ = (−sin φ, cos φ). From
@@ -103,11 +104,11 @@ const Collocation& collocation() {
 
 struct State {
   Mode mode = Mode::kStick;
-  bool virgin = false;          // stick from the virgin state (ref = 0)
-  double phi = 0.0;             // slip: direction of τ
-  Eigen::RowVectorXd dphi;      // slip: ∂φ/∂p (1 x np)
+  bool virgin = false;                            // stick from the virgin state (ref = 0)
+  double phi = 0.0;                               // slip: direction of τ
+  Eigen::RowVectorXd dphi;                        // slip: ∂φ/∂p (1 x np)
   Eigen::Vector2d ref = Eigen::Vector2d::Zero();  // stick: τ = ref + kt u_t(θ)
-  Eigen::MatrixXd dref;         // stick: ∂ref/∂p (2 x np)
+  Eigen::MatrixXd dref;                           // stick: ∂ref/∂p (2 x np)
 };
 
 struct Totals {
@@ -134,8 +135,15 @@ class PlanarCycle {
  public:
   PlanarCycle(const HarmonicSet& set, int grid_samples, const FrictionContactParameters& p,
               const Eigen::VectorXd& c, const Eigen::Vector3d& offset)
-      : set_(set), nc_(set.coefficient_count()), grid_(kTwoPi / grid_samples),
-        kt_(p.mu > 0 ? p.kt : 0.0), kn_(p.kn), mu_(p.mu), b0_(nc_), b1_(nc_), b2_(nc_),
+      : set_(set),
+        nc_(set.coefficient_count()),
+        grid_(kTwoPi / grid_samples),
+        kt_(p.mu > 0 ? p.kt : 0.0),
+        kn_(p.kn),
+        mu_(p.mu),
+        b0_(nc_),
+        b1_(nc_),
+        b2_(nc_),
         norm_(nc_) {
     C_.resize(2, nc_);
     C_.row(0) = c.segment(0, nc_).transpose();
@@ -442,8 +450,8 @@ class PlanarCycle {
           continue;
         }
         case Mode::kStick: {
-          const double g_scale = std::pow(mu_ * n_scale_ + kt_ * u_scale_, 2) +
-                                 std::numeric_limits<double>::min();
+          const double g_scale =
+              std::pow(mu_ * n_scale_ + kt_ * u_scale_, 2) + std::numeric_limits<double>::min();
           auto g = [&](double t, int q) {
             const Sig s = at(t);
             const Eigen::Vector2d tau = st.ref + kt_ * s.u;
@@ -455,8 +463,8 @@ class PlanarCycle {
           };
           std::optional<double> e1;
           if (!frictionless()) e1 = first_exit(g, kSwitchTolerance * g_scale, th, b);
-          const auto e2 = first_exit([&](double t, int q) { return normal(t, q); }, n_tol, th,
-                                     e1 ? *e1 : b);
+          const auto e2 =
+              first_exit([&](double t, int q) { return normal(t, q); }, n_tol, th, e1 ? *e1 : b);
           if (e2) {
             te = *e2;
             next = Mode::kOpen;
@@ -693,8 +701,8 @@ class PlanarCycle {
   double integrate_slip(State& st, double a, double end, Totals* tot, bool& to_stick,
                         bool& lifted) {
     const Collocation& k = collocation();
-    const double lam_tol = kSwitchTolerance * (C_.cwiseAbs().sum() * max_k_ +
-                                               mu_ * n_scale_ * max_k_ / kt_);
+    const double lam_tol =
+        kSwitchTolerance * (C_.cwiseAbs().sum() * max_k_ + mu_ * n_scale_ * max_k_ / kt_);
     double th = a, h = h_max_;
     StepResult r;
     int steps = 0;
@@ -749,8 +757,8 @@ class PlanarCycle {
       th += step;
       if (to_stick) return th;
       if (last) break;
-      h = hs * std::min(4.0, 0.9 * std::pow(kStepTolerance / std::max(r.err, 1e-300),
-                                             1.0 / kStages));
+      h = hs *
+          std::min(4.0, 0.9 * std::pow(kStepTolerance / std::max(r.err, 1e-300), 1.0 / kStages));
       h = std::min(h, h_max_);
     }
     return end;
@@ -771,7 +779,8 @@ class PlanarCycle {
       const Eigen::Vector2d e(std::cos(r.Phi[j]), std::sin(r.Phi[j])), ep(-e[1], e[0]);
       if (sens && full_) {
         const double mn = mu_ * s.N;
-        for (int q = 0; q < 2; ++q) Fp.block(j, q * nc_, 1, nc_) = kt_ * ep[q] / mn * b1_.transpose();
+        for (int q = 0; q < 2; ++q)
+          Fp.block(j, q * nc_, 1, nc_) = kt_ * ep[q] / mn * b1_.transpose();
         Fp.block(j, 2 * nc_, 1, nc_) = -r.f[j] * kn_ / s.N * b0_.transpose();
       }
       b0s[j] = b0_;
@@ -859,7 +868,8 @@ bool Aft::evaluate_planar(const FrictionContact3D& contact, const Eigen::VectorX
   const HarmonicSet& set = basis_.harmonics();
   const int nc = set.coefficient_count();
   const int n = basis_.time_samples();
-  const Eigen::Vector3d off = offset.size() == 3 ? Eigen::Vector3d(offset) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d off =
+      offset.size() == 3 ? Eigen::Vector3d(offset) : Eigen::Vector3d::Zero();
   PlanarCycle cycle(set, n, contact.parameters(), coefficients, off);
   Totals tot;
   int periods = 0;
@@ -877,7 +887,8 @@ bool Aft::evaluate_planar(const FrictionContact3D& contact, const Eigen::VectorX
     samples->u.resize(3, n);
     for (int j = 0; j < n; ++j) {
       const Eigen::VectorXd phi = basis_.synthesis().row(j).transpose();
-      for (int d = 0; d < 3; ++d) samples->u(d, j) = off[d] + coefficients.segment(d * nc, nc).dot(phi);
+      for (int d = 0; d < 3; ++d)
+        samples->u(d, j) = off[d] + coefficients.segment(d * nc, nc).dot(phi);
     }
     samples->f = f;
   }

@@ -35,9 +35,9 @@ TEST(PlanarEventAft, CircularOrbitSlipsWithTheForceLaggingTheVelocityByTheStickP
   const double fs = p.mu * p.normal_preload;
   for (double A : {5.001e-5, 6e-5, 1e-4, 1e-3}) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(3 * kNc), F;
-    c[0] = 2e-5;                  // a mean tangential offset: irrelevant in steady slip
-    c[1] = A;                     // u_t1 = A cos θ
-    c[kNc + 2] = A;               // u_t2 = A sin θ
+    c[0] = 2e-5;     // a mean tangential offset: irrelevant in steady slip
+    c[1] = A;        // u_t1 = A cos θ
+    c[kNc + 2] = A;  // u_t2 = A sin θ
     const CycleStatistics st = aft.evaluate(element, c, Eigen::VectorXd(), F, nullptr);
     EXPECT_FALSE(st.aft_fallback);
     EXPECT_NEAR(st.slip_fraction, 1.0, 1e-14);
@@ -48,8 +48,8 @@ TEST(PlanarEventAft, CircularOrbitSlipsWithTheForceLaggingTheVelocityByTheStickP
     expected[kNc + 1] = fs * std::cos(beta);
     expected[kNc + 2] = fs * std::sin(beta);
     expected[2 * kNc] = p.normal_preload;
-    EXPECT_LE((F - expected).cwiseAbs().maxCoeff(), kTolerance * fs)
-        << "A = " << A << "\n" << (F - expected).transpose();
+    EXPECT_LE((F - expected).cwiseAbs().maxCoeff(), kTolerance * fs) << "A = " << A << "\n"
+                                                                     << (F - expected).transpose();
     EXPECT_NEAR(st.dissipated_energy, 2 * kPi * fs * A * std::cos(beta), kTolerance * fs * A);
   }
 }
@@ -81,14 +81,14 @@ std::vector<Case> cases() {
   out.push_back({"ellipse_stick_slip", make(sig(0, 2e-4, 0), sig(0, 0, 6e-5), sig(0, 1e-5, 0))});
   out.push_back(
       {"ellipse_oblique", make(sig(1e-6, 1.5e-4, 5e-5), sig(0, -4e-5, 9e-5), sig(0, 2e-5, 1e-5))});
-  out.push_back({"ellipse_lift_off", make(sig(0, 1e-4, 0), sig(0, 2e-5, 6e-5), sig(0, 7e-5, 3e-5)),
-                 true});
+  out.push_back(
+      {"ellipse_lift_off", make(sig(0, 1e-4, 0), sig(0, 2e-5, 6e-5), sig(0, 7e-5, 3e-5)), true});
   // A mean offset beyond the stick limit (kt·1e-4 = 2 μN): the virgin state slips at θ = 0 until
   // the motion turns, then the small ellipse (kt·1e-5 = μN/5) stays stuck on that anchor.
   out.push_back({"ellipse_stuck_after_transient",
                  make(sig(1e-4, 0, 1e-5), sig(0, 1e-5, 0), sig(0, 1e-6, 0)), false, true});
-  out.push_back({"ellipse_lift_off_2", make(sig(0, 6e-5, 3e-5), sig(0, -5e-5, 4e-5),
-                                            sig(-1e-5, 6e-5, -5e-5)), true});
+  out.push_back({"ellipse_lift_off_2",
+                 make(sig(0, 6e-5, 3e-5), sig(0, -5e-5, 4e-5), sig(-1e-5, 6e-5, -5e-5)), true});
   return out;
 }
 
@@ -114,11 +114,11 @@ TEST(PlanarEventAft, EllipticalCyclesAreTheSampledLawsLimit) {
     coarse.evaluate(element, c.c, Eigen::VectorXd(), Fc, nullptr);
     fine.evaluate(element, c.c, Eigen::VectorXd(), Ff, nullptr);
     const Eigen::VectorXd Fr = 2 * Ff - Fc;
-    std::printf("%s: stick %.3f slip %.3f open %.3f; sampled N = 16384 %.2e, N = 32768 %.2e, "
-                "Richardson %.2e\n",
-                c.label.c_str(), st.stick_fraction, st.slip_fraction, st.separation_fraction,
-                (Fc - Fe).norm() / Fe.norm(), (Ff - Fe).norm() / Fe.norm(),
-                (Fr - Fe).norm() / Fe.norm());
+    std::printf(
+        "%s: stick %.3f slip %.3f open %.3f; sampled N = 16384 %.2e, N = 32768 %.2e, "
+        "Richardson %.2e\n",
+        c.label.c_str(), st.stick_fraction, st.slip_fraction, st.separation_fraction,
+        (Fc - Fe).norm() / Fe.norm(), (Ff - Fe).norm() / Fe.norm(), (Fr - Fe).norm() / Fe.norm());
     EXPECT_LT((Fr - Fe).norm(), kRichardsonTolerance * Fe.norm());
     EXPECT_LT((Fr - Fe).norm(), 0.2 * (Ff - Fe).norm());
   }
