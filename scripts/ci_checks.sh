@@ -3,9 +3,10 @@
 # holds on main:
 #   1. the formatting of the C++ files (scripts/check_format.sh, clang-format 14);
 #   2. the `dev` preset: warnings are errors, assertions on (-O1 -g), the whole suite.
-# The `asan` preset (Address + UB sanitizers) is not in CI yet: its build alone took 45 min on one
-# core of this machine (2026-11-25, beside other builds) and its suite has not yet been timed on
-# CI's terms. Run it before a change to memory handling:
+# The `asan` preset (Address + UB sanitizers) is not in CI yet: on main f8a9fb9 its build took
+# 20 min and its suite 6 min on this machine (2026-11-25), 700 of 702 tests clean, the two others
+# failing inside libgmsh (README.md, "Developing": the preset now works around both); it goes in
+# once a whole run on main is clean. Run it before a change to memory handling:
 #   cmake --preset asan && cmake --build --preset asan && ctest --preset asan
 # Needs what scripts/setup.sh installs (run scripts/test.sh, or setup.sh, first).
 set -euo pipefail

@@ -8,7 +8,7 @@
 //   reduce   DIR/reduced/<body>_K.hb, _M.hb, .mapping, [<body>_T.bin], manifest.txt
 //   modes    DIR/modes/frequencies.csv, modes.vtm + <body>/shapes.vtu (stuck assembly)
 //   solve    DIR/points.csv, master_response.csv, contact_forces.csv, contact_state.csv,
-//            histories.csv, summary.json
+//            histories.csv, contact_coupling.csv (mortar contacts), summary.json
 //   recover  the recovery files of run (reads the solve files)
 //   export   DIR/loads_p<N>_<body>.mac | recovery_p<N>_<body>.inp (reads the solve files)
 //   plot     the pictures, from the CSV files
@@ -84,6 +84,13 @@ struct PlotCommand {
   bool quiet = false;
 };
 int run_plot(const PlotCommand& command);
+
+struct KeysCommand {
+  std::string section;  // a key or section path ("analysis", "contacts[]"); empty: every key
+};
+// Prints the case file's keys (io/case_keys.h): path, type and rule, unit, default, whether a
+// study may vary it, and a line of help. InvalidInput for a section with no key.
+int run_keys(const KeysCommand& command);
 
 // --- plumbing shared by the stage commands -------------------------------------------------------
 
@@ -162,8 +169,8 @@ SolveOutcome report_solved(const SolvedCase& solved, const std::filesystem::path
 // when points did not converge or an analysis stopped short of its range.
 int solve_exit_code(double seconds, const SolveOutcome& outcome, const ProgressFn& progress);
 
-// Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv
-// and summary.json (docs/output-files.md) atomically into run.dir, after removing the result
+// Writes points.csv, master_response.csv, contact_forces.csv, contact_state.csv, histories.csv,
+// contact_coupling.csv (mortar contacts) and summary.json (docs/output-files.md) atomically into run.dir, after removing the result
 // files of an earlier run there (cli/stale_results.h: everything derived from a solve that this
 // process has not written). Returns the removed files (also in summary.json's removed_stale).
 std::vector<std::string> write_solve_results(const StageRun& run, const PreparedModel& model,

@@ -144,6 +144,12 @@ int main(int argc, char** argv) {
   plot_cmd->add_option("dir", plot.dir, "output folder of a solve")->required();
   plot_cmd->add_flag("-q,--quiet", plot.quiet, "print nothing but errors");
 
+  KeysCommand keys;
+  CLI::App* keys_cmd = app.add_subcommand(
+      "keys", "List the case file's keys: type, unit, default, study-able, one line of help");
+  keys_cmd->add_option("section", keys.section,
+                       "only the keys of this section or key (e.g. analysis, contacts[])");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -191,6 +197,7 @@ int main(int argc, char** argv) {
     if (*recover_cmd) return run_recover(recover);
     if (*export_cmd) return run_export(export_);
     if (*plot_cmd) return run_plot(plot);
+    if (*keys_cmd) return run_keys(keys);
   } catch (const InvalidInput& e) {
     std::fprintf(stderr, "stickslip: error: %s\n", e.what());
     return 2;

@@ -67,8 +67,8 @@ int run_case_modes(const ModesCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true, &cache);
-    const ModalResult eig = stuck_modes(model, def);
-    const Eigen::MatrixXd K_stuck = stuck_stiffness_matrix(model);  // the scale of rigid modes
+    Eigen::MatrixXd K_stuck;  // the scale of rigid modes
+    const ModalResult eig = stuck_modes(model, def, &K_stuck);
     const int n = std::min<int>(command.num_modes, static_cast<int>(eig.eigenvalues.size()));
     const Eigen::VectorXd f = eig.eigenvalues.head(n).cwiseMax(0.0).cwiseSqrt() / (2 * kPi);
     int rigid = 0;  // rigid-body modes of the whole assembly (ascending: the first ones)

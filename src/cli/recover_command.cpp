@@ -163,9 +163,8 @@ int run_recover(const RecoverCommand& command) {
   PlotLog plots;
   for (const StageRun& stage_run : stage_runs(base, out_dir)) {
     StageRun run = stage_run;
-    if (command.point == "peak" || command.point == "all") {
-      run.definition.recovery.points = command.point;
-    }
+    if (command.point == "peak") run.definition.recovery.points = RecoveryPoints::kPeak;
+    if (command.point == "all") run.definition.recovery.points = RecoveryPoints::kAll;
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
     SolveResults results = read_stage_solve(run, base, out_dir);
@@ -182,7 +181,8 @@ int run_recover(const RecoverCommand& command) {
     FrequencyResponse& response = results.response;
     const std::vector<int> points = listed.empty() ? recovery_points(def, model, response) : listed;
     if (points.empty()) {
-      progress("nothing to recover (recovery.points: " + def.recovery.points + ")");
+      progress(std::string("nothing to recover (recovery.points: ") +
+               case_name(def.recovery.points) + ")");
       continue;
     }
     std::vector<PlotSeries> full_frf;

@@ -123,7 +123,7 @@ std::vector<int> points_from_option(const std::string& spec, const CaseDefinitio
                                     const std::string& points_csv) {
   if (spec != "peak" && spec != "all") return numbered_points(spec, response, points_csv);
   CaseDefinition d = def;
-  d.recovery.points = spec;
+  d.recovery.points = spec == "peak" ? RecoveryPoints::kPeak : RecoveryPoints::kAll;
   std::vector<int> out = recovery_points(d, model, response);
   if (out.empty()) {
     throw InvalidInput({points_csv, 0, "--point"}, "no point of the sweep converged");
@@ -198,10 +198,10 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
   if (points.empty()) return;
   const std::vector<int>& harmonics = response.harmonics;
   const int nh = static_cast<int>(harmonics.size());
-  const std::string& method = def.recovery.method;
+  const RecoveryMethod method = def.recovery.method;
   const RayleighDamping damping{def.damping.alpha, def.damping.beta};
   const bool want_stress = std::find(def.recovery.fields.begin(), def.recovery.fields.end(),
-                                     "stress") != def.recovery.fields.end();
+                                     RecoveryField::kStress) != def.recovery.fields.end();
 
   struct Row {
     int point, body, harmonic;
@@ -223,8 +223,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     double bytes = 0;
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;
-      const double per_node =
-          8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
+      const double per_node = 8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
       bytes += per_node * body.mesh.num_nodes() * static_cast<double>(points.size());
     }
     if (bytes > kLargeOutput) {
@@ -248,6 +247,17 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       }
       continue;
     }
+    // A mesh body whose reduction kept no full matrices (GivenReduction: reduced matrices given in
+    // memory) cannot be recovered on its mesh.
+    if (!body.K || !body.M || (method == RecoveryMethod::kExpansion && !body.T)) {
+      throw InvalidInput(
+          def.where("bodies." + body.name),
+          "body " + body.name + " has no full " +
+              (body.K && body.M ? std::string("Craig-Bampton basis (recovery.method: expansion)")
+                                : std::string("stiffness and mass matrices")) +
+              ": its reduced model was given without them, so it cannot be recovered on its "
+              "mesh (recovery.points: none)");
+    }
     // FRF DOFs of this body: full-model amplitude per recovered point (plotted against the
     // reduced nonlinear curve: the thesis's validation plot).
     std::vector<std::pair<int, int>> frf_dofs;  // (full DOF, index into full_frf)
@@ -266,11 +276,12 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     }
     // Envelope over the recovered points.
     Eigen::VectorXd sweep_vm_max, sweep_vm_alt, sweep_p_max;
-    progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(), method));
+    progress(fmt::format("recovery of {} ({} DOFs, {})", body.name, body.mesh.num_dofs(),
+                         case_name(method)));
     std::unique_ptr<HarmonicSolver> solver;
-    if (method == "direct") {
+    if (method == RecoveryMethod::kDirect) {
       solver = std::make_unique<DirectRecovery>(*body.K, *body.M, body.constraints, damping);
-    } else if (method == "modal") {
+    } else if (method == RecoveryMethod::kModal) {
       ModalRecoveryOptions o;
       o.num_modes = std::min(def.recovery.modes, body.constraints.num_free() - 1);
       solver = std::make_unique<ModalRecovery>(*body.K, *body.M, body.constraints, damping, o);
@@ -280,6 +291,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
                          "recovery of body " + body.name + " failed: " + solver->message());
     }
     const auto [full_dofs, reduced_dofs] = master_dofs(body);
+    const Eigen::MatrixXd rigid = solver ? solver->rigid_modes() : Eigen::MatrixXd();
     const int n = body.mesh.num_dofs();
     // Nodal stresses as one sparse operator, built once per body (element by element per point
     // would re-condense every C3D8I at every call).
@@ -322,10 +334,19 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       if (def.output.calculix_deck) {
         write_calculix_loads(dir, def, body, pi, f_hz, harmonics, F);
       }
-      const Eigen::MatrixXcd x =
-          method == "expansion" ? expand_reduced_response(
-                                      *body.T, p.master.middleRows(body.offset, body.reduced.size()))
-                                : harmonic_response(*solver, F, harmonics, p.omega, &summary);
+      Eigen::MatrixXcd x =
+          method == RecoveryMethod::kExpansion
+              ? expand_reduced_response(*body.T,
+                                        p.master.middleRows(body.offset, body.reduced.size()))
+              : harmonic_response(*solver, F, harmonics, p.omega, &summary);
+      // A body its clamps and supports do not hold: the static solve has no rigid motion; the
+      // reduced solution knows what the springs and contacts did with it (at the master DOFs).
+      for (int h = 0; h < nh && rigid.cols() > 0; ++h) {
+        if (harmonics[h] != 0) continue;
+        Eigen::VectorXcd target(static_cast<Eigen::Index>(full_dofs.size()));
+        for (size_t i = 0; i < full_dofs.size(); ++i) target(i) = p.master(reduced_dofs[i], h);
+        add_rigid_motion(rigid, full_dofs, target, x.col(h));
+      }
       if (!summary.ok()) {
         // A singular dynamic stiffness (undamped, exactly at a natural frequency): those
         // harmonics are NaN in every output of this point; the other harmonics are valid.
@@ -355,19 +376,19 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         const Eigen::MatrixXd Mr = *body.M * xr, Mi = *body.M * xi;
         for (int h = 0; h < nh; ++h) {
           const double w = harmonics[h] * p.omega;
-          const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() +
-                                      std::complex<double>(0, 1) * Ki.col(h);
-          const Eigen::VectorXcd Mx = Mr.col(h).cast<std::complex<double>>() +
-                                      std::complex<double>(0, 1) * Mi.col(h);
+          const Eigen::VectorXcd Kx =
+              Kr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Ki.col(h);
+          const Eigen::VectorXcd Mx =
+              Mr.col(h).cast<std::complex<double>>() + std::complex<double>(0, 1) * Mi.col(h);
           const Eigen::VectorXcd R =
-              Kx - w * w * Mx + std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) -
-              F.col(h);
+              Kx - w * w * Mx +
+              std::complex<double>(0, w) * (damping.alpha * Mx + damping.beta * Kx) - F.col(h);
           for (int node : held_nodes) {
             for (int d = 0; d < 3; ++d) {
               const std::complex<double> v = R(dof_of(node, d));
-              reactions_csv += fmt::format("{},{},{},{},{},{},{}\n", pi, body.name,
-                                           body.mesh.node_ids[node], kAxes[d], harmonics[h],
-                                           v.real(), v.imag());
+              reactions_csv +=
+                  fmt::format("{},{},{},{},{},{},{}\n", pi, body.name, body.mesh.node_ids[node],
+                              kAxes[d], harmonics[h], v.real(), v.imag());
             }
           }
         }

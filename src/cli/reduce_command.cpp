@@ -73,7 +73,7 @@ fs::path stage_output_dir(const CaseDefinition& base, const std::string& output_
   static const std::set<std::string> kResults = {
       "points.csv",    "master_response.csv", "contact_forces.csv", "contact_state.csv",
       "histories.csv", "summary.json",        "recovery_check.csv", "recovered_nodes.csv",
-      "reactions.csv"};
+      "reactions.csv", "contact_coupling.csv"};
   static const std::set<std::string> kPlots = {"frf", "contact_state", "hysteresis",
                                                "frf_full_vs_reduced", "frf_study"};
   for (const std::string& input : inputs) {
@@ -312,7 +312,7 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
   if (progress) progress("reduced matrices from " + dir.string());
   StoredReduction::Options options;
   options.full_matrices = full_matrices;
-  options.need_basis = full_matrices && def.recovery.method == "expansion";
+  options.need_basis = full_matrices && def.recovery.method == RecoveryMethod::kExpansion;
   options.load_basis_if_present = load_basis_if_present;
   const StoredReduction reduction(dir, std::move(fingerprint_of), reduce_hint, options, cache);
   PreparedModel model = prepare_model(def, std::move(bodies), reduction, progress);
@@ -355,7 +355,12 @@ int run_reduce(const ReduceCommand& reduce) {
       const std::string k = (dir / (body.name + "_K.hb")).string();
       const std::string m = (dir / (body.name + "_M.hb")).string();
       write_ansys_reduced_body(k, m, body.reduced);
-      if (reduce.basis || runs[r].definition.recovery.method == "expansion") {
+      // The same matrices as Matrix Market for SciPy's mmread (scipy.io.hb_read refuses the
+      // symmetric HB files), with the HB files' mapping (<body>_K.mapping, the same DOFs).
+      write_matrix_market_reduced_body((dir / (body.name + "_K.mtx")).string(),
+                                       (dir / (body.name + "_M.mtx")).string(),
+                                       ansys_mapping_path(k), body.reduced);
+      if (reduce.basis || runs[r].definition.recovery.method == RecoveryMethod::kExpansion) {
         write_dense_matrix(dir / (body.name + "_T.bin"), *body.T);
       }
       manifest.body_fingerprint[body.name] = fingerprints[r][b];

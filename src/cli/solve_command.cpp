@@ -237,10 +237,33 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
         };
         rows("local", r.force_local,
              [&](int row) { return local_axis(model, static_cast<int>(q), row); });
-        rows("global", r.force_global, [](int row) { return std::string(kGlobalAxes[row]); });
+        // A mortar point's force_global has a row per frame column; its first three are the
+        // point's force on B (case_model.h, PreparedPair).
+        rows("global", r.force_global.topRows(std::min<Eigen::Index>(3, r.force_global.rows())),
+             [](int row) { return std::string(kGlobalAxes[row]); });
       }
     }
   });
+
+  // Mortar contacts: how each point is tied to B (docs/output-files.md, contact_coupling.csv).
+  const bool any_mortar = std::any_of(model.pair_info.begin(), model.pair_info.end(),
+                                      [](const PreparedPair& info) { return info.mortar; });
+  if (any_mortar) {
+    write_file_atomically((dir / "contact_coupling.csv").string(), [&](std::ostream& out) {
+      out << "contact,pair,node_a,area,gap,node_b,weight,faces_b\n";
+      for (size_t q = 0; q < model.pair_info.size(); ++q) {
+        const PreparedPair& info = model.pair_info[q];
+        if (!info.mortar) continue;
+        std::string faces;
+        for (int e : info.partner_elements) faces += (faces.empty() ? "" : " ") + std::to_string(e);
+        for (size_t k = 0; k < info.partner_ids.size(); ++k) {
+          fmt::print(out, "{},{},{},{},{},{},{},{}\n", def.contacts[info.contact].name,
+                     pair_in_contact[q], info.node_a_id, info.area, info.gap, info.partner_ids[k],
+                     info.weights[k], faces);
+        }
+      }
+    });
+  }
 
   write_file_atomically((dir / "contact_state.csv").string(), [&](std::ostream& out) {
     out << "point,contact,pair,node_a,node_b,stick,slip,separation,dissipated_energy\n";

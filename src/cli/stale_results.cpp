@@ -18,7 +18,8 @@ bool is_result_name(const std::string& relative, ResultFamily family) {
       "recovery_p[0-9]+_[^/]+\\.vtu|recovery_envelope_[^/]+\\.vtu|"
       "frf_full_vs_reduced\\.(png|svg|dat|gp)");
   static const std::regex everything(
-      "(points|master_response|contact_forces|contact_state|histories)\\.csv|summary\\.json|"
+      "(points|master_response|contact_forces|contact_state|contact_coupling|histories)\\.csv|"
+      "summary\\.json|"
       "(frf|contact_state|hysteresis)\\.(png|svg|dat|gp)|loads_p[0-9]+_[^/]+\\.mac|"
       "recovery_p[0-9]+_[^/]+\\.inp");
   if (std::regex_match(relative, recovery)) return true;

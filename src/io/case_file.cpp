@@ -1,4 +1,5 @@
 #include "io/case_file.h"
+#include "io/case_keys.h"
 
 #include <algorithm>
 #include <charconv>
@@ -60,6 +61,109 @@ SourceLocation CaseDefinition::where(const std::string& path) const {
 
 namespace {
 
+// The names of the case file's choices (case_file.h), in the order the messages list them.
+template <class E>
+using Choices = std::vector<std::pair<const char*, E>>;
+const Choices<MeshFileFormat>& choices_of(MeshFileFormat) {
+  static const Choices<MeshFileFormat> c{
+      {"inp", MeshFileFormat::kInp}, {"msh", MeshFileFormat::kMsh}, {"cdb", MeshFileFormat::kCdb}};
+  return c;
+}
+const Choices<ReducedFileFormat>& choices_of(ReducedFileFormat) {
+  static const Choices<ReducedFileFormat> c{{"harwell_boeing", ReducedFileFormat::kHarwellBoeing},
+                                            {"matrix_market", ReducedFileFormat::kMatrixMarket},
+                                            {"abaqus_matrix", ReducedFileFormat::kAbaqusMatrix}};
+  return c;
+}
+const Choices<PreloadSplit>& choices_of(PreloadSplit) {
+  static const Choices<PreloadSplit> c{{"equal", PreloadSplit::kEqual},
+                                       {"area", PreloadSplit::kArea}};
+  return c;
+}
+const Choices<ContactCoupling>& choices_of(ContactCoupling) {
+  static const Choices<ContactCoupling> c{{"nodes", ContactCoupling::kNodes},
+                                          {"mortar", ContactCoupling::kMortar}};
+  return c;
+}
+const Choices<UnpairedChoice>& choices_of(UnpairedChoice) {
+  static const Choices<UnpairedChoice> c{{"error", UnpairedChoice::kError},
+                                         {"skip", UnpairedChoice::kSkip}};
+  return c;
+}
+const Choices<SweepMethod>& choices_of(SweepMethod) {
+  static const Choices<SweepMethod> c{{"stepped", SweepMethod::kStepped},
+                                      {"continuation", SweepMethod::kContinuation}};
+  return c;
+}
+const Choices<AftChoice>& choices_of(AftChoice) {
+  static const Choices<AftChoice> c{{"event", AftChoice::kEvent}, {"sampled", AftChoice::kSampled}};
+  return c;
+}
+const Choices<StaticChoice>& choices_of(StaticChoice) {
+  static const Choices<StaticChoice> c{{"uncoupled", StaticChoice::kUncoupled},
+                                       {"coupled", StaticChoice::kCoupled}};
+  return c;
+}
+const Choices<InitialGuessChoice>& choices_of(InitialGuessChoice) {
+  static const Choices<InitialGuessChoice> c{{"stuck", InitialGuessChoice::kStuck},
+                                             {"free", InitialGuessChoice::kFree}};
+  return c;
+}
+const Choices<PredictorChoice>& choices_of(PredictorChoice) {
+  static const Choices<PredictorChoice> c{{"secant", PredictorChoice::kSecant},
+                                          {"previous", PredictorChoice::kPrevious}};
+  return c;
+}
+const Choices<RecoveryPoints>& choices_of(RecoveryPoints) {
+  static const Choices<RecoveryPoints> c{{"peak", RecoveryPoints::kPeak},
+                                         {"all", RecoveryPoints::kAll},
+                                         {"none", RecoveryPoints::kNone},
+                                         {"list", RecoveryPoints::kList}};
+  return c;
+}
+const Choices<RecoveryMethod>& choices_of(RecoveryMethod) {
+  static const Choices<RecoveryMethod> c{{"direct", RecoveryMethod::kDirect},
+                                         {"modal", RecoveryMethod::kModal},
+                                         {"expansion", RecoveryMethod::kExpansion}};
+  return c;
+}
+const Choices<RecoveryField>& choices_of(RecoveryField) {
+  static const Choices<RecoveryField> c{{"displacement", RecoveryField::kDisplacement},
+                                        {"stress", RecoveryField::kStress}};
+  return c;
+}
+const Choices<TwoBeamOptions::Arrangement>& choices_of(TwoBeamOptions::Arrangement) {
+  static const Choices<TwoBeamOptions::Arrangement> c{{"butt", TwoBeamOptions::Arrangement::kButt},
+                                                      {"lap", TwoBeamOptions::Arrangement::kLap}};
+  return c;
+}
+template <class E>
+const char* name_of(E v) {
+  for (const auto& [name, value] : choices_of(E{}))
+    if (value == v) return name;
+  STICKSLIP_VERIFY(false, "a value of a case-file choice without a name");
+  return "";
+}
+
+}  // namespace
+
+const char* case_name(MeshFileFormat v) { return name_of(v); }
+const char* case_name(ReducedFileFormat v) { return name_of(v); }
+const char* case_name(PreloadSplit v) { return name_of(v); }
+const char* case_name(ContactCoupling v) { return name_of(v); }
+const char* case_name(UnpairedChoice v) { return name_of(v); }
+const char* case_name(SweepMethod v) { return name_of(v); }
+const char* case_name(AftChoice v) { return name_of(v); }
+const char* case_name(StaticChoice v) { return name_of(v); }
+const char* case_name(InitialGuessChoice v) { return name_of(v); }
+const char* case_name(PredictorChoice v) { return name_of(v); }
+const char* case_name(RecoveryPoints v) { return name_of(v); }
+const char* case_name(RecoveryMethod v) { return name_of(v); }
+const char* case_name(RecoveryField v) { return name_of(v); }
+const char* case_name(TwoBeamOptions::Arrangement v) { return name_of(v); }
+
+namespace {
+
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
@@ -99,6 +203,16 @@ std::string numeric_rule_violation(const std::string& key, double value) {
 
 // The law variant a parsed contact has (contact/contact_law.h).
 const ContactLaw& law_of(const ContactDefinition& d) { return contact_law(d.law, d.uses_frame); }
+
+// The key of a contact's parameter block.
+std::string parameter_block(const ContactDefinition& d) {
+  switch (d.parameters_given) {
+    case ContactDefinition::Parameters::kPerPair: return "per_pair";
+    case ContactDefinition::Parameters::kTotal: return "total";
+    case ContactDefinition::Parameters::kPerArea: return "per_area";
+  }
+  return "per_pair";
+}
 
 // Every parameter key of a law name, over its variants (1D and frame), in registration order.
 std::vector<std::string> law_name_keys(const std::string& law) {
@@ -399,6 +513,17 @@ class MapView {
               const std::vector<std::string>& options) const {
     if (has(key)) *dst = p_.choice(value(key), full(key), line(key), options);
   }
+  // One of the names of the enum's table (choices_of below).
+  template <class E>
+  void choice(const std::string& key, E* dst) const {
+    if (!has(key)) return;
+    const auto& table = choices_of(E{});
+    std::vector<std::string> names;
+    for (const auto& [name, value] : table) names.emplace_back(name);
+    const std::string v = p_.choice(value(key), full(key), line(key), names);
+    for (const auto& [name, value] : table)
+      if (v == name) *dst = value;
+  }
   void file(const std::string& key, std::string* dst) const {
     if (has(key)) *dst = p_.existing_file(value(key), full(key), line(key));
   }
@@ -542,7 +667,7 @@ void parse_materials(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "materials",
       [&](const std::string& name, const YAML::Node& node, const std::string& path, int line) {
-        MapView m(p, node, path, line, {"youngs_modulus", "poisson_ratio", "density"});
+        MapView m(p, node, path, line, case_keys_in("materials.NAME"));
         MaterialDefinition d;
         for (const char* key : {"youngs_modulus", "poisson_ratio", "density"}) m.require(key);
         m.number("youngs_modulus", &d.youngs_modulus);
@@ -553,7 +678,7 @@ void parse_materials(Parser& p, const MapView& top) {
 }
 
 void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
-  m.choice("arrangement", &d.arrangement, {"butt", "lap"});
+  m.choice("arrangement", &d.arrangement);
   if (m.has("element")) {
     std::string e = p.text(m.value("element"), m.full("element"), m.line("element"));
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::toupper(c); });
@@ -562,7 +687,7 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
             m.line("element"),
             "must be a hexahedron type, one of " + join(hexahedra, " | ") + ", got '" + e + "'" +
                 suggestion(e, hexahedra));
-    d.element = e;
+    parse_element_type(e, &d.element);
   }
   m.boolean("coarse", &d.coarse);
   for (const char* key : {"box", "end_block"}) {
@@ -614,6 +739,16 @@ void parse_two_beam(Parser& p, const MapView& m, TwoBeamDefinition& d) {
   }
 }
 
+// An element type among `allowed` (msh hexahedra).
+void element_choice(Parser& p, const MapView& m, const std::string& key,
+                    const std::vector<ElementType>& allowed, ElementType* dst) {
+  if (!m.has(key)) return;
+  std::vector<std::string> names;
+  for (ElementType t : allowed) names.emplace_back(element_type_name(t));
+  const std::string v = p.choice(m.value(key), m.full(key), m.line(key), names);
+  parse_element_type(v, dst);
+}
+
 void parse_meshes(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "meshes",
@@ -621,9 +756,7 @@ void parse_meshes(Parser& p, const MapView& top) {
         const std::vector<std::string> two_beam_keys{"arrangement", "element",   "coarse",
                                                      "box",         "end_block", "beam_length",
                                                      "width",       "thickness", "end_length"};
-        std::vector<std::string> known{"generate", "file", "format", "hexahedron8", "hexahedron20"};
-        known.insert(known.end(), two_beam_keys.begin(), two_beam_keys.end());
-        MapView m(p, node, path, line, known);
+        MapView m(p, node, path, line, case_keys_in("meshes.NAME"));
         MeshDefinition d;
         m.exclusive("generate", "file");
         if (!m.has("file")) m.require("generate", "or 'file'");
@@ -639,7 +772,7 @@ void parse_meshes(Parser& p, const MapView& top) {
             m.forbid(key, "with 'file' (it is for 'generate: two_beam')");
           m.file("file", &d.file);
           if (m.has("format")) {
-            m.choice("format", &d.format, {"inp", "msh", "cdb"});
+            m.choice("format", &d.format);
           } else {
             std::string ext = fs::path(d.file).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -647,17 +780,29 @@ void parse_meshes(Parser& p, const MapView& top) {
             p.check(ext == ".inp" || ext == ".msh" || ext == ".cdb", m.full("file"), m.line("file"),
                     "cannot tell the format from the extension '" + ext +
                         "': name it .inp, .msh or .cdb, or add 'format: inp | msh | cdb'");
-            d.format = ext.substr(1);
+            d.format = ext == ".inp"   ? MeshFileFormat::kInp
+                       : ext == ".msh" ? MeshFileFormat::kMsh
+                                       : MeshFileFormat::kCdb;
           }
-          if (d.format != "msh") {
+          if (d.format != MeshFileFormat::kMsh) {
             for (const char* key : {"hexahedron8", "hexahedron20"})
-              m.forbid(key, "for a ." + d.format + " file (its element types are in the file)");
+              m.forbid(key, std::string("for a .") + case_name(d.format) +
+                                " file (its element types are in the file)");
           }
-          m.choice("hexahedron8", &d.hexahedron8, {"C3D8", "C3D8I"});
-          m.choice("hexahedron20", &d.hexahedron20, {"C3D20", "C3D20R"});
+          element_choice(p, m, "hexahedron8", {ElementType::kC3D8, ElementType::kC3D8I},
+                         &d.hexahedron8);
+          element_choice(p, m, "hexahedron20", {ElementType::kC3D20, ElementType::kC3D20R},
+                         &d.hexahedron20);
         }
         p.out().meshes[name] = d;
       });
+}
+
+// A support direction's name: x, y, z, or t1, t2, n in a local frame.
+const char* support_direction_name(int row, bool local_frame) {
+  static const char* const kGlobal[3] = {"x", "y", "z"};
+  static const char* const kLocal[3] = {"t1", "t2", "n"};
+  return (local_frame ? kLocal : kGlobal)[row];
 }
 
 // bodies.B.supports: a list of {nodes, directions, normal, t1}.
@@ -670,7 +815,7 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = body.full("supports") + "[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]) > 0 ? line_of(list[i]) : body.line("supports"),
-              {"from_mesh", "nodes", "directions", "normal", "t1"});
+              case_keys_in("bodies.NAME.supports"));
     p.record(path, m.line());
     SupportDefinition d;
     m.boolean("from_mesh", &d.from_mesh);
@@ -714,9 +859,10 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
               "unknown direction '" + name + "': expected " + join(names, ", ") +
                   (d.local_frame ? " (the rows of the frame of 'normal')"
                                  : " (global axes; t1, t2, n need 'normal')"));
-      p.check(std::find(d.directions.begin(), d.directions.end(), name) == d.directions.end(),
+      const int row = static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
+      p.check(std::find(d.directions.begin(), d.directions.end(), row) == d.directions.end(),
               m.full("directions"), m.line("directions"), "direction '" + name + "' given twice");
-      d.directions.push_back(name);
+      d.directions.push_back(row);
     }
     out.push_back(std::move(d));
   }
@@ -730,8 +876,7 @@ void parse_bodies(Parser& p, const MapView& top) {
         p.check(name != "ground", path, line,
                 "'ground' is reserved (the fixed ground of contacts)");
         MapView m(p, node, path, line,
-                  {"mesh", "element_set", "material", "clamp", "supports", "masters", "modes",
-                   "mass_rule", "modal_damping_ratio", "reduced"});
+                  case_keys_in("bodies.NAME"));
         BodyDefinition d;
         m.number("modal_damping_ratio", &d.modal_damping_ratio);
         if (m.has("reduced")) {
@@ -740,22 +885,23 @@ void parse_bodies(Parser& p, const MapView& top) {
                                   "modes", "mass_rule"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
-                    {"stiffness", "mass", "mapping", "format"});
+                    case_keys_in("bodies.NAME.reduced"));
           r.require("stiffness");
           r.require("mass");
           r.file("stiffness", &d.reduced.stiffness);
           r.file("mass", &d.reduced.mass);
           const std::string ext = fs::path(d.reduced.stiffness).extension().string();
-          d.reduced.format = ext == ".mtx" ? "matrix_market" : "harwell_boeing";
-          r.choice("format", &d.reduced.format,
-                   {"harwell_boeing", "matrix_market", "abaqus_matrix"});
-          if (d.reduced.format == "abaqus_matrix") {
+          d.reduced.format = ext == ".mtx" ? ReducedFileFormat::kMatrixMarket
+                                           : ReducedFileFormat::kHarwellBoeing;
+          r.choice("format", &d.reduced.format);
+          if (d.reduced.format == ReducedFileFormat::kAbaqusMatrix) {
             // Abaqus matrix input format: every entry names its node and DOF, no mapping.
             r.forbid("mapping", "with format: abaqus_matrix (its entries name node and DOF)");
           } else if (r.has("mapping")) {
             r.file("mapping", &d.reduced.mapping);
           } else {
-            p.check(d.reduced.format == "harwell_boeing", r.full("mapping"), r.line(),
+            p.check(d.reduced.format == ReducedFileFormat::kHarwellBoeing, r.full("mapping"),
+                    r.line(),
                     "required key missing (only Harwell-Boeing matrices have a default mapping)");
             d.reduced.mapping =
                 fs::path(d.reduced.stiffness).replace_extension(".mapping").string();
@@ -835,8 +981,7 @@ void parse_contacts(Parser& p, const MapView& top) {
     if (node.IsMap() && node["name"] && node["name"].IsScalar()) name = node["name"].Scalar();
     const std::string path = name.empty() ? index_path : "contacts." + name;
     MapView m(p, node, path, line_of(node),
-              {"name", "law", "between", "bodies", "pairs", "pairs_file", "tolerance", "normal",
-               "t1", "direction", "per_pair", "total", "preload_file", "gap"});
+              case_keys_in("contacts[]"));
     p.record(path, m.line());
     ContactDefinition d;
     m.require("name");
@@ -876,10 +1021,25 @@ void parse_contacts(Parser& p, const MapView& top) {
         (k == 0 ? d.nodes_a : d.nodes_b) = node_selection(p, it->second, bpath + "." + body, at);
       }
       if (d.body_b.empty()) d.body_b = "ground";
-      m.number("tolerance", &d.tolerance);
-      p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
-              "must be > 0, got " + format_number(d.tolerance));
+      m.choice("coupling", &d.coupling);
+      if (d.coupling == ContactCoupling::kMortar) {
+        p.check(d.body_b != "ground", m.full("coupling"), m.line("coupling"),
+                "mortar couples two surfaces: 'between' needs two bodies");
+        m.forbid("tolerance", "with coupling: mortar (use 'search_distance')");
+        m.number("search_distance", &d.search_distance);
+        p.check(d.search_distance >= 0, m.full("search_distance"), m.line("search_distance"),
+                "must be >= 0 (0: automatic), got " + format_number(d.search_distance));
+        m.choice("unpaired", &d.unpaired);
+      } else {
+        m.forbid("search_distance", "without coupling: mortar");
+        m.forbid("unpaired", "without coupling: mortar");
+        m.number("tolerance", &d.tolerance);
+        p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
+                "must be > 0, got " + format_number(d.tolerance));
+      }
     } else {
+      for (const char* key : {"coupling", "search_distance", "unpaired"})
+        m.forbid(key, "with listed pairs (it belongs to 'between')");
       m.forbid("tolerance", "with listed pairs (it is the coincidence distance of 'between')");
       m.require("bodies", "the two bodies the pair node ids belong to, e.g. [beam1, beam2]");
       const YAML::Node& b = m.value("bodies");
@@ -952,7 +1112,10 @@ void parse_contacts(Parser& p, const MapView& top) {
         std::string key, path;
         int line = 0;
       };
-      const std::string block = m.has("per_pair") ? "per_pair" : m.has("total") ? "total" : "";
+      const std::string block = m.has("per_pair")   ? "per_pair"
+                                : m.has("total")    ? "total"
+                                : m.has("per_area") ? "per_area"
+                                                    : "";
       const auto find =
           [&](const std::vector<std::string>& frame_keys,
               const std::vector<std::string>& parameter_keys) -> std::optional<Given> {
@@ -1010,10 +1173,13 @@ void parse_contacts(Parser& p, const MapView& top) {
 
     // Parameters.
     m.exclusive("per_pair", "total");
-    if (!m.has("total")) m.require("per_pair", "or 'total'");
-    const std::string block = m.has("per_pair") ? "per_pair" : "total";
+    m.exclusive("per_pair", "per_area");
+    m.exclusive("total", "per_area");
+    if (!m.has("total") && !m.has("per_area")) m.require("per_pair", "or 'total' or 'per_area'");
+    const std::string block = m.has("per_pair") ? "per_pair" : m.has("total") ? "total" : "per_area";
     d.parameters_given = block == "per_pair" ? ContactDefinition::Parameters::kPerPair
-                                             : ContactDefinition::Parameters::kTotal;
+                         : block == "total"  ? ContactDefinition::Parameters::kTotal
+                                             : ContactDefinition::Parameters::kPerArea;
     std::vector<std::string> known = law_name_keys(d.law);
     if (block == "total") known.push_back("split");
     MapView params(p, m.value(block), m.full(block), m.line(block), known, " for law " + d.law);
@@ -1036,7 +1202,7 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
       params.number(key, contact_parameter(d.parameters, key));
     }
-    params.choice("split", &d.split, {"equal", "area"});
+    params.choice("split", &d.split);
 
     // Preload: uniform, per pair from a file, or a gap instead.
     if (m.has("preload_file")) {
@@ -1095,8 +1261,7 @@ void parse_excitation(Parser& p, const MapView& top) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = "excitation[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]),
-              {"body", "node_set", "node", "direction", "amplitude", "phase_deg", "complex",
-               "force", "harmonic"});
+              case_keys_in("excitation[]"));
     p.record(path, m.line());
     ExcitationDefinition d;
     m.require("body");
@@ -1160,7 +1325,7 @@ void parse_static_loads(Parser& p, const MapView& top) {
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string path = "static_loads[" + std::to_string(i) + "]";
     MapView m(p, list[i], path, line_of(list[i]),
-              {"body", "node_set", "node", "force", "total_force", "pressure"});
+              case_keys_in("static_loads[]"));
     p.record(path, m.line());
     StaticLoadDefinition d;
     m.require("body");
@@ -1198,14 +1363,12 @@ void parse_static_loads(Parser& p, const MapView& top) {
 void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
-            {"frequency", "method", "harmonics", "time_samples", "aft", "static", "tolerance",
-             "max_iterations", "max_points", "initial_guess", "predictor"});
+            case_keys_in("analysis"));
   AnalysisDefinition& a = p.out().analysis;
-  m.choice("method", &a.method, {"stepped", "continuation"});
+  m.choice("method", &a.method);
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
-            {"start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
-             "max_step_hz", "sweep"});
+            case_keys_in("analysis.frequency"));
   FrequencyDefinition& fr = a.frequency;
   auto positive = [&](const char* key, double* dst) {
     if (!f.has(key)) return;
@@ -1237,7 +1400,7 @@ void parse_analysis(Parser& p, const MapView& top) {
   fr.step_hz = p.number(f.value("step_hz"), f.full("step_hz"), f.line("step_hz"));
   p.check(fr.step_hz > 0, f.full("step_hz"), f.line("step_hz"),
           "must be > 0, got " + format_number(fr.step_hz));
-  if (a.method != "continuation") {
+  if (a.method != SweepMethod::kContinuation) {
     for (const char* key : {"min_step_hz", "max_step_hz"})
       f.forbid(key, "with method stepped (they bound the continuation step)");
   }
@@ -1291,18 +1454,19 @@ void parse_analysis(Parser& p, const MapView& top) {
               std::to_string(kTimeSamplesFloor) + ", " + std::to_string(kTimeSamplesPerHarmonic) +
               "(2H+1))) = " + std::to_string(most) + " for highest harmonic H = " +
               std::to_string(a.max_harmonic()) + ", got " + std::to_string(a.time_samples));
-  m.choice("aft", &a.aft, {"event", "sampled"});
-  m.choice("static", &a.static_coupling, {"uncoupled", "coupled"});
+  a.aft_given = m.has("aft");
+  m.choice("aft", &a.aft);
+  m.choice("static", &a.static_coupling);
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
     p.check(a.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
             "must be > 0, got " + format_number(a.tolerance));
   }
   m.integer("max_iterations", &a.max_iterations, 1);
-  if (a.method != "continuation") m.forbid("max_points", "with method stepped");
+  if (a.method != SweepMethod::kContinuation) m.forbid("max_points", "with method stepped");
   m.integer("max_points", &a.max_points, 2, kMaxFrequencyPoints,
             "points of one continuation, each solved and written");
-  if (a.method != "continuation") {
+  if (a.method != SweepMethod::kContinuation) {
     // The points of the stepped sweep, window / step_hz + 1 (the window is known here for both
     // kinds of frequency definition), bounded as max_points is.
     const double window = fr.kind == FrequencyDefinition::Kind::kAroundMode
@@ -1314,20 +1478,20 @@ void parse_analysis(Parser& p, const MapView& top) {
                 format_number(window) + " Hz / step_hz + 1): at most " +
                 std::to_string(kMaxFrequencyPoints) + " are accepted");
   }
-  m.choice("initial_guess", &a.initial_guess, {"stuck", "free"});
-  if (a.method == "continuation") m.forbid("predictor", "with method continuation");
-  m.choice("predictor", &a.predictor, {"secant", "previous"});
+  m.choice("initial_guess", &a.initial_guess);
+  if (a.method == SweepMethod::kContinuation) m.forbid("predictor", "with method continuation");
+  m.choice("predictor", &a.predictor);
 }
 
 void parse_recovery(Parser& p, const MapView& top) {
   if (!top.has("recovery")) return;
   MapView m(p, top.value("recovery"), "recovery", top.line("recovery"),
-            {"points", "method", "modes", "fields", "nodes"});
+            case_keys_in("recovery"));
   RecoveryDefinition& r = p.out().recovery;
   if (m.has("points")) {
     const YAML::Node& v = m.value("points");
     if (v.IsSequence()) {
-      r.points = "list";
+      r.points = RecoveryPoints::kList;
       p.check(v.size() > 0, m.full("points"), m.line("points"), "expected at least one frequency");
       for (const YAML::Node& hz : v) {
         const double f = p.number(hz, m.full("points"), m.line("points"));
@@ -1336,11 +1500,14 @@ void parse_recovery(Parser& p, const MapView& top) {
         r.frequencies_hz.push_back(f);
       }
     } else {
-      r.points = p.choice(v, m.full("points"), m.line("points"), {"peak", "all", "none"});
+      const std::string name =
+          p.choice(v, m.full("points"), m.line("points"), {"peak", "all", "none"});
+      for (const auto& [n, value] : choices_of(RecoveryPoints{}))
+        if (name == n) r.points = value;
     }
   }
-  m.choice("method", &r.method, {"direct", "modal", "expansion"});
-  if (r.method != "modal") m.forbid("modes", "unless method is modal");
+  m.choice("method", &r.method);
+  if (r.method != RecoveryMethod::kModal) m.forbid("modes", "unless method is modal");
   m.integer("modes", &r.modes, 1, kMaxRecoveryModes, "full-model modes of the modal recovery");
   if (m.has("fields")) {
     const YAML::Node& v = m.value("fields");
@@ -1349,9 +1516,11 @@ void parse_recovery(Parser& p, const MapView& top) {
     for (const YAML::Node& f : v) {
       const std::string s =
           p.choice(f, m.full("fields"), m.line("fields"), {"displacement", "stress"});
-      p.check(std::find(r.fields.begin(), r.fields.end(), s) == r.fields.end(), m.full("fields"),
-              m.line("fields"), "'" + s + "' listed twice");
-      r.fields.push_back(s);
+      const RecoveryField field =
+          s == "stress" ? RecoveryField::kStress : RecoveryField::kDisplacement;
+      p.check(std::find(r.fields.begin(), r.fields.end(), field) == r.fields.end(),
+              m.full("fields"), m.line("fields"), "'" + s + "' listed twice");
+      r.fields.push_back(field);
     }
   }
   if (m.has("nodes")) {
@@ -1373,7 +1542,7 @@ void parse_output(Parser& p, const MapView& top) {
   if (!top.has("output")) return;
   MapView m(
       p, top.value("output"), "output", top.line("output"),
-      {"directory", "vtu", "plots", "apdl_macro", "calculix_deck", "histories", "frf", "quiet"});
+      case_keys_in("output"));
   if (m.has("directory")) {
     m.text("directory", &o.directory);
     p.check(!o.directory.empty(), m.full("directory"), m.line("directory"), "empty directory");
@@ -1410,7 +1579,7 @@ void parse_output(Parser& p, const MapView& top) {
     p.sequence(v, m.full("frf"), m.line("frf"));
     for (size_t i = 0; i < v.size(); ++i) {
       MapView d(p, v[i], "output.frf[" + std::to_string(i) + "]",
-                line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), {"body", "node", "direction"});
+                line_of(v[i]) > 0 ? line_of(v[i]) : m.line("frf"), case_keys_in("output.frf[]"));
       p.record(d.path(), d.line());
       ResponseDofDefinition r;
       for (const char* key : {"body", "node", "direction"}) d.require(key);
@@ -1440,11 +1609,7 @@ void cross_check(Parser& p) {
   }
   for (const ContactDefinition& d : c.contacts) {
     if (!d.preload_computed) continue;
-    const std::string path = "contacts." + d.name + "." +
-                             (d.parameters_given == ContactDefinition::Parameters::kPerPair
-                                  ? "per_pair"
-                                  : "total") +
-                             ".preload";
+    const std::string path = "contacts." + d.name + "." + parameter_block(d) + ".preload";
     p.check(!c.static_loads.empty(), path, c.where(path).line,
             "a computed preload needs 'static_loads' (the loads that press the contact); "
             "none are given");
@@ -1460,7 +1625,7 @@ void cross_check(Parser& p) {
 
 void parse_study(Parser& p, const MapView& top) {
   if (!top.has("study")) return;
-  MapView m(p, top.value("study"), "study", top.line("study"), {"parameter", "values"});
+  MapView m(p, top.value("study"), "study", top.line("study"), case_keys_in("study"));
   StudyDefinition& s = p.out().study;
   m.require("parameter", "the dotted key to vary, e.g. contacts.joint.per_pair.preload");
   m.require("values");
@@ -1596,8 +1761,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   if (!root.IsDefined() || root.IsNull())
     throw InvalidInput(SourceLocation{name_for_messages, 0, ""}, "the case file is empty");
   MapView top(p, root, "", 1,
-              {"stickslip", "title", "materials", "meshes", "bodies", "contacts", "excitation",
-               "static_loads", "damping", "analysis", "study", "recovery", "output"});
+              case_keys_in(""));
   top.require("stickslip", "the format version: stickslip: 1");
   top.integer("stickslip", &out.version, 1);
   p.check(out.version == kCaseFormatVersion, "stickslip", top.line("stickslip"),
@@ -1613,7 +1777,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   parse_excitation(p, top);
   parse_static_loads(p, top);
   if (top.has("damping")) {
-    MapView d(p, top.value("damping"), "damping", top.line("damping"), {"alpha", "beta"});
+    MapView d(p, top.value("damping"), "damping", top.line("damping"), case_keys_in("damping"));
     d.number("alpha", &out.damping.alpha);
     d.number("beta", &out.damping.beta);
   }
@@ -1731,11 +1895,7 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
   double* field = nullptr;
   double magnitude = 0.0;  // static_loads[i].force / total_force: the new magnitude (N)
   std::function<void()> after;
-  const std::string supported =
-      "supported: materials.M.{youngs_modulus,poisson_ratio,density}, "
-      "contacts.C.{per_pair,total}.<parameter>, contacts.C.gap, damping.{alpha,beta}, "
-      "bodies.B.modal_damping_ratio, excitation[i].amplitude, "
-      "static_loads[i].{force,total_force,pressure}";
+  const std::string supported = "supported: " + join(study_parameter_paths(), ", ");
   if (parts.size() == 3 && parts[0] == "materials") {
     auto it = c.materials.find(parts[1]);
     if (it == c.materials.end()) fail("no material '" + parts[1] + "'");
@@ -1750,14 +1910,14 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
       if (!law_of(*it).has_gap) fail("law " + it->law + " has no gap");
       const std::string base = "contacts." + it->name + ".";
       if (c.locations.count(base + "per_pair.preload") ||
+          c.locations.count(base + "per_area.preload") ||
           c.locations.count(base + "total.preload") || !it->preload_file.empty())
         fail("contact '" + it->name + "' gives a preload; give either a preload or a gap");
       field = &it->gap;
-    } else if (parts.size() == 4 && (parts[2] == "per_pair" || parts[2] == "total")) {
-      const bool per_pair = it->parameters_given == ContactDefinition::Parameters::kPerPair;
-      if (per_pair != (parts[2] == "per_pair"))
-        fail("contact '" + it->name + "' gives its parameters " +
-             (per_pair ? "per_pair" : "as total"));
+    } else if (parts.size() == 4 &&
+               (parts[2] == "per_pair" || parts[2] == "total" || parts[2] == "per_area")) {
+      if (parts[2] != parameter_block(*it))
+        fail("contact '" + it->name + "' gives its parameters in '" + parameter_block(*it) + "'");
       const std::vector<std::string> allowed = parameter_keys(*it);
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
         fail("'" + key + "' is not a parameter of law " + it->law);
@@ -1893,8 +2053,8 @@ std::string describe_case(const CaseDefinition& c) {
     if (m.source == MeshDefinition::Source::kGenerate) {
       const TwoBeamDefinition& t = m.two_beam;
       e << YAML::Key << "generate" << YAML::Value << m.generate;
-      e << YAML::Key << "arrangement" << YAML::Value << t.arrangement;
-      e << YAML::Key << "element" << YAML::Value << t.element;
+      e << YAML::Key << "arrangement" << YAML::Value << case_name(t.arrangement);
+      e << YAML::Key << "element" << YAML::Value << element_type_name(t.element);
       e << YAML::Key << "coarse" << YAML::Value << t.coarse;
       e << YAML::Key << "box" << YAML::Value;
       vec(t.box);
@@ -1906,10 +2066,10 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "end_length" << YAML::Value << num(t.end_length);
     } else {
       e << YAML::Key << "file" << YAML::Value << m.file;
-      e << YAML::Key << "format" << YAML::Value << m.format;
-      if (m.format == "msh") {
-        e << YAML::Key << "hexahedron8" << YAML::Value << m.hexahedron8;
-        e << YAML::Key << "hexahedron20" << YAML::Value << m.hexahedron20;
+      e << YAML::Key << "format" << YAML::Value << case_name(m.format);
+      if (m.format == MeshFileFormat::kMsh) {
+        e << YAML::Key << "hexahedron8" << YAML::Value << element_type_name(m.hexahedron8);
+        e << YAML::Key << "hexahedron20" << YAML::Value << element_type_name(m.hexahedron20);
       }
     }
     e << YAML::EndMap;
@@ -1934,7 +2094,9 @@ std::string describe_case(const CaseDefinition& c) {
           }
           e << YAML::BeginMap << YAML::Key << "nodes" << YAML::Value;
           selection(sd.nodes);
-          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << sd.directions;
+          e << YAML::Key << "directions" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+          for (int d : sd.directions) e << support_direction_name(d, sd.local_frame);
+          e << YAML::EndSeq;
           if (sd.local_frame) {
             e << YAML::Key << "normal" << YAML::Value << YAML::Flow
               << std::vector<double>(sd.normal.begin(), sd.normal.end());
@@ -1957,7 +2119,7 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "stiffness" << YAML::Value << b.reduced.stiffness;
       e << YAML::Key << "mass" << YAML::Value << b.reduced.mass;
       e << YAML::Key << "mapping" << YAML::Value << b.reduced.mapping;
-      e << YAML::Key << "format" << YAML::Value << b.reduced.format << YAML::EndMap;
+      e << YAML::Key << "format" << YAML::Value << case_name(b.reduced.format) << YAML::EndMap;
     }
     e << YAML::Key << "modal_damping_ratio" << YAML::Value << num(b.modal_damping_ratio);
     e << YAML::EndMap;
@@ -1977,7 +2139,13 @@ std::string describe_case(const CaseDefinition& c) {
         selection(d.nodes_b);
       }
       e << YAML::EndMap;
-      e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
+      if (d.coupling == ContactCoupling::kMortar) {
+        e << YAML::Key << "coupling" << YAML::Value << case_name(d.coupling);
+        e << YAML::Key << "search_distance" << YAML::Value << num(d.search_distance);
+        e << YAML::Key << "unpaired" << YAML::Value << case_name(d.unpaired);
+      } else {
+        e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
+      }
     } else {
       e << YAML::Key << "bodies" << YAML::Value;
       vec(std::vector<std::string>{d.body_a, d.body_b});
@@ -1995,9 +2163,8 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "t1" << YAML::Value;
       vec(d.t1);
     }
-    const bool per_pair = d.parameters_given == ContactDefinition::Parameters::kPerPair;
-    e << YAML::Key << (per_pair ? "per_pair" : "total") << YAML::Value << YAML::Flow
-      << YAML::BeginMap;
+    const bool with_split = d.parameters_given == ContactDefinition::Parameters::kTotal;
+    e << YAML::Key << parameter_block(d) << YAML::Value << YAML::Flow << YAML::BeginMap;
     ContactParametersDefinition params = d.parameters;
     // A preload from a file, or a gap, stands instead of the `preload` key (the parser takes one).
     const bool gap = law_of(d).has_gap && d.gap != 0;
@@ -2010,7 +2177,7 @@ std::string describe_case(const CaseDefinition& c) {
         e << num(*contact_parameter(params, key));
       }
     }
-    if (!per_pair) e << YAML::Key << "split" << YAML::Value << d.split;
+    if (with_split) e << YAML::Key << "split" << YAML::Value << case_name(d.split);
     e << YAML::EndMap;
     if (!d.preload_file.empty()) e << YAML::Key << "preload_file" << YAML::Value << d.preload_file;
     if (gap) e << YAML::Key << "gap" << YAML::Value << num(d.gap);
@@ -2069,7 +2236,7 @@ std::string describe_case(const CaseDefinition& c) {
   }
   e << YAML::Key << "step_hz" << YAML::Value << num(a.frequency.step_hz);
   e << YAML::Key << "sweep" << YAML::Value << (a.frequency.downward ? "down" : "up");
-  if (a.method == "continuation") {
+  if (a.method == SweepMethod::kContinuation) {
     // 0: not given (the continuation derives them from step_hz)
     if (a.frequency.min_step_hz > 0)
       e << YAML::Key << "min_step_hz" << YAML::Value << num(a.frequency.min_step_hz);
@@ -2077,17 +2244,17 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
-  e << YAML::Key << "method" << YAML::Value << a.method;
+  e << YAML::Key << "method" << YAML::Value << case_name(a.method);
   e << YAML::Key << "harmonics" << YAML::Value;
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
-  if (!a.aft.empty()) e << YAML::Key << "aft" << YAML::Value << a.aft;
-  e << YAML::Key << "static" << YAML::Value << a.static_coupling;
+  if (a.aft_given) e << YAML::Key << "aft" << YAML::Value << case_name(a.aft);
+  e << YAML::Key << "static" << YAML::Value << case_name(a.static_coupling);
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
-  if (a.method == "continuation") e << YAML::Key << "max_points" << YAML::Value << a.max_points;
-  e << YAML::Key << "initial_guess" << YAML::Value << a.initial_guess;
-  if (a.method != "continuation") e << YAML::Key << "predictor" << YAML::Value << a.predictor;
+  if (a.method == SweepMethod::kContinuation) e << YAML::Key << "max_points" << YAML::Value << a.max_points;
+  e << YAML::Key << "initial_guess" << YAML::Value << case_name(a.initial_guess);
+  if (a.method != SweepMethod::kContinuation) e << YAML::Key << "predictor" << YAML::Value << case_name(a.predictor);
   e << YAML::EndMap;
   if (c.study.active()) {
     e << YAML::Key << "study" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -2099,15 +2266,16 @@ std::string describe_case(const CaseDefinition& c) {
   const RecoveryDefinition& r = c.recovery;
   e << YAML::Key << "recovery" << YAML::Value << YAML::Flow << YAML::BeginMap;
   e << YAML::Key << "points" << YAML::Value;
-  if (r.points == "list") {
+  if (r.points == RecoveryPoints::kList) {
     vec(r.frequencies_hz);
   } else {
-    e << r.points;
+    e << case_name(r.points);
   }
-  e << YAML::Key << "method" << YAML::Value << r.method;
-  if (r.method == "modal") e << YAML::Key << "modes" << YAML::Value << r.modes;
-  e << YAML::Key << "fields" << YAML::Value;
-  vec(r.fields);
+  e << YAML::Key << "method" << YAML::Value << case_name(r.method);
+  if (r.method == RecoveryMethod::kModal) e << YAML::Key << "modes" << YAML::Value << r.modes;
+  e << YAML::Key << "fields" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (RecoveryField f : r.fields) e << case_name(f);
+  e << YAML::EndSeq;
   e << YAML::Key << "nodes" << YAML::Value;
   vec(r.nodes);
   e << YAML::EndMap;

@@ -35,6 +35,8 @@
 
 #include "core/errors.h"
 #include "fe/element.h"
+#include "io/two_beam_model.h"
+#include "mesh/mesh.h"
 
 namespace stickslip {
 
@@ -70,6 +72,37 @@ inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 // bodies.<name>.modes: at most kMaxReducedBodyDofs (io/ansys_mapping.h), the size of the largest
 // reduced body.
 
+// The case file's choices as types: each is spelled in the file as case_name() gives it, mapped
+// from text once here (parse_case) and back once (describe_case); the rest of the program switches
+// on the value.
+enum class MeshFileFormat { kInp, kMsh, kCdb };                                 // meshes.M.format
+enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  // reduced.format
+enum class PreloadSplit { kEqual, kArea };                  // contacts.C.total.split
+enum class ContactCoupling { kNodes, kMortar };             // contacts.C.coupling
+enum class UnpairedChoice { kError, kSkip };                // contacts.C.unpaired
+enum class SweepMethod { kStepped, kContinuation };         // analysis.method
+enum class AftChoice { kEvent, kSampled };                  // analysis.aft
+enum class StaticChoice { kUncoupled, kCoupled };           // analysis.static
+enum class InitialGuessChoice { kStuck, kFree };            // analysis.initial_guess
+enum class PredictorChoice { kSecant, kPrevious };          // analysis.predictor
+enum class RecoveryPoints { kPeak, kAll, kNone, kList };    // recovery.points
+enum class RecoveryMethod { kDirect, kModal, kExpansion };  // recovery.method
+enum class RecoveryField { kDisplacement, kStress };        // recovery.fields
+const char* case_name(MeshFileFormat v);
+const char* case_name(ReducedFileFormat v);
+const char* case_name(PreloadSplit v);
+const char* case_name(ContactCoupling v);
+const char* case_name(UnpairedChoice v);
+const char* case_name(SweepMethod v);
+const char* case_name(AftChoice v);
+const char* case_name(StaticChoice v);
+const char* case_name(InitialGuessChoice v);
+const char* case_name(PredictorChoice v);
+const char* case_name(RecoveryPoints v);
+const char* case_name(RecoveryMethod v);
+const char* case_name(RecoveryField v);
+const char* case_name(TwoBeamOptions::Arrangement v);
+
 struct MaterialDefinition {
   double youngs_modulus = 0.0;  // E, Pa (required, > 0)
   double poisson_ratio = 0.0;   // ν (required, −1 < ν < 0.5)
@@ -78,26 +111,27 @@ struct MaterialDefinition {
 
 // The reference two-beam model (io/two_beam_model.h, TwoBeamOptions), in the file's terms.
 struct TwoBeamDefinition {
-  std::string arrangement = "butt";       // butt | lap
-  std::string element = "C3D8I";          // C3D8 | C3D8I | C3D20 | C3D20R (upper case)
-  bool coarse = false;                    // thesis_coarse: 7x5x1 + 4x5x4, 240 nodes per beam
-  std::array<int, 3> box{25, 5, 8};       // elements of the large box along x, y, z
-  std::array<int, 3> end_block{5, 5, 4};  // elements of the end block along x, y, z
-  double beam_length = 0.25;              // L, m
-  double width = 0.05;                    // W, m
-  double thickness = 0.03;                // T, m
-  double end_length = 0.05;               // e, m
+  TwoBeamOptions::Arrangement arrangement = TwoBeamOptions::Arrangement::kButt;  // butt | lap
+  ElementType element = ElementType::kC3D8I;  // C3D8 | C3D8I | C3D20 | C3D20R (upper case)
+  bool coarse = false;                        // thesis_coarse: 7x5x1 + 4x5x4, 240 nodes per beam
+  std::array<int, 3> box{25, 5, 8};           // elements of the large box along x, y, z
+  std::array<int, 3> end_block{5, 5, 4};      // elements of the end block along x, y, z
+  double beam_length = 0.25;                  // L, m
+  double width = 0.05;                        // W, m
+  double thickness = 0.03;                    // T, m
+  double end_length = 0.05;                   // e, m
 };
 
 struct MeshDefinition {
   enum class Source { kGenerate, kFile };
   Source source = Source::kGenerate;
-  std::string generate = "two_beam";   // kGenerate: the generator (only two_beam)
-  TwoBeamDefinition two_beam;          // kGenerate
-  std::string file;                    // kFile: resolved path of a .inp, .msh or .cdb file
-  std::string format;                  // kFile: inp | msh | cdb (from the extension unless given)
-  std::string hexahedron8 = "C3D8I";   // msh: element of 8-node hexahedra (C3D8 | C3D8I)
-  std::string hexahedron20 = "C3D20";  // msh: element of 20-node hexahedra (C3D20 | C3D20R)
+  std::string generate = "two_beam";  // kGenerate: the generator (only two_beam)
+  TwoBeamDefinition two_beam;         // kGenerate
+  std::string file;                   // kFile: resolved path of a .inp, .msh or .cdb file
+  MeshFileFormat format = MeshFileFormat::kInp;    // kFile: inp | msh | cdb (from the extension
+                                                   // unless given)
+  ElementType hexahedron8 = ElementType::kC3D8I;   // msh: 8-node hexahedra (C3D8 | C3D8I)
+  ElementType hexahedron20 = ElementType::kC3D20;  // msh: 20-node hexahedra (C3D20 | C3D20R)
 };
 
 // A node selection: node sets by name and/or external node ids, in the order given.
@@ -112,19 +146,22 @@ struct NodeSelection {
 // contact frames' rule: core/frame.h), its rows t1, t2, n.
 // Or, with from_mesh, every *BOUNDARY line of the body's .inp mesh (Mesh::boundaries).
 struct SupportDefinition {
-  bool from_mesh = false;               // the mesh's *BOUNDARY lines (then nothing else)
-  NodeSelection nodes;                  // required
-  std::vector<std::string> directions;  // required, no name twice: x | y | z, or t1 | t2 | n
-  bool local_frame = false;             // `normal` given
+  bool from_mesh = false;  // the mesh's *BOUNDARY lines (then nothing else)
+  NodeSelection nodes;     // required
+  // Required, none twice: 0, 1, 2 = x, y, z (global axes), or t1, t2, n (the rows of the local
+  // frame: then named t1 | t2 | n in the file).
+  std::vector<int> directions;
+  bool local_frame = false;  // `normal` given
   std::array<double, 3> normal{0, 0, 0};
-  std::array<double, 3> t1{0, 0, 0};    // 0 = automatic
+  std::array<double, 3> t1{0, 0, 0};  // 0 = automatic
 };
 
 struct ReducedMatricesDefinition {
-  std::string stiffness;                  // resolved path (required)
-  std::string mass;                       // resolved path (required)
-  std::string mapping;                    // resolved path; HB default: stiffness with .mapping
-  std::string format = "harwell_boeing";  // harwell_boeing | matrix_market
+  std::string stiffness;  // resolved path (required)
+  std::string mass;       // resolved path (required)
+  std::string mapping;    // resolved path; HB default: stiffness with .mapping
+  ReducedFileFormat format = ReducedFileFormat::kHarwellBoeing;  // harwell_boeing |
+                                                                 // matrix_market | abaqus_matrix
 };
 
 struct BodyDefinition {
@@ -137,8 +174,8 @@ struct BodyDefinition {
                             // of the body's elements (*SOLID SECTION / MPDATA)
   NodeSelection clamp;      // nodes fixed in x, y, z
   std::vector<SupportDefinition> supports;  // nodes held in some directions
-  NodeSelection masters;    // boundary (master) nodes kept as physical DOFs by the reduction
-  int modes = 60;           // fixed-interface modes kept (≥ 0)
+  NodeSelection masters;  // boundary (master) nodes kept as physical DOFs by the reduction
+  int modes = 60;         // fixed-interface modes kept (≥ 0)
   // Consistent-mass rule (fe/element.h): `exact` (kExact, default) or `calculix` (kStiffnessRule:
   // CalculiX's matrices; differs for C3D20R and C3D4 only).
   MassIntegration mass_rule = MassIntegration::kExact;
@@ -151,13 +188,13 @@ struct BodyDefinition {
 // contact/contact_law.h). Per pair, or totals over all pairs of the contact (kt, kn, k, k1, k3,
 // preload split; mu, gap not).
 struct ContactParametersDefinition {
-  double kt = 0.0;       // tangential stiffness, N/m (friction, jenkins, 3D linear)
-  double kn = 0.0;       // normal stiffness, N/m (friction, gap, 3D linear)
-  double mu = 0.0;       // friction coefficient (friction, jenkins)
-  double preload = 0.0;  // N0, N, compression positive (friction, jenkins, gap)
-  double k = 0.0;        // stiffness, N/m (1D linear)
-  double k1 = 0.0;       // linear part, N/m (cubic)
-  double k3 = 0.0;       // cubic coefficient, N/m³ (cubic)
+  double kt = 0.0;                      // tangential stiffness, N/m (friction, jenkins, 3D linear)
+  double kn = 0.0;                      // normal stiffness, N/m (friction, gap, 3D linear)
+  double mu = 0.0;                      // friction coefficient (friction, jenkins)
+  double preload = 0.0;                 // N0, N, compression positive (friction, jenkins, gap)
+  double k = 0.0;                       // stiffness, N/m (1D linear)
+  double k1 = 0.0;                      // linear part, N/m (cubic)
+  double k3 = 0.0;                      // cubic coefficient, N/m³ (cubic)
   std::map<std::string, double> other;  // keys of registered laws that have no field above
   // The field of a parameter key (kt, ..., or a registered law's key in `other`).
   double* field(const std::string& key);
@@ -186,11 +223,20 @@ struct ContactDefinition {
   // the frame `normal`/`t1` (friction; law linear's springs kt, kt, kn), false = along
   // `direction` (1D). A law registered both ways (linear) is chosen by the keys given.
   bool uses_frame = false;
-  enum class Parameters { kPerPair, kTotal };
+  // `between` pairs: `nodes` (coincident nodes, within `tolerance`) or `mortar` (the nodes of the
+  // two selections are surfaces: one contact point per node of A's faces, tied to B's nodes by
+  // the mortar weights of mesh/mortar.h).
+  ContactCoupling coupling = ContactCoupling::kNodes;
+  double search_distance = 0.0;  // m, mortar: how far B may lie from A's faces (0: automatic)
+  UnpairedChoice unpaired =
+      UnpairedChoice::kError;  // mortar: points not wholly over B: error | skip
+  // per_pair: each pair's values; total: split over the pairs (`split`); per_area: the law's
+  // split keys per unit area (kt, kn in N/m³, preload in Pa) times each pair's area.
+  enum class Parameters { kPerPair, kTotal, kPerArea };
   Parameters parameters_given = Parameters::kPerPair;
   ContactParametersDefinition parameters;
-  std::string split = "equal";  // total: equal | area
-  std::string preload_file;     // resolved path (read_preloads_csv format), read at parse time:
+  PreloadSplit split = PreloadSplit::kEqual;  // total: equal | area
+  std::string preload_file;  // resolved path (read_preloads_csv format), read at parse time:
   std::vector<std::pair<int, double>>
       preloads;      // (node id on A, N0 in N), "contacts.C.preloads[i]"
   double gap = 0.0;  // g0, m (≥ 0): initial gap instead of a preload
@@ -251,19 +297,20 @@ struct FrequencyDefinition {
 };
 
 struct AnalysisDefinition {
-  FrequencyDefinition frequency;   // required
-  std::string method = "stepped";  // stepped | continuation
-  std::vector<int> harmonics{1};   // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
-                                   // gives 1..H. Harmonic 0 is always kept (static part).
-  int time_samples = 64;           // N per period, ≥ 2(2 H_max + 1)
-  std::string aft;                 // event | sampled (hbm/aft.h AftMethod); empty: not given
-                                   // (event, without the fall-back warning)
-  std::string static_coupling = "uncoupled";  // key `static`: uncoupled | coupled
-  double tolerance = 1.0e-8;                  // Newton, relative residual (> 0)
-  int max_iterations = 30;                    // Newton iterations per point (≥ 1)
-  int max_points = 10000;                     // continuation: points at most (≥ 2)
-  std::string initial_guess = "stuck";        // stuck | free
-  std::string predictor = "secant";           // stepped: secant | previous (guess per point)
+  FrequencyDefinition frequency;               // required
+  SweepMethod method = SweepMethod::kStepped;  // stepped | continuation
+  std::vector<int> harmonics{1};      // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
+                                      // gives 1..H. Harmonic 0 is always kept (static part).
+  int time_samples = 64;              // N per period, ≥ 2(2 H_max + 1)
+  AftChoice aft = AftChoice::kEvent;  // event | sampled (hbm/aft.h AftMethod)
+  bool aft_given = false;  // `aft` written in the file (then event warns where it falls back)
+  StaticChoice static_coupling = StaticChoice::kUncoupled;  // key `static`: uncoupled | coupled
+  double tolerance = 1.0e-8;                                // Newton, relative residual (> 0)
+  int max_iterations = 30;                                  // Newton iterations per point (≥ 1)
+  int max_points = 10000;                                   // continuation: points at most (≥ 2)
+  InitialGuessChoice initial_guess = InitialGuessChoice::kStuck;  // stuck | free
+  PredictorChoice predictor = PredictorChoice::kSecant;  // stepped: secant | previous (guess
+                                                         // per point)
   int max_harmonic() const { return harmonics.empty() ? 0 : harmonics.back(); }
 };
 
@@ -274,11 +321,11 @@ struct StudyDefinition {
 };
 
 struct RecoveryDefinition {
-  std::string points = "peak";         // peak | all | none | list (then frequencies_hz)
-  std::vector<double> frequencies_hz;  // points: list
-  std::string method = "direct";       // direct | modal | expansion
-  int modes = 100;                     // modal: full-model modes (≥ 1)
-  std::vector<std::string> fields{"displacement", "stress"};  // displacement | stress
+  RecoveryPoints points = RecoveryPoints::kPeak;    // peak | all | none | list (frequencies_hz)
+  std::vector<double> frequencies_hz;               // points: list
+  RecoveryMethod method = RecoveryMethod::kDirect;  // direct | modal | expansion
+  int modes = 100;                                  // modal: full-model modes (≥ 1)
+  std::vector<RecoveryField> fields{RecoveryField::kDisplacement, RecoveryField::kStress};
   std::vector<int> nodes;  // node ids whose recovered response is written
 };
 

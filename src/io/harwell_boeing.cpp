@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/format.h"
 #include "io/atomic_file.h"
 #include "io/text.h"
 
@@ -614,7 +615,7 @@ void write_harwell_boeing(std::ostream& out, const SparseMatrix& A,
     const double asymmetry = D.nonZeros() > 0 ? D.coeffs().cwiseAbs().maxCoeff() : 0.0;
     if (asymmetry > kHarwellBoeingSymmetryTolerance * scale) {
       throw InvalidInput("write_harwell_boeing: the matrix is not symmetric (max |a_ij - a_ji| = " +
-                         std::to_string(asymmetry) + ", max |a_ij| = " + std::to_string(scale) +
+                         format_number(asymmetry) + ", max |a_ij| = " + format_number(scale) +
                          "); write it as RUA");
     }
   }

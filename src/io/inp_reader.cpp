@@ -8,10 +8,13 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "core/errors.h"
 #include "fe/element.h"
@@ -114,6 +117,45 @@ struct SetDefinition {
   std::vector<SetItem> items;
 };
 
+// A *SOLID SECTION: the material of an element set.
+struct Section {
+  std::string elset, material;
+  int line;
+};
+// What a part, an instance or the model holds until the mesh is resolved.
+struct Items {
+  std::vector<RawNode> nodes;
+  std::vector<RawElement> elements;
+  std::vector<SetDefinition> sets;
+  std::vector<RawEquation> equations;
+  std::vector<RawDiscrete> discretes;
+  std::vector<DiscreteProperty> properties;
+  std::vector<Section> sections;
+  void append(Items&& o) {
+    const auto add = [](auto& to, auto& from) {
+      to.insert(to.end(), std::make_move_iterator(from.begin()),
+                std::make_move_iterator(from.end()));
+    };
+    add(nodes, o.nodes);
+    add(elements, o.elements);
+    add(sets, o.sets);
+    add(equations, o.equations);
+    add(discretes, o.discretes);
+    add(properties, o.properties);
+    add(sections, o.sections);
+  }
+};
+struct PartDefinition {
+  Items items;
+  int line = 0;
+  bool used = false;
+};
+struct InstanceInfo {
+  std::string name;  // upper case
+  int node_offset = 0, element_offset = 0;
+  int line = 0;
+};
+
 // Keywords that would change the stiffness or mass of the model and that the reader does not
 // support: refused at their line, with the reason.
 struct Refusal {
@@ -142,9 +184,6 @@ constexpr Refusal kRefused[] = {
     {"*MATRIX", "matrix input is not supported"},
     {"*MATRIX INPUT", "matrix input is not supported"},
     {"*SUBSTRUCTURE PROPERTY", "substructures are not supported"},
-    {"*PART", "parts and instances are not supported (write the input without parts)"},
-    {"*INSTANCE", "parts and instances are not supported (write the input without parts)"},
-    {"*ASSEMBLY", "parts and instances are not supported (write the input without parts)"},
     {"*NGEN", "node generation is not supported (write the nodes out)"},
     {"*NFILL", "node generation is not supported (write the nodes out)"},
     {"*NCOPY", "node generation is not supported (write the nodes out)"},
@@ -179,6 +218,7 @@ class InpParser {
     include_stack_.push_back(std::filesystem::weakly_canonical(file_, ec));
     read_stream(in, 0);
     finish_element_block();
+    finish_parts();
     Mesh mesh = resolve();
     report_skipped();
     return mesh;
@@ -335,6 +375,21 @@ class InpParser {
                          "; it would change the stiffness or mass, so the deck is refused");
       }
     }
+    if (part_keyword(k)) return;
+    if (block_ == Block::kPart || block_ == Block::kInstance) {
+      if (k.name == "*BOUNDARY" || k.name == "*MATERIAL" || k.name == "*STEP") {
+        fail(k.line, k.name + " inside *" + (block_ == Block::kPart ? "PART" : "INSTANCE") +
+                         " " + block_name_ + " is not supported: give it at model level");
+      }
+    }
+    if (uses_parts_ && (block_ == Block::kModel || block_ == Block::kAssembly) &&
+        k.name == "*NODE") {
+      fail(k.line, std::string("*NODE ") +
+                       (block_ == Block::kAssembly ? "in the *ASSEMBLY (a reference point)"
+                                                   : "outside the parts") +
+                       " is not supported in a deck with parts: nodes belong to parts or "
+                       "instances");
+    }
     if (k.name == "*NODE") {
       check_params(k, {"NSET"});
       mode_ = Mode::kNode;
@@ -358,6 +413,11 @@ class InpParser {
         mode_ = Mode::kDiscrete;
         return;
       }
+      if (uses_parts_ && (block_ == Block::kModel || block_ == Block::kAssembly)) {
+        fail(k.line, "*ELEMENT, TYPE=" + upper(*type) +
+                         " outside the parts: in a deck with parts only springs and masses "
+                         "(SPRING1, SPRING2, SPRINGA, MASS) may join instances at assembly level");
+      }
       if (!parse_element_type(*type, &element_type_)) {
         const std::string why =
             upper(*type) == "C3D8R"
@@ -375,11 +435,20 @@ class InpParser {
     } else if (k.name == "*NSET" || k.name == "*ELSET") {
       const bool node = k.name == "*NSET";
       const char* key = node ? "NSET" : "ELSET";
-      check_params(k, {key, "GENERATE", "UNSORTED", "INTERNAL"});
+      check_params(k, {key, "GENERATE", "UNSORTED", "INTERNAL", "INSTANCE"});
       const auto n = param(k, key);
       if (!n) fail(k.line, k.name + " without " + key + "=");
       current_set_ = new_set(node, *n, k.line);
       generate_ = param(k, "GENERATE").has_value();
+      set_instance_ = -1;
+      if (const auto instance = param(k, "INSTANCE")) {
+        if (block_ != Block::kAssembly && block_ != Block::kModel) {
+          fail(k.line, k.name + ", INSTANCE=" + *instance + " inside *" +
+                           (block_ == Block::kPart ? "PART" : "INSTANCE") +
+                           ": INSTANCE= belongs to sets of the assembly");
+        }
+        set_instance_ = instance_index(*instance, k.line);
+      }
       mode_ = Mode::kSet;
     } else if (k.name == "*EQUATION") {
       check_params(k, {});
@@ -446,6 +515,330 @@ class InpParser {
     }
   }
 
+  // ---- parts, assemblies and instances (Abaqus/CAE decks) ----------------------------------
+  //
+  // A part's items (nodes, elements, sets, equations, springs, masses, sections) are recorded
+  // apart while *PART is open; each *INSTANCE copies them (plus whatever the instance block
+  // defines itself), places the nodes by its data lines, renumbers ids after those of the
+  // instances above and prefixes the names of its sets with "INSTANCE.", then adds them to the
+  // model. References from the assembly ("INSTANCE.12", "INSTANCE.SET", INSTANCE= on a set) are
+  // resolved when read, since instances come before the items that use them.
+
+  // Handles *PART, *END PART, *ASSEMBLY, *END ASSEMBLY, *INSTANCE and *END INSTANCE; false for
+  // any other keyword.
+  bool part_keyword(const Keyword& k) {
+    const std::string& n = k.name;
+    const bool begins = n == "*PART" || n == "*ASSEMBLY" || n == "*INSTANCE";
+    const bool ends = n == "*END PART" || n == "*END ASSEMBLY" || n == "*END INSTANCE";
+    if (!begins && !ends) return false;
+    if (ends) {
+      check_params(k, {});
+      const Block expected = n == "*END PART"       ? Block::kPart
+                             : n == "*END ASSEMBLY" ? Block::kAssembly
+                                                    : Block::kInstance;
+      if (block_ != expected) {
+        fail(k.line, n + " without its *" + n.substr(5) +
+                         (block_ == Block::kModel ? "" : " (" + open_block_text() + " is open)"));
+      }
+      if (expected == Block::kPart) {
+        parts_[block_name_] = PartDefinition{take_items(), block_line_, false};
+        put_items(std::move(stash_));
+        block_ = Block::kModel;
+      } else if (expected == Block::kInstance) {
+        end_instance();
+        block_ = Block::kAssembly;
+      } else {
+        block_ = Block::kModel;
+      }
+      return true;
+    }
+    if (n == "*INSTANCE") {
+      if (param(k, "LIBRARY")) {
+        fail(k.line, "*INSTANCE, LIBRARY=: instances of substructure libraries are not supported");
+      }
+      check_params(k, {"NAME", "PART"});
+      if (block_ != Block::kAssembly) {
+        fail(k.line, "*INSTANCE outside an *ASSEMBLY" +
+                         (block_ == Block::kModel ? "" : " (" + open_block_text() + " is open)"));
+      }
+      const auto name = param(k, "NAME"), part = param(k, "PART");
+      if (!name || !part) fail(k.line, "*INSTANCE needs NAME= and PART=");
+      const auto it = parts_.find(upper(*part));
+      if (it == parts_.end()) {
+        fail(k.line, "*INSTANCE " + upper(*name) + ": unknown part " + upper(*part) +
+                         " (parts are defined by *PART ... *END PART above the assembly)");
+      }
+      for (const InstanceInfo& other : instances_) {
+        if (other.name == upper(*name)) {
+          fail(k.line, "*INSTANCE " + other.name + " defined twice (first on " +
+                           line_text(other.line) + ")");
+        }
+      }
+      it->second.used = true;
+      stash_ = take_items();
+      put_items(Items(it->second.items));
+      block_ = Block::kInstance;
+      block_name_ = upper(*name);
+      block_line_ = k.line;
+      translation_.setZero();
+      rotation_.setIdentity();
+      rotation_point_.setZero();
+      position_lines_ = 0;
+      mode_ = Mode::kInstance;
+      return true;
+    }
+    check_params(k, {"NAME"});
+    const auto name = param(k, "NAME");
+    if (n == "*PART" && !name) fail(k.line, "*PART without NAME=");
+    if (block_ != Block::kModel) {
+      fail(k.line, n + " inside " + open_block_text() + ": parts and the assembly are defined " +
+                       "at model level");
+    }
+    if (!uses_parts_ && (!nodes_.empty() || !elements_.empty() || !discretes_.empty())) {
+      const int first = !nodes_.empty() ? nodes_[0].line
+                        : !elements_.empty() ? elements_[0].line
+                                             : discretes_[0].line;
+      fail(k.line, n + " after nodes or elements outside any part (" + line_text(first) +
+                       "): a deck has its mesh either in parts or flat, not both");
+    }
+    uses_parts_ = true;
+    if (n == "*ASSEMBLY") {
+      if (assembly_line_ > 0) {
+        fail(k.line, "a second *ASSEMBLY (the first on " + line_text(assembly_line_) + ")");
+      }
+      assembly_line_ = k.line;
+      block_ = Block::kAssembly;
+      block_name_ = name ? upper(*name) : "";
+      block_line_ = k.line;
+      return true;
+    }
+    const std::string key = upper(*name);
+    if (parts_.count(key)) {
+      fail(k.line, "*PART " + key + " defined twice (first on " + line_text(parts_[key].line) + ")");
+    }
+    stash_ = take_items();
+    block_ = Block::kPart;
+    block_name_ = key;
+    block_line_ = k.line;
+    return true;
+  }
+
+  std::string open_block_text() const {
+    switch (block_) {
+      case Block::kPart:
+        return "*PART " + block_name_ + " of " + line_text(block_line_);
+      case Block::kInstance:
+        return "*INSTANCE " + block_name_ + " of " + line_text(block_line_);
+      case Block::kAssembly:
+        return "the *ASSEMBLY of " + line_text(block_line_);
+      case Block::kModel:
+        break;
+    }
+    return "the model";
+  }
+
+  // An *INSTANCE's data lines: the translation "dx, dy, dz", then optionally the rotation
+  // "ax, ay, az, bx, by, bz, angle": by angle degrees about the axis from point a to point b
+  // (right-hand rule), applied after the translation (Abaqus keyword reference, *INSTANCE).
+  void instance_position(const std::vector<std::string>& tokens, int line) {
+    if (position_lines_ == 0) {
+      if (tokens.size() != 3) {
+        fail(line, "*INSTANCE: the first data line is the translation 'dx, dy, dz', got " +
+                       std::to_string(tokens.size()) + " values");
+      }
+      for (int d = 0; d < 3; ++d) translation_(d) = parse_double(tokens[d], line);
+    } else if (position_lines_ == 1) {
+      if (tokens.size() != 7) {
+        fail(line,
+             "*INSTANCE: the second data line is the rotation 'ax, ay, az, bx, by, bz, angle' "
+             "(degrees about the axis from a to b), got " +
+                 std::to_string(tokens.size()) + " values");
+      }
+      Eigen::Vector3d a, b;
+      for (int d = 0; d < 3; ++d) {
+        a(d) = parse_double(tokens[d], line);
+        b(d) = parse_double(tokens[3 + d], line);
+      }
+      const double angle = parse_double(tokens[6], line);
+      if (!((b - a).norm() > 0.0)) {
+        fail(line, "*INSTANCE: the rotation axis has zero length (points a and b coincide)");
+      }
+      rotation_ = Eigen::AngleAxisd(angle * std::acos(-1.0) / 180.0, (b - a).normalized())
+                      .toRotationMatrix();
+      rotation_point_ = a;
+    } else {
+      fail(line, "*INSTANCE: more than two data lines (translation, rotation)");
+    }
+    ++position_lines_;
+  }
+
+  // *END INSTANCE: the instance's items placed, renumbered after everything above and named
+  // "INSTANCE.NAME", with an element set "INSTANCE" of all its elements, into the model.
+  void end_instance() {
+    Items inst = take_items();
+    int node_offset = 0, element_offset = 0;
+    for (const RawNode& n : stash_.nodes) node_offset = std::max(node_offset, n.id);
+    for (const RawElement& e : stash_.elements) element_offset = std::max(element_offset, e.id);
+    for (const RawDiscrete& d : stash_.discretes) element_offset = std::max(element_offset, d.id);
+    const std::string q = block_name_ + ".";
+    for (RawNode& n : inst.nodes) {
+      n.id += node_offset;
+      n.x = rotation_point_ + rotation_ * (n.x + translation_ - rotation_point_);
+    }
+    SetDefinition all{false, block_name_, {}};
+    for (RawElement& e : inst.elements) {
+      e.id += element_offset;
+      for (int& id : e.node_ids) id += node_offset;
+      all.items.push_back({SetItem::Kind::kId, e.id, 0, 1, "", e.line});
+    }
+    for (SetDefinition& set : inst.sets) {
+      set.name = q + set.name;
+      const int offset = set.is_node_set ? node_offset : element_offset;
+      for (SetItem& item : set.items) {
+        if (item.kind == SetItem::Kind::kName) {
+          item.name = q + item.name;
+        } else {
+          item.first += offset;
+          item.last += offset;
+        }
+      }
+    }
+    inst.sets.insert(inst.sets.begin(), std::move(all));
+    for (RawEquation& eq : inst.equations) {
+      for (int& id : eq.node_ids) id += node_offset;
+    }
+    for (RawDiscrete& d : inst.discretes) {
+      d.id += element_offset;
+      for (int& id : d.node_ids) id += node_offset;
+      d.elset = q + d.elset;
+    }
+    for (DiscreteProperty& p : inst.properties) p.elset = q + p.elset;
+    for (Section& sec : inst.sections) sec.elset = q + sec.elset;
+    instances_.push_back({block_name_, node_offset, element_offset, block_line_});
+    stash_.append(std::move(inst));
+    put_items(std::move(stash_));
+  }
+
+  // End of the deck: every block closed; parts never instanced are reported.
+  void finish_parts() {
+    if (block_ != Block::kModel) {
+      const char* end = block_ == Block::kPart       ? "*END PART"
+                        : block_ == Block::kInstance ? "*END INSTANCE"
+                                                     : "*END ASSEMBLY";
+      fail(block_line_, open_block_text() + " has no " + end + " before the end of the deck");
+    }
+    if (warnings_ == nullptr) return;
+    for (const auto& [name, part] : parts_) {
+      if (!part.used) {
+        warnings_->push_back(files_[loc_file_[part.line]] + ": *PART " + name +
+                             " ignored (no *INSTANCE of it), line " +
+                             std::to_string(loc_line_[part.line]));
+      }
+    }
+  }
+
+  int instance_index(const std::string& name, int line) const {
+    for (size_t i = 0; i < instances_.size(); ++i) {
+      if (instances_[i].name == upper(name)) return static_cast<int>(i);
+    }
+    fail(line, keyword_.name + ": unknown instance " + upper(name) +
+                   (uses_parts_ ? " (instances are defined by *INSTANCE in the assembly above)"
+                                : " (the deck has no *INSTANCE)"));
+  }
+
+  // "INSTANCE.12" in a deck with parts, at assembly or model level.
+  bool qualified_number(const std::string& token) const {
+    const size_t dot = token.find('.');
+    if (!uses_parts_ || dot == std::string::npos || dot == 0 || dot + 1 == token.size()) {
+      return false;
+    }
+    return std::all_of(token.begin() + static_cast<long>(dot) + 1, token.end(),
+                       [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
+  }
+
+  bool at_assembly_level() const {
+    return uses_parts_ && (block_ == Block::kAssembly || block_ == Block::kModel);
+  }
+
+  // The (model-wide) id of a node or element named by `token`: "INSTANCE.12" or, in a part or
+  // instance block or a deck without parts, "12".
+  int reference(const std::string& token, int line, bool node) const {
+    const char* what = node ? "node id" : "element id";
+    if (qualified_number(token)) {
+      if (!at_assembly_level()) {
+        fail(line, keyword_.name + ": " + token + " inside " + open_block_text() +
+                       " (ids inside a part or an instance are its own, unqualified)");
+      }
+      const size_t dot = token.find('.');
+      const InstanceInfo& inst = instances_[instance_index(token.substr(0, dot), line)];
+      return parse_id(token.substr(dot + 1), line, what) +
+             (node ? inst.node_offset : inst.element_offset);
+    }
+    if (node && at_assembly_level()) {
+      fail(line, keyword_.name + ": node " + token +
+                     " at assembly level: nodes belong to instances; write INSTANCE." + token);
+    }
+    return parse_id(token, line, what);
+  }
+  int node_reference(const std::string& token, int line) const {
+    return reference(token, line, true);
+  }
+  int element_reference(const std::string& token, int line) const {
+    return reference(token, line, false);
+  }
+
+  // Added to plain ids of a set's data lines: the instance's offset for a set with INSTANCE=;
+  // at assembly level elements of the assembly (springs, masses) follow the instances above.
+  int set_id_offset(bool node, int line) {
+    if (set_instance_ >= 0) {
+      const InstanceInfo& inst = instances_[set_instance_];
+      return node ? inst.node_offset : inst.element_offset;
+    }
+    if (!at_assembly_level()) return 0;
+    if (node) {
+      fail(line, keyword_.name + ": plain node ids at assembly level: nodes belong to "
+                                 "instances; write INSTANCE.id or give INSTANCE= on the set");
+    }
+    return assembly_element_offset();
+  }
+
+  // Ids of springs and masses defined at assembly level are shifted past the elements of the
+  // instances defined before the first of them (fixed then; later instances follow them).
+  int assembly_element_offset() {
+    if (!at_assembly_level()) return 0;
+    if (assembly_element_offset_ < 0) {
+      assembly_element_offset_ = 0;
+      for (const RawElement& e : elements_) {
+        assembly_element_offset_ = std::max(assembly_element_offset_, e.id);
+      }
+      for (const RawDiscrete& d : discretes_) {
+        assembly_element_offset_ = std::max(assembly_element_offset_, d.id);
+      }
+    }
+    return assembly_element_offset_;
+  }
+
+  Items take_items() {
+    Items t;
+    std::swap(t.nodes, nodes_);
+    std::swap(t.elements, elements_);
+    std::swap(t.sets, sets_);
+    std::swap(t.equations, equations_);
+    std::swap(t.discretes, discretes_);
+    std::swap(t.properties, properties_);
+    std::swap(t.sections, sections_);
+    return t;
+  }
+  void put_items(Items&& t) {
+    nodes_ = std::move(t.nodes);
+    elements_ = std::move(t.elements);
+    sets_ = std::move(t.sets);
+    equations_ = std::move(t.equations);
+    discretes_ = std::move(t.discretes);
+    properties_ = std::move(t.properties);
+    sections_ = std::move(t.sections);
+  }
+
   int new_set(bool node, const std::string& name, int line) {
     if (name.empty()) fail(line, "empty set name");
     sets_.push_back({node, upper(name), {}});
@@ -496,6 +889,9 @@ class InpParser {
       case Mode::kNone:
         fail(line, "data line before any keyword");
       case Mode::kSkip:
+        return;
+      case Mode::kInstance:
+        instance_position(data_tokens(t, line), line);
         return;
       case Mode::kNode: {
         const auto tokens = data_tokens(t, line);
@@ -574,10 +970,13 @@ class InpParser {
                          ": expected 'id, node" + (needed == 3 ? ", node'" : "'") + ", got " +
                          std::to_string(tokens.size()) + " values");
         }
-        RawDiscrete d{
-            parse_id(tokens[0], line, "element id"), discrete_kind_, {}, discrete_elset_, line};
+        RawDiscrete d{parse_id(tokens[0], line, "element id") + assembly_element_offset(),
+                      discrete_kind_,
+                      {},
+                      discrete_elset_,
+                      line};
         for (size_t i = 1; i < tokens.size(); ++i) {
-          d.node_ids.push_back(parse_id(tokens[i], line, "node id"));
+          d.node_ids.push_back(node_reference(tokens[i], line));
         }
         discretes_.push_back(std::move(d));
         return;
@@ -633,11 +1032,12 @@ class InpParser {
             fail(line, "*EQUATION: more terms than the " + std::to_string(eq.num_terms) +
                            " announced on " + line_text(eq.line));
           }
-          if (!std::isdigit(static_cast<unsigned char>(tokens[i][0]))) {
+          if (!std::isdigit(static_cast<unsigned char>(tokens[i][0])) &&
+              !qualified_number(tokens[i])) {
             fail(line, "*EQUATION: node set " + tokens[i] +
                            " in an equation is not supported (write node numbers)");
           }
-          eq.node_ids.push_back(parse_id(tokens[i], line, "node id"));
+          eq.node_ids.push_back(node_reference(tokens[i], line));
           const int direction = parse_id(tokens[i + 1], line, "degree of freedom");
           if (direction > 3) {
             fail(line, "*EQUATION: degree of freedom " + tokens[i + 1] +
@@ -656,6 +1056,7 @@ class InpParser {
         // "node or set, first[, last[, value]]" or "node or set, ENCASTRE|PINNED|XSYMM|...".
         const auto tokens = data_tokens(t, line);
         RawBoundary b{tokens[0], 0, 2, boundary_type_, line};
+        if (qualified_number(b.target)) b.target = std::to_string(node_reference(b.target, line));
         if (tokens.size() < 2 || tokens.size() > 4) {
           fail(line, "*BOUNDARY: expected 'node or set, first DOF[, last DOF[, value]]'");
         }
@@ -692,9 +1093,10 @@ class InpParser {
             fail(line, keyword_.name + ", GENERATE: expected 'first, last[, increment]'");
           }
           const char* what = set.is_node_set ? "node id" : "element id";
+          const int offset = set_id_offset(set.is_node_set, line);
           SetItem item{SetItem::Kind::kRange,
-                       parse_id(tokens[0], line, what),
-                       parse_id(tokens[1], line, what),
+                       parse_id(tokens[0], line, what) + offset,
+                       parse_id(tokens[1], line, what) + offset,
                        1,
                        "",
                        line};
@@ -709,10 +1111,23 @@ class InpParser {
                 std::isdigit(static_cast<unsigned char>(tok[0])) || tok[0] == '-' || tok[0] == '+';
             if (numeric) {
               set.items.push_back({SetItem::Kind::kId,
-                                   parse_id(tok, line, set.is_node_set ? "node id" : "element id"),
+                                   parse_id(tok, line, set.is_node_set ? "node id" : "element id") +
+                                       set_id_offset(set.is_node_set, line),
+                                   0, 1, "", line});
+            } else if (qualified_number(tok)) {  // INSTANCE.id
+              set.items.push_back({SetItem::Kind::kId,
+                                   set.is_node_set ? node_reference(tok, line)
+                                                   : element_reference(tok, line),
                                    0, 1, "", line});
             } else {
-              set.items.push_back({SetItem::Kind::kName, 0, 0, 1, upper(tok), line});
+              // A set of the set's instance (INSTANCE=), of an instance (INSTANCE.SET), or of
+              // the block the set is in.
+              const bool dotted = tok.find('.') != std::string::npos;
+              if (dotted && !instances_.empty()) instance_index(tok.substr(0, tok.find('.')), line);
+              const std::string name =
+                  set_instance_ >= 0 && !dotted ? instances_[set_instance_].name + "." + upper(tok)
+                                                : upper(tok);
+              set.items.push_back({SetItem::Kind::kName, 0, 0, 1, name, line});
             }
           }
         }
@@ -999,12 +1414,24 @@ class InpParser {
     kProperty,
     kElastic,
     kDensity,
-    kBoundary
+    kBoundary,
+    kInstance
   };
-  struct Section {
-    std::string elset, material;
-    int line;
-  };
+  enum class Block { kModel, kPart, kAssembly, kInstance };
+  Block block_ = Block::kModel;
+  std::string block_name_;  // of the open part or instance
+  int block_line_ = 0;      // its keyword's line
+  bool uses_parts_ = false;  // a *PART or *ASSEMBLY was read
+  int assembly_line_ = 0;
+  std::map<std::string, PartDefinition> parts_;
+  std::vector<InstanceInfo> instances_;
+  Items stash_;  // the model's items while a part or an instance is read
+  int set_instance_ = -1;  // INSTANCE= of the set being read
+  int assembly_element_offset_ = -1;
+  Eigen::Vector3d translation_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d rotation_point_ = Eigen::Vector3d::Zero();
+  int position_lines_ = 0;
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   std::vector<MeshMaterial> materials_;
   std::vector<Section> sections_;

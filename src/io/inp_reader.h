@@ -20,8 +20,26 @@
 //   *INCLUDE, INPUT=path                 the file's lines in place (textually: data lines continue
 //                                        the keyword before the *INCLUDE); path relative to the
 //                                        including file's folder; nested; a cycle is an error
-// Supported TYPE: C3D8, C3D8I, C3D8B (B-bar), C3D20, C3D20R, C3D4, C3D10 (node order as in the
-// .inp, which is Mesh's), and the discrete SPRING1, SPRING2, SPRINGA and MASS (ELSET= required):
+//   *PART, NAME=p ... *END PART          Abaqus/CAE's parts: the nodes, elements, sets,
+//                                        equations, springs, masses and sections inside are
+//                                        the part's, used only through its instances
+//   *ASSEMBLY ... *END ASSEMBLY          holds the instances and what joins them
+//   *INSTANCE, NAME=i, PART=p            one copy of the part (plus any mesh given inside the
+//     [dx, dy, dz]                       instance block), moved by the translation, then rotated
+//     [ax, ay, az, bx, by, bz, angle]    by angle degrees about the axis from a to b (right-hand
+//   *END INSTANCE                        rule). Its node and element ids follow the largest ids
+//                                        of the instances (and assembly springs) above it (the
+//                                        first instance keeps the part's ids); its sets are
+//                                        named "I.SET" and the element set "I" holds its elements
+//   In the assembly and the model: "I.12" names node (or element) 12 of instance I in sets,
+//   *EQUATION, *BOUNDARY and SPRING/MASS elements; "I.SET" a set of instance I; *NSET/*ELSET
+//   with INSTANCE=i take plain ids and set names of that instance. Nodes outside the parts
+//   (reference points), solid elements outside the parts, *BOUNDARY/*MATERIAL/*STEP inside a
+//   part or instance, instances of libraries, and a deck mixing a flat mesh and parts are
+//   errors at their line; a part that no instance uses is a warning.
+// Supported TYPE: C3D8, C3D8I, C3D8B (B-bar), C3D20, C3D20R, C3D4, C3D10, C3D6, C3D15 (node
+// order as in the .inp, which is Mesh's), and the discrete SPRING1, SPRING2, SPRINGA and MASS
+// (ELSET= required):
 //   *SPRING, ELSET=name                  for SPRING1/SPRING2 a line of DOFs (1-3; integers), then
 //                                        the spring constant (N/m, a real); SPRINGA no DOF line
 //   *MASS, ELSET=name                    the mass (kg)
@@ -29,7 +47,7 @@
 // Any other element type is rejected.
 // Nothing vanishes silently: a keyword that would change the stiffness or mass and is not
 // supported (*TIE, *COUPLING, *KINEMATIC, *MPC, *RIGID BODY, shell/beam sections, *DASHPOT,
-// parts and instances, node/element generation, ...; list in inp_reader.cpp) is an
+// node/element generation, ...; list in inp_reader.cpp) is an
 // error at its line. Every other keyword (*MATERIAL, *BOUNDARY, *STEP, ...) is skipped with its
 // data lines and gives one warning per keyword name, "<file>: *NAME ignored (<why>), lines a, b",
 // appended to `warnings` (when not null).

@@ -205,8 +205,7 @@ Eigen::Matrix3Xd integrate_face_normal(const Mesh& mesh, const ElementFace& face
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> pressure_nodal_forces(const Mesh& mesh, std::span<const int> nodes,
-                                                   double pressure) {
+std::pair<int, int> interior_face(const Mesh& mesh, std::span<const int> nodes) {
   // Every face of every element within the set, to find faces shared by two elements.
   const std::unordered_set<int> in(nodes.begin(), nodes.end());
   std::map<std::vector<int>, std::vector<int>> elements_of_face;
@@ -221,12 +220,18 @@ std::vector<Eigen::Vector3d> pressure_nodal_forces(const Mesh& mesh, std::span<c
     }
   }
   for (const auto& [key, elements] : elements_of_face) {
-    if (elements.size() > 1) {
-      throw InvalidInput("the pressure's nodes hold a face shared by elements " +
-                         std::to_string(mesh.element_ids[elements[0]]) + " and " +
-                         std::to_string(mesh.element_ids[elements[1]]) +
-                         " (inside the body): a pressure acts on the body's boundary faces only");
-    }
+    if (elements.size() > 1) return {elements[0], elements[1]};
+  }
+  return {-1, -1};
+}
+
+std::vector<Eigen::Vector3d> pressure_nodal_forces(const Mesh& mesh, std::span<const int> nodes,
+                                                   double pressure) {
+  if (const auto [e1, e2] = interior_face(mesh, nodes); e1 >= 0) {
+    throw InvalidInput("the pressure's nodes hold a face shared by elements " +
+                       std::to_string(mesh.element_ids[e1]) + " and " +
+                       std::to_string(mesh.element_ids[e2]) +
+                       " (inside the body): a pressure acts on the body's boundary faces only");
   }
   const std::vector<ElementFace> faces = faces_within(mesh, nodes);
   if (faces.empty()) {

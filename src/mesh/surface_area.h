@@ -29,6 +29,7 @@
 #pragma once
 
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +63,10 @@ struct FacePoint {
   double xi, eta, w;
 };
 const std::vector<FacePoint>& face_rule(int n);
+
+// The first face within `nodes` (as faces_within) that two elements share, i.e. a face inside
+// the body rather than on its boundary: its two element indices; {-1, -1} when there is none.
+std::pair<int, int> interior_face(const Mesh& mesh, std::span<const int> nodes);
 
 // Area of one face (m²).
 double face_area(const Mesh& mesh, const ElementFace& face);

@@ -160,10 +160,11 @@ void check_reduced_matrices(const CaseDefinition& def, const std::string& name,
 
 ReducedBody read_matrix_body(const CaseDefinition& def, const std::string& name) {
   const ReducedMatricesDefinition& r = def.bodies.at(name).reduced;
-  ReducedBody body = r.format == "matrix_market"   ? read_matrix_market_body(r)
-                     : r.format == "abaqus_matrix" ? read_abaqus_reduced_body(r.stiffness, r.mass)
-                                                   : read_ansys_reduced_body(r.stiffness, r.mass,
-                                                                             r.mapping);
+  ReducedBody body =
+      r.format == ReducedFileFormat::kMatrixMarket   ? read_matrix_market_body(r)
+      : r.format == ReducedFileFormat::kAbaqusMatrix ? read_abaqus_reduced_body(r.stiffness, r.mass)
+                                                     : read_ansys_reduced_body(r.stiffness, r.mass,
+                                                                               r.mapping);
   check_reduced_matrices(def, name, body, r.stiffness, r.mass);
   return body;
 }

@@ -16,6 +16,7 @@
 
 #include "contact/contact_law.h"
 #include "core/errors.h"
+#include "core/format.h"
 #include "core/frame.h"
 #include "core/printable.h"
 #include "core/types.h"
@@ -26,6 +27,7 @@
 #include "io/two_beam_model.h"
 #include "linalg/modal.h"
 #include "mesh/mesh_tools.h"
+#include "mesh/mortar.h"
 #include "mesh/surface_area.h"
 #include "model/body_reduction.h"
 
@@ -64,8 +66,7 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
     if (m.source == MeshDefinition::Source::kGenerate) {
       TwoBeamOptions o;
       const TwoBeamDefinition& t = m.two_beam;
-      o.arrangement = t.arrangement == "lap" ? TwoBeamOptions::Arrangement::kLap
-                                             : TwoBeamOptions::Arrangement::kButt;
+      o.arrangement = t.arrangement;
       o.beam_length = t.beam_length;
       o.width = t.width;
       o.thickness = t.thickness;
@@ -73,24 +74,21 @@ Mesh load_mesh(const CaseDefinition& def, const std::string& name, const MeshDef
       o.box = {t.box[0], t.box[1], t.box[2]};
       o.end_block = {t.end_block[0], t.end_block[1], t.end_block[2]};
       o.thesis_coarse = t.coarse;
-      if (!parse_element_type(t.element, &o.element_type)) {
-        throw InvalidInput(where, "unknown element type " + t.element);
-      }
+      o.element_type = t.element;
       return make_two_beam_model(o).mesh;
     }
-    if (m.format == "msh") {
+    if (m.format == MeshFileFormat::kMsh) {
       GmshReadOptions o;
-      if (!parse_element_type(m.hexahedron8, &o.hexahedron8) ||
-          !parse_element_type(m.hexahedron20, &o.hexahedron20)) {
-        throw InvalidInput(where, "unknown hexahedron element type");
-      }
+      o.hexahedron8 = m.hexahedron8;
+      o.hexahedron20 = m.hexahedron20;
       std::vector<std::string> warnings;
       Mesh mesh = read_gmsh(m.file, o, &warnings);
       for (const std::string& w : warnings) model_warning(w);
       return mesh;
     }
     std::vector<std::string> warnings;
-    Mesh mesh = m.format == "cdb" ? read_cdb(m.file, &warnings) : read_inp(m.file, &warnings);
+    Mesh mesh = m.format == MeshFileFormat::kCdb ? read_cdb(m.file, &warnings)
+                                                 : read_inp(m.file, &warnings);
     for (const std::string& w : warnings) model_warning(w);
     return mesh;
   } catch (const InvalidInput& e) {
@@ -173,15 +171,16 @@ std::string mesh_description(const MeshDefinition& m) {
     return fmt::format(
         "generate {} arrangement {} element {} coarse {} box {} {} {} end_block {} {} {} "
         "size {:.17g} {:.17g} {:.17g} {:.17g}",
-        m.generate, t.arrangement, t.element, t.coarse, t.box[0], t.box[1], t.box[2],
+        m.generate, case_name(t.arrangement), element_type_name(t.element), t.coarse, t.box[0], t.box[1], t.box[2],
         t.end_block[0], t.end_block[1], t.end_block[2], t.beam_length, t.width, t.thickness,
         t.end_length);
   }
   // The file by its contents, not its path (a moved project keeps its reductions), and the
   // contents of the files it includes, in the order read.
-  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", m.format,
-                                 m.hexahedron8, m.hexahedron20, file_fingerprint_hex(m.file));
-  if (m.format == "inp") {
+  std::string text = fmt::format("file format {} hex8 {} hex20 {} bytes {}", case_name(m.format),
+                                 element_type_name(m.hexahedron8),
+                                 element_type_name(m.hexahedron20), file_fingerprint_hex(m.file));
+  if (m.format == MeshFileFormat::kInp) {
     const std::vector<std::string> files = inp_files(m.file);
     for (size_t i = 1; i < files.size(); ++i) {  // unreadable: read_inp names the line
       const bool readable = std::ifstream(files[i]).good();
@@ -256,6 +255,128 @@ void check_preload_nodes(const CaseDefinition& def, const ContactDefinition& cd,
   }
 }
 
+// Up to kListedIds ids of `nodes` (indices in `body`'s mesh), for messages: "12, 13, 17 (and 4
+// more)".
+constexpr size_t kListedIds = 12;
+std::string listed_ids(const CaseBody& body, const std::vector<int>& nodes) {
+  std::string text;
+  for (size_t i = 0; i < nodes.size() && i < kListedIds; ++i)
+    text += (i ? ", " : "") + std::to_string(body.node_id(nodes[i]));
+  if (nodes.size() > kListedIds) text += fmt::format(" (and {} more)", nodes.size() - kListedIds);
+  return text;
+}
+
+// A mortar point's normal (out of A) may differ from the contact's `normal` by at most this
+// angle: the contact law acts in the contact's one frame, so a point whose own surface turns away
+// from it would be pressed along a direction its faces do not have (a normal given the wrong way
+// round makes every point's angle 180°). 30° admits gently curved interfaces.
+constexpr double kMaxNormalAngleDeg = 30.0;
+
+// coupling: mortar: the surfaces of the two node selections (the faces of each body whose nodes
+// all lie in its selection), one point per node of A's faces (mesh/mortar.h). Refused, naming
+// ids: a selection that holds a face inside its body, a selected node on no face, points not
+// wholly over B (unless unpaired: skip, which leaves them out with a warning), a point whose
+// normal is not the contact's.
+void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, const CaseBody& A,
+                    const std::vector<int>& nodes_a, const CaseBody& B,
+                    const std::vector<int>& nodes_b, CaseContact& rc) {
+  const std::string key = "contacts." + cd.name + ".between";
+  std::vector<ElementFace> faces[2];
+  for (int side = 0; side < 2; ++side) {
+    const CaseBody& body = side == 0 ? A : B;
+    const std::vector<int>& nodes = side == 0 ? nodes_a : nodes_b;
+    if (const auto [e1, e2] = interior_face(body.mesh, nodes); e1 >= 0) {
+      throw InvalidInput(
+          def.where(key + "." + body.name),
+          fmt::format("coupling: mortar: the nodes of body {} hold a face shared by elements {} "
+                      "and {}, inside the body: a contact surface is made of boundary faces only",
+                      body.name, body.mesh.element_ids[e1], body.mesh.element_ids[e2]));
+    }
+    faces[side] = faces_within(body.mesh, nodes);
+    if (faces[side].empty()) {
+      throw InvalidInput(def.where(key + "." + body.name),
+                         fmt::format("coupling: mortar: the nodes of body {} hold no element face "
+                                     "(select whole faces of its surface)",
+                                     body.name));
+    }
+    std::set<int> on_face;
+    for (const ElementFace& f : faces[side]) on_face.insert(f.nodes.begin(), f.nodes.end());
+    std::vector<int> stray;
+    for (int n : nodes)
+      if (!on_face.count(n)) stray.push_back(n);
+    if (!stray.empty()) {
+      throw InvalidInput(def.where(key + "." + body.name),
+                         fmt::format("coupling: mortar: node(s) {} of body {} lie on no element "
+                                     "face whose nodes are all selected (select whole faces)",
+                                     listed_ids(body, stray), body.name));
+    }
+  }
+  MortarOptions options;
+  options.search_distance = cd.search_distance;
+  MortarCoupling coupling;
+  try {
+    coupling = mortar_coupling(A.mesh, faces[0], B.mesh, faces[1], options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(def.where(key), e.message());
+  }
+  for (const ElementFace& f : faces[1]) rc.mortar_faces_b.push_back(f.element);
+  std::vector<int> none, partial;
+  std::set<int> unpaired(coupling.partial.begin(), coupling.partial.end());
+  for (const MortarPoint& point : coupling.points) {
+    if (!unpaired.count(point.node_a)) continue;
+    (point.coverage > 0 ? partial : none).push_back(point.node_a);
+  }
+  if (!none.empty() || !partial.empty()) {
+    std::string what;
+    if (!none.empty())
+      what += fmt::format("node(s) {} of body {} have no part of their area over body {}'s "
+                          "surface (outside it, or farther than the search distance {} m)",
+                          listed_ids(A, none), A.name, B.name,
+                          format_number(coupling.search_distance));
+    if (!partial.empty())
+      what += fmt::format("{}node(s) {} of body {} lie only partly over body {}'s surface",
+                          what.empty() ? "" : "; ", listed_ids(A, partial), A.name, B.name);
+    if (cd.unpaired != UnpairedChoice::kSkip) {
+      throw InvalidInput(def.where(key),
+                         "coupling: mortar: " + what +
+                             ". Select on body " + A.name +
+                             " only the part of its surface that faces the other body, raise "
+                             "search_distance if the surfaces are apart, or give 'unpaired: "
+                             "skip' to leave those points out");
+    }
+    model_warning(fmt::format("contact {}: unpaired: skip: points left out: {}", cd.name, what));
+  }
+  const bool law_uses_frame = cd.uses_frame;  // 1D laws act along `direction`, any surface
+  const Eigen::Vector3d normal =
+      law_uses_frame ? vec3(cd.normal).normalized() : Eigen::Vector3d::UnitZ();
+  const double min_cos = std::cos(kMaxNormalAngleDeg * kPi / 180.0);
+  std::vector<int> turned;
+  for (MortarPoint& point : coupling.points) {
+    if (unpaired.count(point.node_a)) {
+      rc.skipped.push_back(point.node_a);
+      continue;
+    }
+    if (law_uses_frame && !(point.normal.dot(normal) >= min_cos)) turned.push_back(point.node_a);
+    int best = 0;
+    for (size_t k = 1; k < point.weights_b.size(); ++k)
+      if (point.weights_b[k] > point.weights_b[static_cast<size_t>(best)])
+        best = static_cast<int>(k);
+    rc.node_pairs.emplace_back(point.node_a, point.nodes_b[static_cast<size_t>(best)]);
+    rc.mortar.push_back(std::move(point));
+  }
+  if (!turned.empty()) {
+    throw InvalidInput(
+        def.where("contacts." + cd.name + ".normal"),
+        fmt::format("coupling: mortar: the surface of body {} at node(s) {} faces more than {}° "
+                    "away from the contact's normal (out of {} into {})",
+                    A.name, listed_ids(A, turned), format_number(kMaxNormalAngleDeg), A.name,
+                    B.name));
+  }
+  if (rc.mortar.empty()) {
+    throw InvalidInput(def.where(key), "coupling: mortar: the contact has no points");
+  }
+}
+
 CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<CaseBody>& bodies,
                             const std::map<std::string, int>& body_index) {
   const ContactDefinition& cd = def.contacts[c];
@@ -300,12 +421,18 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
                        "pairs_file): there are no coordinates to match");
   }
   const std::vector<int> nodes_b = resolve_nodes(def, key + ".between", B, cd.nodes_b);
+  if (cd.coupling == ContactCoupling::kMortar) {
+    resolve_mortar(def, cd, A, nodes_a, B, nodes_b, rc);
+    check_preload_nodes(def, cd, A, rc);
+    return rc;
+  }
   try {
     rc.node_pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
   } catch (const InvalidInput& e) {
     throw InvalidInput(def.where(key + ".between"),
                        "contact nodes are not coincident within tolerance " +
-                           fmt::format("{:g}", cd.tolerance) + " m: " + e.message());
+                           fmt::format("{:g}", cd.tolerance) + " m: " + e.message() +
+                           " (surfaces meshed differently: give 'coupling: mortar')");
   }
   if (rc.node_pairs.empty()) {
     throw InvalidInput(def.where(key + ".between"), "the contact has no node pairs");
@@ -314,11 +441,12 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   return rc;
 }
 
-// Parameters of a pair that carries `share` of the contact's totals (per_pair: as given; the
-// law's keys that are not `split`, mu, and the gap are never split).
+// Parameters of a pair that carries `share` of the contact's totals, or (per_area) of its
+// values per unit area: share = the pair's area (per_pair: as given; the law's keys that are not
+// `split`, mu, and the gap are never split).
 ContactParametersDefinition pair_parameters(const ContactDefinition& cd, double share) {
   ContactParametersDefinition p = cd.parameters;
-  if (cd.parameters_given == ContactDefinition::Parameters::kTotal) {
+  if (cd.parameters_given != ContactDefinition::Parameters::kPerPair) {
     for (const LawParameter& key : contact_law(cd.law, cd.uses_frame).parameters) {
       if (key.split) *p.field(key.key) *= share;
     }
@@ -344,11 +472,24 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
                                 std::vector<double>* areas) {
   const size_t np = rc.node_pairs.size();
   areas->assign(np, 0.0);
-  if (cd.parameters_given != ContactDefinition::Parameters::kTotal) {
-    return std::vector<double>(np, 1.0);
+  using Parameters = ContactDefinition::Parameters;
+  const bool by_area = cd.parameters_given == Parameters::kPerArea ||
+                       (cd.parameters_given == Parameters::kTotal && cd.split == PreloadSplit::kArea);
+  if (!rc.mortar.empty()) {  // a mortar point's area is its own
+    double total = 0.0;
+    for (size_t i = 0; i < np; ++i) total += (*areas)[i] = rc.mortar[i].area;
+    if (cd.parameters_given == Parameters::kPerArea) return *areas;
+    if (cd.parameters_given == Parameters::kPerPair) return std::vector<double>(np, 1.0);
+    if (!by_area) return std::vector<double>(np, 1.0 / static_cast<double>(np));
+    std::vector<double> shares(np);
+    for (size_t i = 0; i < np; ++i) shares[i] = (*areas)[i] / total;
+    return shares;
   }
-  if (cd.split != "area") return std::vector<double>(np, 1.0 / static_cast<double>(np));
-  const std::string key = "contacts." + cd.name + ".total.split";
+  if (cd.parameters_given == Parameters::kPerPair) return std::vector<double>(np, 1.0);
+  if (!by_area) return std::vector<double>(np, 1.0 / static_cast<double>(np));
+  const std::string key =
+      "contacts." + cd.name +
+      (cd.parameters_given == Parameters::kPerArea ? ".per_area" : ".total.split");
   // The mesh of a body (bodies given by matrices have none).
   const auto mesh_of = [&](int b) -> const Mesh* {
     if (b < 0 || !bodies[b].from_mesh) return nullptr;
@@ -359,9 +500,9 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
   const Mesh* mesh = use_a ? mesh_of(rc.body_a) : mesh_of(rc.body_b);
   if (mesh == nullptr) {
     throw InvalidInput(def.where(key),
-                       "split: area needs the geometry of the contact face, but "
+                       "parameters by area need the geometry of the contact face, but "
                        "the bodies of contact " +
-                           cd.name + " are given by matrices (no mesh); use split: equal");
+                           cd.name + " are given by matrices (no mesh); use per_pair or split: equal");
   }
   const PreparedBody& body = bodies[use_a ? rc.body_a : rc.body_b];
   std::unordered_map<int, int> index_of_id;  // bodies given by matrices name nodes by id
@@ -389,9 +530,10 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
     if (!(node_area[k] > 0.0)) {
       throw InvalidInput(
           def.where(key),
-          fmt::format("split: area: node {} of body {} lies on no element face whose nodes are "
-                      "all nodes of contact {}, so it has no tributary area (select whole faces, "
-                      "mid-edge nodes included for quadratic elements, or use split: equal)",
+          fmt::format("parameters by area: node {} of body {} lies on no element face whose "
+                      "nodes are all nodes of contact {}, so it has no tributary area (select "
+                      "whole faces, mid-edge nodes included for quadratic elements, or use "
+                      "per_pair or split: equal)",
                       mesh->node_ids[nodes[k]], body.name, cd.name));
     }
     area_of[nodes[k]] = node_area[k];
@@ -401,7 +543,7 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
   for (size_t i = 0; i < np; ++i) {
     const int n = mesh_node(rc.node_pairs[i]);
     (*areas)[i] = area_of.at(n) / uses.at(n);  // a node in several pairs shares its area
-    shares[i] = (*areas)[i] / total;
+    shares[i] = cd.parameters_given == Parameters::kPerArea ? (*areas)[i] : (*areas)[i] / total;
   }
   return shares;
 }
@@ -549,7 +691,11 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
       const std::string key = listed ? fmt::format("contacts.{}.pairs[{}]", cd.name, i)
                                      : fmt::format("contacts.{}.between", cd.name);
       add_master(rc.body_a, rc.node_pairs[i].first, key);
-      if (rc.body_b >= 0) add_master(rc.body_b, rc.node_pairs[i].second, key);
+      if (!rc.mortar.empty()) {
+        for (int b : rc.mortar[i].nodes_b) add_master(rc.body_b, b, key);
+      } else if (rc.body_b >= 0) {
+        add_master(rc.body_b, rc.node_pairs[i].second, key);
+      }
     }
   }
   for (size_t e = 0; e < def.excitation.size(); ++e) {
@@ -623,10 +769,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
                                 : frame_from_normal(Eigen::Vector3d(sd.normal.data()),
                                                     Eigen::Vector3d(sd.t1.data())))
                          : Eigen::Matrix3d::Identity();
-      for (const std::string& d : sd.directions) {
-        const int row = (d == "x" || d == "t1") ? 0 : (d == "y" || d == "t2") ? 1 : 2;
-        directions.push_back(R.row(row).transpose());
-      }
+      for (int row : sd.directions) directions.push_back(R.row(row).transpose());
       for (int n : resolve_nodes(def, key + ".nodes", body, sd.nodes))
         body.supports.push_back({n, directions, origin});
     }
@@ -799,11 +942,32 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       info.node_b_id = rc.body_b >= 0 ? node_id_of(model.bodies[rc.body_b], b) : 0;
       for (int dir = 0; dir < 3; ++dir) {
         pair.dofs_a.push_back(A.global_dof(info.node_a_id, dir));
-        if (rc.body_b >= 0) {
+        if (rc.body_b >= 0 && rc.mortar.empty()) {
           pair.dofs_b.push_back(model.bodies[rc.body_b].global_dof(info.node_b_id, dir));
         }
       }
       pair.frame = row_frame;
+      if (!rc.mortar.empty()) {  // u = R (x_A − Σ_k Φ_k x_Bk): B's nodes as more columns
+        const MortarPoint& point = rc.mortar[static_cast<size_t>(i)];
+        const PreparedBody& B = model.bodies[rc.body_b];
+        const int nb = static_cast<int>(point.nodes_b.size());
+        pair.frame.resize(row_frame.rows(), 3 * (1 + nb));
+        pair.frame.leftCols(3) = row_frame;
+        info.mortar = true;
+        info.gap = point.gap;
+        for (int k = 0; k < nb; ++k) {
+          const int id = node_id_of(B, point.nodes_b[static_cast<size_t>(k)]);
+          const double w = point.weights_b[static_cast<size_t>(k)];
+          for (int dir = 0; dir < 3; ++dir) pair.dofs_a.push_back(B.global_dof(id, dir));
+          pair.frame.middleCols(3 * (1 + k), 3) = -w * row_frame;
+          info.partner_ids.push_back(id);
+          info.weights.push_back(w);
+        }
+        for (int f : point.faces_b) {
+          info.partner_elements.push_back(
+              B.mesh.element_ids[static_cast<size_t>(rc.mortar_faces_b[static_cast<size_t>(f)])]);
+        }
+      }
       double preload = p.preload;
       if (!preload_by_node.empty()) {
         const auto it = preload_by_node.find(info.node_a_id);
@@ -880,8 +1044,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       const Eigen::VectorXd f_rest = f0.col(0);
       if (f_rest.norm() == 0.0) continue;
       any = true;
-      const Eigen::Vector3d g = pair.frame.transpose() * f_rest;  // force on B, global axes
-      for (int d = 0; d < 3; ++d) {
+      // Rᵀf(0) per frame column: the force on B (global axes), and for a mortar point's B columns
+      // −Φ_k times it; A's DOFs receive +, B's −, of their columns.
+      const Eigen::VectorXd g = pair.frame.transpose() * f_rest;
+      for (int d = 0; d < static_cast<int>(g.size()); ++d) {
         if (!pair.dofs_b.empty()) preload(pair.dofs_b[d]) -= g(d);
         if (!pair.dofs_a.empty()) preload(pair.dofs_a[d]) += g(d);
       }
@@ -898,9 +1064,10 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.harmonic_list = an.harmonics;
   model.hbm.harmonics = an.max_harmonic();
   model.hbm.time_samples = an.time_samples;
-  model.hbm.aft = an.aft == "sampled" ? AftMethod::kSampled : AftMethod::kEvent;
-  model.hbm.static_coupling =
-      an.static_coupling == "coupled" ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
+  model.hbm.aft = an.aft == AftChoice::kSampled ? AftMethod::kSampled : AftMethod::kEvent;
+  model.hbm.static_coupling = an.static_coupling == StaticChoice::kCoupled
+                                  ? StaticCoupling::kCoupled
+                                  : StaticCoupling::kUncoupled;
   model.seconds_prepare = seconds_since(t0);
   return model;
 }
@@ -912,7 +1079,7 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
     const Eigen::VectorXd& k_local = model.pair_info[i].stuck_stiffness;
     const int m = static_cast<int>(pair.frame.rows());
     Eigen::MatrixXd Bp = Eigen::MatrixXd::Zero(m, model.num_dofs);
-    for (int d = 0; d < 3; ++d) {
+    for (int d = 0; d < static_cast<int>(pair.frame.cols()); ++d) {
       if (!pair.dofs_a.empty()) Bp.col(pair.dofs_a[d]) += pair.frame.col(d);
       if (!pair.dofs_b.empty()) Bp.col(pair.dofs_b[d]) -= pair.frame.col(d);
     }
@@ -921,8 +1088,11 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
   return K;
 }
 
-ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& def) {
-  ModalResult eig = dense_modes(stuck_stiffness_matrix(model), model.M);  // Jacobi-scaled
+ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& def,
+                        Eigen::MatrixXd* stiffness) {
+  Eigen::MatrixXd K_stuck = stuck_stiffness_matrix(model);
+  ModalResult eig = dense_modes(K_stuck, model.M);  // Jacobi-scaled
+  if (stiffness) *stiffness = std::move(K_stuck);
   if (!eig.summary.ok()) {
     throw InvalidInput(def.where("bodies"), "the reduced mass matrix is not positive definite");
   }
@@ -955,7 +1125,7 @@ std::vector<double> analysis_frequencies_hz(const PreparedModel& model, const Ca
   } else if (window) {
     *window = {start, stop, 0, 0.0};
   }
-  if (def.analysis.method == "continuation") {
+  if (def.analysis.method == SweepMethod::kContinuation) {
     if (f.downward) return {stop, start};
     return {start, stop};
   }
@@ -1009,9 +1179,9 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, const SweepProgress* sweep) {
   const auto t0 = Clock::now();
   SolvedCase solved;
-  solved.warn_aft_fallback = def.analysis.aft == "event";
+  solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft == AftChoice::kEvent;
   check_memory(model, def);
-  if (model.pairs.empty() && def.analysis.method == "continuation") {
+  if (model.pairs.empty() && def.analysis.method == SweepMethod::kContinuation) {
     throw InvalidInput(def.where("analysis.method"),
                        "a model without contacts is linear: its response is computed at the "
                        "frequencies of a stepped sweep (method: stepped, with step_hz), there is "
@@ -1034,7 +1204,8 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;
   o.initial_guess =
-      an.initial_guess == "free" ? InitialGuess::kLinearFree : InitialGuess::kLinearStuck;
+      an.initial_guess == InitialGuessChoice::kFree ? InitialGuess::kLinearFree
+                                                    : InitialGuess::kLinearStuck;
   NewtonOptions newton;
   newton.tolerance = an.tolerance;
   newton.max_iterations = an.max_iterations;
@@ -1055,7 +1226,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
       o.history_pairs.push_back(first + j);
     }
   }
-  if (an.method == "continuation") {
+  if (an.method == SweepMethod::kContinuation) {
     o.method = ContinuationMethod::kArcLength;
     const FrequencyDefinition& f = an.frequency;
     o.arclength.lambda_start = hz_to_rad_s(solved.frequencies_hz.front());
@@ -1071,13 +1242,13 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     o.method = ContinuationMethod::kSteppedSweep;
     for (double hz : solved.frequencies_hz) o.omegas.push_back(hz_to_rad_s(hz));
     o.sweep.newton = newton;
-    o.sweep.secant_predictor = an.predictor == "secant";
+    o.sweep.secant_predictor = an.predictor == PredictorChoice::kSecant;
   }
   if (progress) {
     progress(fmt::format(
         "harmonic balance: {} pairs, {} unknowns, {} {}", model.pairs.size(), solved.system->size(),
-        an.method == "continuation" ? "continuation over" : std::to_string(o.omegas.size()),
-        an.method == "continuation" ? "the range" : "points"));
+        an.method == SweepMethod::kContinuation ? "continuation over" : std::to_string(o.omegas.size()),
+        an.method == SweepMethod::kContinuation ? "the range" : "points"));
   }
   if (sweep && sweep->start) {
     sweep->start("harmonic balance", static_cast<int>(o.omegas.size()));  // 0: continuation

@@ -22,7 +22,9 @@
 // Totals (`total:`) are split over the pairs equally or, with split: area, in proportion to the
 // tributary area of each pair's A node on the A body's contact face (mesh/surface_area.h: faces
 // of the A body whose nodes are all A nodes of the contact; automatic rule); the B body's face is
-// used when A is given by matrices.
+// used when A is given by matrices. `per_area` values are multiplied by the same areas.
+// Contacts with `coupling: mortar` (mesh/mortar.h): one pair per node of A's surface, tied to the
+// B nodes of its mortar weights (PreparedPair below); their area is the point's ∫ N_i dA.
 // Problems of the case that only show once meshes are loaded (a set missing from a mesh, contact
 // nodes not coincident, a master node that is clamped) throw InvalidInput at the case-file line
 // of the key that asked for them.
@@ -47,6 +49,7 @@
 #include "io/case_file.h"
 #include "linalg/modal.h"
 #include "mesh/mesh.h"
+#include "mesh/mortar.h"
 #include "reduction/reduced_body.h"
 
 namespace stickslip {
@@ -87,6 +90,12 @@ struct CaseContact {
   int body_a = 0;                               // index in CaseBodies::bodies
   int body_b = -1;                              // -1 = ground
   std::vector<std::pair<int, int>> node_pairs;  // node indices (ids for matrices); -1 = ground
+  // coupling: mortar: one point per pair (node_pairs[i] = (its A node, its B node of largest
+  // weight)); its B nodes (all masters) and weights, area and gap (mesh/mortar.h). Empty for
+  // node-to-node contacts.
+  std::vector<MortarPoint> mortar;
+  std::vector<int> mortar_faces_b;  // element index of each face of B's surface (faces_b order)
+  std::vector<int> skipped;         // unpaired: skip: A nodes left out (node indices)
 };
 struct CaseBodies {
   std::vector<CaseBody> bodies;                    // CaseDefinition::bodies order
@@ -160,12 +169,25 @@ struct ModelCache {
   Body& body(const std::string& name, const std::string& fingerprint);
 };
 
+// A contact point. Node-to-node: ContactPair dofs_a = node A's DOFs, dofs_b = node B's, frame R
+// (m x 3). Mortar (coupling: mortar): dofs_a = node A's DOFs then those of each partner node of
+// B, dofs_b empty, frame R [I, −Φ_1 I, −Φ_2 I, ...] (m x 3(1 + partners)), so that
+// u = R (x_A − Σ_k Φ_k x_Bk): the first three columns are R, and the first three rows of
+// PairResponse::force_global are the point's force on B (global axes), which reaches B's nodes
+// as Φ_k times it.
 struct PreparedPair {
   int contact = 0;    // index in CaseDefinition::contacts
   int node_a_id = 0;  // external ids (0 = ground)
-  int node_b_id = 0;
+  int node_b_id = 0;  // mortar: the partner node of largest weight
   double share = 1.0;  // fraction of the contact's totals this pair carries (1 with per_pair)
-  double area = 0.0;   // tributary area of the node the share came from, m² (split: area only)
+  // Tributary area of the node the share came from, m² (split: area and per_area), or the
+  // mortar point's area ∫ N_i dA over A's surface (always).
+  double area = 0.0;
+  bool mortar = false;
+  std::vector<int> partner_ids;   // mortar: B's node ids, increasing
+  std::vector<double> weights;    // mortar: Φ_k of each partner
+  std::vector<int> partner_elements;  // mortar: element ids of the B faces it overlaps
+  double gap = 0.0;                   // mortar: the point's geometric gap, m (> 0 open)
   ContactParametersDefinition parameters;  // this pair's parameters (totals already split)
   Eigen::VectorXd stuck_stiffness;         // stiffness of its local rows when stuck, N/m
 };
@@ -214,8 +236,10 @@ std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vec
 
 // Modes of the assembled reduced model with every contact stuck (stuck_stiffness_matrix and
 // model.M, dense_modes: eigenvalues ω² ascending, modes M-normalised); InvalidInput at `bodies`
-// when the reduced mass matrix is not positive definite.
-ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& definition);
+// when the reduced mass matrix is not positive definite. `stiffness` (optional) receives the
+// stuck stiffness matrix the modes were computed from.
+ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& definition,
+                        Eigen::MatrixXd* stiffness = nullptr);
 // Their natural frequencies, Hz (ascending; negative round-off of ω² as 0).
 Eigen::VectorXd stuck_frequencies_hz(const PreparedModel& model, const CaseDefinition& definition);
 

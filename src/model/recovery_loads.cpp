@@ -36,15 +36,15 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
                                  const FrequencyResponse& response) {
   const auto& points = response.points;
   std::vector<int> out;
-  const std::string& mode = def.recovery.points;
-  if (mode == "none" || points.empty()) return out;
-  if (mode == "all") {
+  const RecoveryPoints mode = def.recovery.points;
+  if (mode == RecoveryPoints::kNone || points.empty()) return out;
+  if (mode == RecoveryPoints::kAll) {
     for (size_t i = 0; i < points.size(); ++i) {
       if (points[i].converged) out.push_back(static_cast<int>(i));
     }
     return out;
   }
-  if (mode == "peak") {
+  if (mode == RecoveryPoints::kPeak) {
     int best = -1;
     double best_value = -1;
     for (size_t i = 0; i < points.size(); ++i) {
@@ -86,8 +86,12 @@ Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& bo
   // Contact forces.
   for (size_t q = 0; q < model.pairs.size(); ++q) {
     const ContactPair& pair = model.pairs[q];
-    const Eigen::MatrixXcd& fg = p.pairs[q].force_global;  // force on B, 3 x nh
-    for (int d = 0; d < 3; ++d) {
+    // Per frame column, Rᵀ f: the force on B for node B's (and, negated, node A's) DOFs; for a
+    // mortar point's B columns −Φ_k times it, so node k of B receives +Φ_k times the force on B.
+    // From force_local (force_global read back from contact_forces.csv has 3 rows only).
+    const Eigen::MatrixXcd fg =
+        pair.frame.transpose().cast<std::complex<double>>() * p.pairs[q].force_local;
+    for (int d = 0; d < static_cast<int>(fg.rows()); ++d) {
       for (int side = 0; side < 2; ++side) {
         const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
         if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + n) continue;

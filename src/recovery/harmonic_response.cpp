@@ -1,5 +1,6 @@
 #include "recovery/harmonic_response.h"
 
+#include <Eigen/QR>
 #include <Eigen/UmfPackSupport>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 #include "core/errors.h"
 #include "core/parallel.h"
+#include "linalg/floating_factor.h"
 #include "linalg/sparse_cholesky.h"
 
 namespace stickslip {
@@ -79,6 +81,10 @@ Eigen::MatrixXcd join(const Eigen::MatrixXd& split) {
 // Below this many rows per thread a thread costs more than it saves.
 constexpr std::ptrdiff_t kRowsPerThread = 20000;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// add_rigid_motion: singular values of the master rows of the rigid modes below this fraction
+// of the largest are motions the masters do not see (exactly 0 in exact arithmetic: 1e-10 is far
+// above the round-off of M-orthonormal modes, far below any motion the masters do see).
+constexpr double kRigidFitRank = 1e-10;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -156,6 +162,34 @@ void record_failure(RecoverySummary* summary, RecoveryTermination termination, i
   summary->message += (summary->message.empty() ? "" : "; ") + message;
 }
 
+// A static load on a body with unheld rigid motion has an equilibrium only if it has no resultant
+// on the rigid modes Φ_0 (free DOFs x r). Per mode r and column j the resultant φ_rᵀf_j is compared
+// with Σ_i |φ_ri f_ij| (what it would be if every force pushed the same way): the loads recovery
+// gets come from a solve that balanced them to its Newton tolerance (1e-8 by default), so a
+// resultant above kUnheldResultant of that is not round-off but a load nothing holds. Below it
+// the resultant is dropped (FloatingFactor solves the load without it), changing x by as little.
+constexpr double kUnheldResultant = 1e-4;
+
+// Empty when every column of F (free DOFs x m) is balanced; else what is not. The same from the
+// resultants Φ_0ᵀF and the scales |Φ_0|ᵀ|F| (r x m).
+std::string unheld_resultant_of(const Eigen::MatrixXd& resultant, const Eigen::MatrixXd& scale);
+std::string unheld_resultant(const Eigen::MatrixXd& rigid, const Eigen::MatrixXd& F) {
+  return unheld_resultant_of(rigid.transpose() * F, rigid.cwiseAbs().transpose() * F.cwiseAbs());
+}
+std::string unheld_resultant_of(const Eigen::MatrixXd& resultant, const Eigen::MatrixXd& scale) {
+  double worst = 0.0;
+  for (Eigen::Index j = 0; j < resultant.cols(); ++j) {
+    for (Eigen::Index r = 0; r < resultant.rows(); ++r) {
+      if (scale(r, j) > 0.0) worst = std::max(worst, std::abs(resultant(r, j)) / scale(r, j));
+    }
+  }
+  if (worst <= kUnheldResultant) return {};
+  return "the static (harmonic 0) load has a resultant on rigid-body motion that the body's "
+         "clamps and supports do not hold (" +
+         to_text(worst) +
+         " of the sum of its forces' magnitudes along that motion): no static equilibrium";
+}
+
 }  // namespace
 
 Eigen::MatrixXcd HarmonicSolver::solve_harmonics(const Eigen::MatrixXcd& loads,
@@ -180,7 +214,10 @@ struct DirectRecovery::Impl {
   SparseMatrix K_ff, M_ff;
   RayleighDamping damping;
   SparseCholesky static_factor;
+  FloatingFactor floating;   // when K_ff is singular: the body's unheld rigid motion
+  Eigen::MatrixXd rigid;     // its rigid modes, full size (num_dofs x r)
   std::string message;
+  bool ok = false;
 };
 
 DirectRecovery::DirectRecovery(const SparseMatrix& K, const SparseMatrix& M, const DofMap& dofs,
@@ -195,14 +232,36 @@ DirectRecovery::DirectRecovery(const SparseMatrix& K, const SparseMatrix& M, con
   impl_->K_ff = dofs.restrict(K);
   impl_->M_ff = dofs.restrict(M);
   impl_->damping = damping;
-  if (!impl_->static_factor.factorize(impl_->K_ff)) {
-    impl_->message = "Cholesky factorisation of K_ff failed (is the body clamped?): " +
-                     impl_->static_factor.message();
+  if (impl_->static_factor.factorize(impl_->K_ff) &&
+      factor_gives_back(impl_->static_factor, impl_->K_ff)) {
+    impl_->ok = true;
+    return;
   }
+  // K_ff singular: the clamps and supports do not hold every rigid motion of the body (a damper,
+  // a body on springs or contacts only). Harmonic 0 is then solved without rigid motion.
+  const std::string why = impl_->static_factor.ok()
+                              ? "numerically singular"
+                              : "not positive definite (" + impl_->static_factor.message() + ")";
+  impl_->static_factor = SparseCholesky();
+  if (!impl_->floating.compute(impl_->K_ff, impl_->M_ff, {})) {
+    impl_->message = "K_ff is " + why +
+                     " and its factorisation as a body with free rigid-body motion failed: " +
+                     impl_->floating.message();
+    return;
+  }
+  const Eigen::MatrixXd rigid_free = impl_->floating.rigid_modes();
+  impl_->rigid.resize(dofs.num_dofs(), rigid_free.cols());
+  for (Eigen::Index r = 0; r < rigid_free.cols(); ++r) {
+    impl_->rigid.col(r) = dofs.expand(Eigen::VectorXd(rigid_free.col(r)));
+  }
+  impl_->ok = true;
 }
 
 DirectRecovery::~DirectRecovery() = default;
-bool DirectRecovery::ok() const { return impl_->static_factor.ok(); }
+bool DirectRecovery::ok() const { return impl_->ok; }
+Eigen::MatrixXd DirectRecovery::rigid_modes() const {
+  return impl_->rigid.cols() > 0 ? impl_->rigid : Eigen::MatrixXd(dofs_.num_dofs(), 0);
+}
 const std::string& DirectRecovery::message() const { return impl_->message; }
 
 Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
@@ -212,7 +271,23 @@ Eigen::MatrixXcd DirectRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, 
   if (!ok()) throw InvalidInput("DirectRecovery::solve: setup failed: " + impl_->message);
   const double w = harmonic * omega;
   const Eigen::MatrixXd Ff = restrict_split(dofs_, F);
-  if (w == 0.0) return expand_columns(dofs_, join(impl_->static_factor.solve(Ff)));
+  if (w == 0.0) {
+    if (impl_->static_factor.ok()) return expand_columns(dofs_, join(impl_->static_factor.solve(Ff)));
+    const std::string unbalanced = unheld_resultant(impl_->floating.rigid_modes(), Ff);
+    if (!unbalanced.empty()) {
+      record_failure(summary, RecoveryTermination::kUnbalanced, harmonic, unbalanced);
+      return Eigen::MatrixXcd::Constant(dofs_.num_dofs(), F.cols(), kNaN);
+    }
+    FloatingSolveSummary solved;
+    const Eigen::MatrixXd x = impl_->floating.solve(Ff, &solved);
+    if (!solved.converged) {
+      record_failure(summary, RecoveryTermination::kFailure, harmonic,
+                     "the static solve of the body with free rigid-body motion did not converge "
+                     "(residual " + to_text(solved.residual) + ")");
+      return Eigen::MatrixXcd::Constant(dofs_.num_dofs(), F.cols(), kNaN);
+    }
+    return expand_columns(dofs_, join(x));
+  }
 
   // D = (1 + i w beta) K − (w² − i w alpha) M.
   using Complex = std::complex<double>;
@@ -250,6 +325,11 @@ struct ModalRecovery::Impl {
   Eigen::VectorXd damping_rates;  // c_r = alpha + beta ω_r²
   bool residual = true;
   SparseCholesky static_factor;
+  // A body its clamps and supports do not hold: the first num_rigid modes are its rigid modes
+  // (eigenvalue exactly 0), from `floating`, which also gives the residual term's K⁺.
+  FloatingFactor floating;
+  int num_rigid = 0;
+  Eigen::MatrixXd rigid;  // full size, num_dofs x num_rigid
   // Optional attachment modes on the load DOFs (ModalRecoveryOptions::load_dofs).
   std::vector<int> load_full;     // full DOFs of B (free ones only)
   std::vector<char> is_load_dof;  // per full DOF
@@ -279,8 +359,33 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
   const SparseMatrix M_ff = dofs.restrict(M);
   ModalOptions modal = options.modal;
   modal.num_modes = options.num_modes;
-  impl_->modes = solve_modes(K_ff, M_ff, modal);
   impl_->residual = options.residual_correction;
+  // Held (K_ff's factor gives back K_ff v) or with free rigid motion; the factor is kept for the
+  // residual correction.
+  if (impl_->static_factor.factorize(K_ff) && factor_gives_back(impl_->static_factor, K_ff)) {
+    if (!impl_->residual) impl_->static_factor = SparseCholesky();
+    impl_->modes = solve_modes(K_ff, M_ff, modal);
+  } else {
+    impl_->static_factor = SparseCholesky();
+    // The rigid modes (a block eigen-solve finds the repeated zero eigenvalue in full, exactly 0)
+    // beside num_modes elastic ones.
+    if (!impl_->floating.compute(K_ff, M_ff,
+                                 {.num_elastic_modes = options.num_modes, .modal = modal})) {
+      impl_->message = "K_ff is singular and its factorisation as a body with free rigid-body "
+                       "motion failed: " +
+                       impl_->floating.message();
+      impl_->setup_seconds = seconds_since(start);
+      return;
+    }
+    impl_->num_rigid = impl_->floating.num_rigid();
+    impl_->modes.eigenvalues = impl_->floating.eigenvalues();
+    impl_->modes.modes = impl_->floating.modes();
+    impl_->modes.summary = impl_->floating.modal_summary();
+    impl_->rigid.resize(dofs.num_dofs(), impl_->num_rigid);
+    for (int r = 0; r < impl_->num_rigid; ++r) {
+      impl_->rigid.col(r) = dofs.expand(Eigen::VectorXd(impl_->modes.modes.col(r)));
+    }
+  }
   if (!impl_->modes.summary.ok()) {
     impl_->message = "modal solve failed: " + impl_->modes.summary.message;
     impl_->setup_seconds = seconds_since(start);
@@ -288,20 +393,12 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
   }
   impl_->damping_rates = (damping.alpha + damping.beta * impl_->modes.eigenvalues.array()).matrix();
   impl_->num_threads = thread_count(options.num_threads);
-  if (impl_->residual) {
-    if (!impl_->static_factor.factorize(K_ff)) {
-      impl_->message =
-          "Cholesky factorisation of K_ff failed (the residual correction needs a "
-          "clamped body): " +
-          impl_->static_factor.message();
-      impl_->setup_seconds = seconds_since(start);
-      return;
-    }
-    if (impl_->modes.eigenvalues.minCoeff() <= 0.0) {
-      impl_->message = "a mode with omega^2 <= 0: the residual correction needs a clamped body";
-      impl_->setup_seconds = seconds_since(start);
-      return;
-    }
+  if (impl_->residual &&
+      impl_->modes.eigenvalues.tail(impl_->modes.eigenvalues.size() - impl_->num_rigid)
+              .minCoeff() <= 0.0) {
+    impl_->message = "an elastic mode with omega^2 <= 0 (K_ff is not positive semi-definite)";
+    impl_->setup_seconds = seconds_since(start);
+    return;
   }
   if (!options.load_dofs.empty()) {
     impl_->is_load_dof.assign(static_cast<size_t>(dofs.num_dofs()), 0);
@@ -329,8 +426,9 @@ ModalRecovery::ModalRecovery(const SparseMatrix& K, const SparseMatrix& M, const
       for (Eigen::Index b = 0; b < nb; ++b) {
         B(dofs.free_index(impl_->load_full[static_cast<size_t>(b)]), b) = 1.0;
       }
-      impl_->R = impl_->static_factor.solve(B);
-      const Eigen::VectorXd inv_lambda = impl_->modes.eigenvalues.cwiseInverse();
+      impl_->R = static_solve(B);
+      Eigen::VectorXd inv_lambda = impl_->modes.eigenvalues.cwiseInverse();
+      inv_lambda.head(impl_->num_rigid).setZero();  // K⁺ has no rigid part
       impl_->R.noalias() -= Phi * (inv_lambda.asDiagonal() * impl_->Phi_B.transpose());
     }
   }
@@ -344,6 +442,18 @@ const std::string& ModalRecovery::message() const { return impl_->message; }
 const Eigen::VectorXd& ModalRecovery::eigenvalues() const { return impl_->modes.eigenvalues; }
 const Eigen::MatrixXd& ModalRecovery::modes() const { return impl_->modes.modes; }
 const ModalSummary& ModalRecovery::modal_summary() const { return impl_->modes.summary; }
+Eigen::MatrixXd ModalRecovery::rigid_modes() const {
+  return impl_->num_rigid > 0 ? impl_->rigid : Eigen::MatrixXd(dofs_.num_dofs(), 0);
+}
+
+// K_ff⁻¹ B, or K_ff⁺ B for a body with free rigid motion (free DOFs x k).
+Eigen::MatrixXd ModalRecovery::static_solve(const Eigen::MatrixXd& B) const {
+  if (impl_->num_rigid == 0) return impl_->static_factor.solve(B);
+  FloatingSolveSummary solved;
+  Eigen::MatrixXd X = impl_->floating.solve(B, &solved);
+  if (!solved.converged) X.setConstant(kNaN);  // never a finite wrong answer
+  return X;
+}
 double ModalRecovery::setup_seconds() const { return impl_->setup_seconds; }
 
 Eigen::MatrixXcd ModalRecovery::solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
@@ -400,11 +510,37 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F, const E
     q_split = Phi.transpose() * Ff;
   }
   const Eigen::MatrixXcd q = join(q_split);
-  // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added.
-  Eigen::MatrixXcd eta(q.rows(), m);
+  const int nr = impl_->num_rigid;
   std::vector<char> singular(static_cast<size_t>(m), 0);
+  if (nr > 0) {  // a static column must have no resultant on the rigid modes
+    const Eigen::MatrixXd& Phi_rows = on_load_dofs ? impl_->Phi_B : Phi;
+    const Eigen::MatrixXd& loads = on_load_dofs ? FB : Ff;
+    const Eigen::MatrixXd scale_split =
+        Phi_rows.leftCols(nr).cwiseAbs().transpose() * loads.cwiseAbs();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (w(j) != 0.0) continue;
+      Eigen::MatrixXd resultant(nr, 2), scale(nr, 2);  // real and imaginary parts
+      resultant << q_split.col(j).head(nr), q_split.col(m + j).head(nr);
+      scale << scale_split.col(j), scale_split.col(m + j);
+      const std::string unbalanced = unheld_resultant_of(resultant, scale);
+      if (unbalanced.empty()) continue;
+      singular[static_cast<size_t>(j)] = 1;
+      record_failure(summary, RecoveryTermination::kUnbalanced,
+                     harmonics[static_cast<size_t>(j)], unbalanced);
+    }
+  }
+  // Modal coordinates: h_r q_r, minus q_r / ω_r² when the static residual is added. A rigid mode
+  // has no static part (K⁺ has none) and, at kΩ = 0, no coordinate: its static motion is the
+  // caller's (add_rigid_motion).
+  Eigen::MatrixXcd eta(q.rows(), m);
   for (Eigen::Index j = 0; j < m; ++j) {
     for (Eigen::Index r = 0; r < q.rows(); ++r) {
+      if (r < nr) {
+        eta(r, j) = w(j) == 0.0 ? std::complex<double>(0.0)
+                                : q(r, j) / std::complex<double>(-w(j) * w(j),
+                                                                 w(j) * impl_->damping_rates(r));
+        continue;
+      }
       const std::complex<double> den(lambda(r) - w(j) * w(j), w(j) * impl_->damping_rates(r));
       if (den == 0.0 && !singular[static_cast<size_t>(j)]) {
         singular[static_cast<size_t>(j)] = 1;
@@ -424,13 +560,13 @@ Eigen::MatrixXcd ModalRecovery::solve_columns(const Eigen::MatrixXcd& F, const E
   // With the attachment modes R (which already hold −Φ Ω⁻² ΦᵀB) the modal part uses h alone.
   const bool use_R = on_load_dofs && impl_->residual;
   if (use_R) {
-    for (Eigen::Index r = 0; r < q.rows(); ++r) {
+    for (Eigen::Index r = nr; r < q.rows(); ++r) {
       eta_split.row(r).head(m) += q_split.row(r).head(m) / lambda(r);
       eta_split.row(r).tail(m) += q_split.row(r).tail(m) / lambda(r);
     }
   }
   if (!use_R && impl_->residual) {
-    Eigen::MatrixXd x_split = impl_->static_factor.solve(Ff);
+    Eigen::MatrixXd x_split = static_solve(Ff);
     x_split.noalias() += Phi * eta_split;
     Eigen::MatrixXcd x = expand_columns(dofs_, join(x_split));
     for (Eigen::Index j = 0; j < m; ++j) {
@@ -498,8 +634,11 @@ Eigen::MatrixXcd ModalRecovery::coordinates(const Eigen::MatrixXcd& loads,
     require(k >= 0, "harmonics[" + std::to_string(j) + "]", std::to_string(k), "harmonic >= 0");
     const double w = k * omega;
     for (Eigen::Index r = 0; r < n; ++r) {
-      c(r, j) = q(r, j) / std::complex<double>(impl_->modes.eigenvalues(r) - w * w,
-                                               w * impl_->damping_rates(r));
+      // A rigid mode at kΩ = 0: no coordinate (rigid motion has no strain; see rigid_modes()).
+      c(r, j) = r < impl_->num_rigid && w == 0.0
+                    ? std::complex<double>(0.0)
+                    : q(r, j) / std::complex<double>(impl_->modes.eigenvalues(r) - w * w,
+                                                     w * impl_->damping_rates(r));
     }
   }
   if (nb > 0) c.bottomRows(nb) = FB;
@@ -517,6 +656,36 @@ Eigen::VectorXd ModalRecovery::basis_column(int c) const {
 
 // ---------------------------------------------------------------------------------------------
 // Expansion and comparison
+
+Eigen::VectorXcd add_rigid_motion(const Eigen::MatrixXd& rigid_modes, std::span<const int> dofs,
+                                  const Eigen::VectorXcd& target, Eigen::Ref<Eigen::VectorXcd> x) {
+  const Eigen::Index r = rigid_modes.cols();
+  if (rigid_modes.rows() != x.size() || target.size() != static_cast<Eigen::Index>(dofs.size())) {
+    throw InvalidInput("add_rigid_motion: rigid_modes, x, dofs and target sizes do not match");
+  }
+  if (r == 0) return Eigen::VectorXcd(0);
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(dofs.size()), r);
+  Eigen::VectorXcd b(A.rows());
+  for (size_t i = 0; i < dofs.size(); ++i) {
+    const int d = dofs[i];
+    if (d < 0 || d >= x.size()) {
+      throw InvalidInput("add_rigid_motion: dofs[" + std::to_string(i) + "] = " +
+                         std::to_string(d) + " out of range");
+    }
+    A.row(static_cast<Eigen::Index>(i)) = rigid_modes.row(d);
+    b(static_cast<Eigen::Index>(i)) = target(static_cast<Eigen::Index>(i)) - x(d);
+  }
+  // Rank-revealing: a rigid motion the DOFs do not see (its columns of A zero or dependent to
+  // round-off of A's largest singular value) gets no amplitude.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+  cod.setThreshold(kRigidFitRank);
+  Eigen::VectorXcd a(r);
+  a.real() = cod.solve(Eigen::VectorXd(b.real()));
+  a.imag() = cod.solve(Eigen::VectorXd(b.imag()));
+  x.real() += rigid_modes * a.real();
+  x.imag() += rigid_modes * a.imag();
+  return a;
+}
 
 Eigen::MatrixXcd expand_reduced_response(const Eigen::MatrixXd& T, const Eigen::MatrixXcd& q) {
   if (T.cols() != q.rows()) {

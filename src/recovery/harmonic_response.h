@@ -17,6 +17,12 @@
 //  - DirectRecovery: exact. Harmonic 0 (or kΩ = 0) is the static solve K_ff x = F with a CHOLMOD
 //    factor of K_ff computed once in the constructor; k ≥ 1 factorises the complex D_k with
 //    UMFPACK (sparse LU) per call (all columns of one call share the factorisation).
+//    A body that its clamps and supports do not hold (a damper, a body on springs or contacts
+//    only: K_ff's factor fails or does not give back K_ff v, linalg/floating_factor.h) has rigid
+//    modes Φ_0 (rigid_modes()). D_k, k ≥ 1, stays regular; the static solve has a solution only
+//    for a load without resultant on Φ_0 (a larger one than round-off: kUnbalanced, NaN columns)
+//    and is returned without rigid motion (x = K_ff⁺F, M-orthogonal to Φ_0): the rigid motion is
+//    what the springs and contacts did, which the caller knows (add_rigid_motion).
 //  - ModalRecovery: n modes of the clamped body (K_ff φ = ω² M_ff φ, φᵀM_ffφ = 1) computed once,
 //    plus, by default, the static residual correction (the "missing-mass"/residual-flexibility
 //    term; exact at kΩ = 0):
@@ -24,10 +30,13 @@
 //      c_r = α + β ω_r².
 //    Without the correction it is plain mode superposition (ANSYS MSUP without residual vectors,
 //    CalculiX's *STEADY STATE DYNAMICS). The modes and the CHOLMOD factor of K_ff are computed once
-//    and reused for every load, harmonic and frequency. The body must be clamped enough to make
-//    K_ff positive definite (no rigid-body motion). Choose n at a gap of the spectrum: a
-//    truncation inside a group of repeated frequencies (symmetric bodies) depends on the
-//    arbitrary basis the eigen-solver picked for that eigenspace (and so differs between codes).
+//    and reused for every load, harmonic and frequency. A body that its clamps and supports do
+//    not hold keeps its r rigid modes (ω_r = 0, c_r = α: h_r = 1/(−(kΩ)² + ikΩα)) beside n
+//    elastic ones; K⁻¹ is then K_ff⁺ (no rigid part), and harmonic 0 is treated as in
+//    DirectRecovery (resultant checked, no rigid motion, rigid_modes()). Choose n at a gap of the
+//    spectrum: a truncation inside a group of repeated frequencies (symmetric bodies) depends on
+//    the arbitrary basis the eigen-solver picked for that eigenspace (and so differs between
+//    codes).
 // A failed setup (factorisation of K_ff or eigen-solve) is a numerical outcome: ok() false,
 // message() says why; solve() on a failed object, and bad sizes or options, throw InvalidInput.
 // A singular D_k at solve time (kΩ exactly at an undamped natural frequency: no damping and
@@ -69,9 +78,10 @@ Eigen::VectorXcd complex_nodal_force_vector(int num_nodes,
 // Outcome of one solve (STYLE.md's second error channel). Pass a summary to learn whether every
 // harmonic was solved; without one, unsolved columns are still NaN.
 enum class RecoveryTermination {
-  kSuccess,   // every harmonic solved
-  kSingular,  // D_k singular for the harmonics listed (undamped resonance): their columns NaN
-  kFailure,   // the sparse factorisation failed otherwise (e.g. out of memory): columns NaN
+  kSuccess,     // every harmonic solved
+  kSingular,    // D_k singular for the harmonics listed (undamped resonance): their columns NaN
+  kFailure,     // the sparse factorisation failed otherwise (e.g. out of memory): columns NaN
+  kUnbalanced,  // a static load with a resultant on rigid motion nothing holds: columns NaN
 };
 struct RecoverySummary {
   RecoveryTermination termination = RecoveryTermination::kSuccess;
@@ -94,6 +104,9 @@ class HarmonicSolver {
                                            std::span<const int> harmonics, double omega,
                                            RecoverySummary* summary = nullptr) const;
   virtual int num_dofs() const = 0;
+  // The rigid-body modes the clamps and supports do not hold: num_dofs x r, M-orthonormal,
+  // constrained rows 0; no columns for a held body. Harmonic 0 comes without motion along them.
+  virtual Eigen::MatrixXd rigid_modes() const { return Eigen::MatrixXd(num_dofs(), 0); }
   virtual bool ok() const = 0;
   virtual const std::string& message() const = 0;
 };
@@ -114,6 +127,7 @@ class DirectRecovery final : public HarmonicSolver {
   Eigen::MatrixXcd solve(const Eigen::MatrixXcd& F, int harmonic, double omega,
                          RecoverySummary* summary = nullptr) const override;
   int num_dofs() const override { return dofs_.num_dofs(); }
+  Eigen::MatrixXd rigid_modes() const override;
   // False if the static factorisation failed (then message()). A singular D_k in solve()
   // (UMFPACK finds a zero pivot: undamped resonance) is reported in the summary, NaN columns.
   bool ok() const override;
@@ -151,6 +165,7 @@ class ModalRecovery final : public HarmonicSolver {
   Eigen::MatrixXcd solve_harmonics(const Eigen::MatrixXcd& loads, std::span<const int> harmonics,
                                    double omega, RecoverySummary* summary = nullptr) const override;
   int num_dofs() const override { return dofs_.num_dofs(); }
+  Eigen::MatrixXd rigid_modes() const override;
   bool ok() const override;
   const std::string& message() const override;
 
@@ -173,10 +188,19 @@ class ModalRecovery final : public HarmonicSolver {
  private:
   Eigen::MatrixXcd solve_columns(const Eigen::MatrixXcd& F, const Eigen::VectorXd& w,
                                  std::span<const int> harmonics, RecoverySummary* summary) const;
+  Eigen::MatrixXd static_solve(const Eigen::MatrixXd& B) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   DofMap dofs_;
 };
+
+// Adds to x (num_dofs) the rigid motion Φ_0 a that brings x closest to `target` at `dofs`
+// (least squares, min ‖a‖ for motions the DOFs do not see: those stay 0): the rigid motion of a
+// body recovered without it, from the reduced response at its master DOFs, which carries it.
+// Returns a (r). rigid_modes: num_dofs x r (HarmonicSolver::rigid_modes); target: one value per
+// entry of dofs. Complex, so that a dynamic harmonic could use it too (recovery does not).
+Eigen::VectorXcd add_rigid_motion(const Eigen::MatrixXd& rigid_modes, std::span<const int> dofs,
+                                  const Eigen::VectorXcd& target, Eigen::Ref<Eigen::VectorXcd> x);
 
 // Expansion through a reduction basis (Craig–Bampton): x = T q per harmonic. T is dense,
 // num_dofs x n_r with rows in the full DOF numbering (as reduction/craig_bampton.h returns it;

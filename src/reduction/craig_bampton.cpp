@@ -12,6 +12,7 @@
 #include "core/errors.h"
 #include "core/parallel.h"
 #include "linalg/blas.h"
+#include "linalg/floating_factor.h"
 #include "linalg/sparse_cholesky.h"
 #include "linalg/sparse_ops.h"
 
@@ -129,51 +130,11 @@ void check_dof_list(std::span<const int> dofs, int n, const char* field, std::ve
 // rigid motion of the body (no masters: a free–free body; one master node: three rotations; a
 // damper held by one contact patch in some directions only). See craig_bampton.h.
 
-// The shift σ = −kFloatingShift · trace(K_ii)/trace(M_ii) of the factor A = K_ii − σM_ii: the
-// trace ratio is a mean eigenvalue, so cond(A) ~ 1e10 (the rigid pivots ~ 1e-10 of the others,
-// far above the round-off of the elimination, ~1e-16), while |σ| stays far below the first
-// elastic eigenvalue of any body whose spectrum spans less than ten decades: the refinement of the
-// constraint modes gains a factor |σ|/λ per step on every eigenvalue λ not kept.
-constexpr double kFloatingShift = 1e-10;
-// A fixed-interface mode is rigid (a null vector of K_ii) when its eigenvalue is below
-// kRigidFraction·|σ| (shift-invert Lanczos: the rigid eigenvalues come out at ~1e-10 |σ|) or, from
-// the dense eigen-solve of every interior mode, below kDenseRigidFraction·λ_max (its round-off is
-// a few eps·λ_max).
-constexpr double kRigidFraction = 1e-3;
-constexpr double kDenseRigidFraction = 1e-11;
-// A body has at most six rigid modes per connected piece: the first eigen-solve asks for the kept
-// modes plus six; more are asked for when all of those are rigid.
-constexpr int kRigidGuess = 6;
-// Vectors per block Lanczos step: a block finds an eigenvalue of multiplicity up to its size (the
-// six rigid modes share one eigenvalue of the shifted operator).
-constexpr int kRigidBlock = 8;
-// The constraint modes are refined until the part of the residual K_ii Φ_c + K_ib outside the kept
-// modes is below kRefinementTolerance of ‖K_ib‖ (Frobenius, per block), in at most
-// kMaxRefinementSteps steps.
-constexpr double kRefinementTolerance = 1e-13;
-constexpr int kMaxRefinementSteps = 60;
-
-// A factor of a numerically singular K_ii can succeed (the zero pivots come out positive by
-// round-off) and then solves give rigid components of the size 1/eps. The test: x = A⁻¹(A v) for a
-// fixed pseudo-random v must give back v to kFactorCheck (relative); a regular K_ii gives back v
-// to ~eps·cond(K_ii).
-constexpr double kFactorCheck = 1e-6;
-
-bool factor_gives_back(const SparseCholesky& factor, const SparseMatrix& A) {
-  const int n = static_cast<int>(A.rows());
-  Eigen::VectorXd v(n);
-  unsigned state = 12345u;  // a fixed linear congruential sequence: deterministic runs
-  for (int i = 0; i < n; ++i) {
-    state = state * 1664525u + 1013904223u;
-    v(i) = 0.5 + static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
-  }
-  const Eigen::VectorXd b = A * v;
-  Eigen::VectorXd x(n);
-  factor.solve(b.data(), x.data());
-  const double error = (x - v).norm();
-  return std::isfinite(error) && error <= kFactorCheck * v.norm();
-}
-
+// The kept fixed-interface modes of a floating interior (every rigid mode of the interior plus
+// the num_modes lowest elastic ones, at most every interior mode) and its constraint modes
+// Φ_c = −K_ii⁺ K_ib (the particular solution M-orthogonal to the rigid modes: K_ib's columns are
+// orthogonal to null(K_ii), so K_ii Φ_c = −K_ib has solutions), written into Psi's first n_b
+// columns; both from linalg's FloatingFactor (one factor of K_ii − σM_ii, refinement).
 struct FloatingModes {
   bool ok = false;
   bool factor_failed = false;  // K_ii − σM_ii not positive definite (else the eigen-solve failed)
@@ -181,117 +142,44 @@ struct FloatingModes {
   double shift = 0.0;           // σ of the factor, (rad/s)²
   int num_rigid = 0;            // the first num_rigid modes are rigid (eigenvalue set to 0)
   Eigen::VectorXd eigenvalues;  // kept modes, ascending
-  Eigen::MatrixXd modes;        // n_i x kept, M_ii-orthonormal
   ModalSummary modal;
   int refinement_steps = 0;  // most steps any block of constraint modes took
 };
 
-// The kept fixed-interface modes of a floating interior (every rigid mode of the interior plus
-// the num_modes lowest elastic ones, at most every interior mode) and its constraint modes
-// Φ_c = −K_ii⁺ K_ib (the particular solution M-orthogonal to the rigid modes: K_ib's columns are
-// orthogonal to null(K_ii), so K_ii Φ_c = −K_ib has solutions), written into Psi's first n_b
-// columns. The constraint modes come from the factor of A = K_ii − σM_ii by refinement
-//   X ← X + A⁻¹ R_d,  R_d = the residual −K_ib − K_ii X without its components on the kept modes,
-// with the kept elastic components of X set exactly from the modes (φ_jᵀ R / λ_j): X then solves
-// K_ii X = −K_ib in every kept mode exactly and outside them to kRefinementTolerance.
 FloatingModes floating_interior(const SparseMatrix& K_ii, const SparseMatrix& M_ii,
                                 const SparseMatrix& K_ib, int num_modes,
                                 const CraigBamptonOptions& options, RowMatrix& Psi) {
   FloatingModes out;
   const int ni = static_cast<int>(K_ii.rows());
   const int nb = static_cast<int>(K_ib.cols());
-  double trace_k = 0.0, trace_m = 0.0;
-  for (int i = 0; i < ni; ++i) {
-    trace_k += K_ii.coeff(i, i);
-    trace_m += M_ii.coeff(i, i);
-  }
-  if (!(trace_k > 0.0) || !(trace_m > 0.0)) {
-    out.factor_failed = true;
-    out.message = "trace(K_ii) = " + std::to_string(trace_k) +
-                  ", trace(M_ii) = " + std::to_string(trace_m) +
-                  ": K must be positive semi-definite and M positive "
-                  "definite";
+  FloatingFactor factor;
+  factor.compute(K_ii, M_ii, {.num_elastic_modes = num_modes, .modal = options.modal});
+  out.modal = factor.modal_summary();
+  out.shift = factor.shift();
+  if (!factor.ok()) {
+    out.factor_failed = factor.factor_failed();
+    out.message = (factor.factor_failed() ? "" : "fixed-interface ") + factor.message();
     return out;
   }
-  out.shift = -kFloatingShift * trace_k / trace_m;
-  SparseCholesky factor;
-  if (!factor.factorize(SparseMatrix(K_ii - out.shift * M_ii))) {
-    out.factor_failed = true;
-    out.message = "Cholesky factorisation of K_ii − σM_ii (σ = " + std::to_string(out.shift) +
-                  ") failed: " + factor.message() +
-                  ". K must be symmetric positive semi-definite and M positive definite.";
-    return out;
-  }
-  // The eigen-solve: Lanczos over the shifted factor, or dense when (nearly) every interior mode
-  // is wanted; asked again with more modes while all of those asked for are rigid.
-  ModalResult modes;
-  int ask = std::min(num_modes + kRigidGuess, ni);
-  for (;;) {
-    double threshold = 0.0;
-    if (ask >= ni - 1 || ask > ni / 2) {
-      modes = dense_modes(K_ii, M_ii);
-      ask = ni;
-      if (modes.summary.ok() && ni > 0)
-        threshold = kDenseRigidFraction * std::abs(modes.eigenvalues(ni - 1));
-    } else {
-      ModalOptions modal = options.modal;
-      modal.num_modes = ask;
-      modal.shift = out.shift;
-      modal.block_size = std::max(modal.block_size, kRigidBlock);
-      modes = solve_modes(factor, M_ii, modal);
-      threshold = kRigidFraction * std::abs(out.shift);
-    }
-    out.modal = modes.summary;
-    if (!modes.summary.ok()) {
-      out.message = "fixed-interface eigen-solve failed: " + modes.summary.message;
-      return out;
-    }
-    out.num_rigid = 0;
-    while (out.num_rigid < modes.eigenvalues.size() &&
-           modes.eigenvalues(out.num_rigid) <= threshold)
-      ++out.num_rigid;
-    if (ask == ni || (out.num_rigid < ask && out.num_rigid + num_modes <= ask)) break;
-    ask = std::min(out.num_rigid + num_modes + kRigidGuess, ni);
-  }
-  const int kept = std::min(out.num_rigid + num_modes, ni);
-  out.eigenvalues = modes.eigenvalues.head(kept);
-  out.eigenvalues.head(out.num_rigid).setZero();  // null vectors of K_ii: the rest is round-off
-  out.modes = modes.modes.leftCols(kept);
-
-  // Constraint modes, in blocks of columns.
+  out.num_rigid = factor.num_rigid();
+  out.eigenvalues = factor.eigenvalues();
+  const Eigen::Index kept = out.eigenvalues.size();
   Psi.resize(ni, nb + kept);
-  const Eigen::MatrixXd& Phi = out.modes;
-  const Eigen::MatrixXd MPhi = M_ii * Phi;
-  const int nr0 = out.num_rigid;
   for (int c0 = 0; c0 < nb; c0 += options.block_size) {
     const int bs = std::min(options.block_size, nb - c0);
-    const Eigen::MatrixXd B = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
-    const double norm_b = B.norm();
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(ni, bs);
-    Eigen::MatrixXd R = B;
-    int step = 0;
-    for (;; ++step) {
-      const Eigen::MatrixXd C = Phi.transpose() * R;  // kept-mode components of the residual
-      X.noalias() +=
-          Phi.rightCols(kept - nr0) *
-          (out.eigenvalues.tail(kept - nr0).cwiseInverse().asDiagonal() * C.bottomRows(kept - nr0));
-      const Eigen::MatrixXd R_d = R - MPhi * C;
-      if (R_d.norm() <= kRefinementTolerance * norm_b) break;
-      if (step == kMaxRefinementSteps) {
-        out.message = "the constraint modes of the floating interior did not converge in " +
-                      std::to_string(kMaxRefinementSteps) + " refinement steps (residual " +
-                      std::to_string(R_d.norm() / norm_b) +
-                      " of ‖K_ib‖): the first elastic eigenvalue not kept is too close to the "
-                      "shift; keep more modes";
-        return out;
-      }
-      X += factor.solve(R_d);
-      R = B - K_ii * X;
+    FloatingSolveSummary solved;
+    Psi.middleCols(c0, bs) = factor.solve(-Eigen::MatrixXd(K_ib.middleCols(c0, bs)), &solved);
+    if (!solved.converged) {
+      out.message = "the constraint modes of the floating interior did not converge in " +
+                    std::to_string(solved.steps) + " refinement steps (residual " +
+                    std::to_string(solved.residual) +
+                    " of ‖K_ib‖): the first elastic eigenvalue not kept is too close to the "
+                    "shift; keep more modes";
+      return out;
     }
-    out.refinement_steps = std::max(out.refinement_steps, step);
-    Psi.middleCols(c0, bs) = X;
+    out.refinement_steps = std::max(out.refinement_steps, solved.steps);
   }
-  Psi.rightCols(kept) = Phi;
+  Psi.rightCols(kept) = factor.modes();
   out.ok = true;
   return out;
 }

@@ -3,9 +3,10 @@
 // given in memory give the same model as the same matrices read from files.
 #include <string>
 
-#include <gtest/gtest.h>
 #include <fmt/core.h>
+#include <gtest/gtest.h>
 
+#include "cli/recovery_stage.h"
 #include "cli_test_support.h"
 #include "core/errors.h"
 #include "io/ansys_mapping.h"
@@ -99,7 +100,8 @@ analysis:
   const CaseDefinition def = parse_case(text, "case.yaml", dir.string());
   const PreparedModel from_files = prepare_model(def, nullptr);
   const GivenReduction given({{"b", body}});
-  const PreparedModel in_memory = prepare_model(def, resolve_case_bodies(def, nullptr), given, nullptr);
+  const PreparedModel in_memory =
+      prepare_model(def, resolve_case_bodies(def, nullptr), given, nullptr);
   // The Harwell–Boeing files hold the values to round-off of their printed digits.
   constexpr double kFileDigits = 1e-14;
   EXPECT_TRUE(from_files.K.isApprox(in_memory.K, kFileDigits));
@@ -114,6 +116,31 @@ analysis:
   } catch (const InvalidInput& e) {
     EXPECT_EQ(e.where().key, "bodies.b.reduced.mass") << e.what();
     EXPECT_NE(e.message().find("not positive definite"), std::string::npos) << e.what();
+  }
+}
+
+// A mesh body whose reduced model is given in memory without its full K and M (a program that
+// has only the reduced matrices) is solved, but its recovery on the mesh is refused at the body's
+// key instead of dereferencing matrices it does not have.
+TEST(BodyReduction, AMeshBodyGivenWithoutFullMatricesIsNotRecoveredOnItsMesh) {
+  const fs::path dir = fresh_dir("body_reduction_no_full");
+  const CaseDefinition def = parse_case(beam_case(2e11, 100), "case.yaml", dir.string());
+  const PreparedModel reduced = prepare_model(def, nullptr);
+  std::map<std::string, std::shared_ptr<const ReducedBody>> bodies;
+  for (const PreparedBody& b : reduced.bodies)
+    bodies[b.name] = std::make_shared<ReducedBody>(b.reduced);
+  const PreparedModel model =
+      prepare_model(def, resolve_case_bodies(def, nullptr), GivenReduction(bodies), nullptr);
+  ASSERT_FALSE(model.bodies[0].K);
+  EXPECT_TRUE(model.K.isApprox(reduced.K, 1e-14));  // the same reduced model
+  const SolvedCase solved = solve_case(model, def, nullptr);
+  ASSERT_FALSE(solved.response.points.empty());
+  try {
+    run_recovery(dir, def, model, solved.response, {0}, [](const std::string&) {});
+    ADD_FAILURE() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(e.where().key, "bodies.beam1") << e.what();
+    EXPECT_NE(e.message().find("cannot be recovered"), std::string::npos) << e.what();
   }
 }
 

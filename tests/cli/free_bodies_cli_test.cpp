@@ -96,7 +96,7 @@ CalculixBar run_calculix_bar(const fs::path& dir, const std::string& ccx) {
   return out;
 }
 
-std::string spring_held_case(int modes) {
+std::string spring_held_case(int modes, const std::string& static_mode = "uncoupled") {
   std::ostringstream s;
   s << R"(stickslip: 1
 materials:
@@ -116,6 +116,8 @@ excitation:
 analysis:
   frequency: {start_hz: 10.0, stop_hz: 20.0, step_hz: 10.0}
   harmonics: 1
+  static: )" << static_mode
+    << R"(
 recovery: {points: none}
 output: {vtu: false, plots: false}
 )";
@@ -182,6 +184,16 @@ TEST(FreeBodiesCli, SpringHeldCantileverStaticsAndModesMatchCalculixForAnyNumber
       }
     }
     previous = f;
+  }
+  // The same statics with harmonic 0 solved together with harmonic 1 (`static: coupled`).
+  for (int modes : {6, 20000}) {
+    const std::string name = "bar_coupled_" + std::to_string(modes);
+    const fs::path file = write_case(dir, name, spring_held_case(modes, "coupled"));
+    const fs::path out = dir / name;
+    ASSERT_EQ(run("run " + file.string() + " -o " + out.string() + " --quiet", dir / "run.log"), 0)
+        << slurp(dir / "run.log");
+    EXPECT_NEAR(static_tip_uy(out), reference.tip_uy, kPrinted * std::abs(reference.tip_uy))
+        << modes << " modes, coupled";
   }
   fs::remove_all(dir);
 }

@@ -2,8 +2,8 @@
 // with the program's one error format; the log says which window around which stuck mode was
 // swept, reports reduction, modes and recovery as they go, and warns when the response peak is
 // at the edge of the window.
-#include <gtest/gtest.h>
 #include <fmt/core.h>
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -24,9 +24,10 @@ TEST(MessagesCli, UsageErrorsExitTwoWithTheProgramsErrorFormat) {
     std::string args, says;
   };
   std::ofstream(dir / "x.yaml") << "stickslip: 1\n";
-  for (const Case& c : {Case{"run " + (dir / "missing.yaml").string(), "missing.yaml"},
-                        Case{"", "subcommand"}, Case{"frobnicate case.yaml", "'frobnicate'"},
-                        Case{"solve", "case"}, Case{"run --no-such-option " + (dir / "x.yaml").string(), "no-such"}}) {
+  for (const Case& c :
+       {Case{"run " + (dir / "missing.yaml").string(), "missing.yaml"}, Case{"", "subcommand"},
+        Case{"frobnicate case.yaml", "'frobnicate'"}, Case{"solve", "case"},
+        Case{"run --no-such-option " + (dir / "x.yaml").string(), "no-such"}}) {
     SCOPED_TRACE(c.args);
     EXPECT_EQ(run(c.args, dir / "log"), 2);
     const std::string log = slurp(dir / "log");
@@ -41,8 +42,7 @@ TEST(MessagesCli, UsageErrorsExitTwoWithTheProgramsErrorFormat) {
 // The two-beam joint, a window [around mode 4 - w, + w] in 1 Hz steps, `preload` N per pair.
 std::string joint(double half_width_hz, double preload, const std::string& recovery) {
   return coarse_joint_head(half_width_hz, 1, std::to_string(preload)) +
-         "recovery: {points: " +
-         recovery +
+         "recovery: {points: " + recovery +
          "}\n"
          "output:\n"
          "  plots: false\n"
@@ -62,8 +62,7 @@ TEST(MessagesCli, TheLogSaysTheWindowTheStagesAndAPeakAtTheEdge) {
   const double mode_hz = s["window"]["stuck_mode_hz"].get<double>();
   EXPECT_NE(log.find(fmt::format("around stuck mode 4 at {:.6g} Hz", mode_hz)), std::string::npos)
       << log;
-  EXPECT_NE(log.find(fmt::format("sweep window {:.6g} to {:.6g} Hz", mode_hz - 0.5,
-                                 mode_hz + 0.5)),
+  EXPECT_NE(log.find(fmt::format("sweep window {:.6g} to {:.6g} Hz", mode_hz - 0.5, mode_hz + 0.5)),
             std::string::npos)
       << log;
   // Progress of the reduction and the modes.
@@ -77,7 +76,8 @@ TEST(MessagesCli, TheLogSaysTheWindowTheStagesAndAPeakAtTheEdge) {
         r.at(r.count("axis") ? "axis" : "dof") != "y")
       continue;
     const int point = std::stoi(r.at("point"));
-    const double a = std::abs(std::complex<double>(std::stod(r.at("real")), std::stod(r.at("imag"))));
+    const double a =
+        std::abs(std::complex<double>(std::stod(r.at("real")), std::stod(r.at("imag"))));
     last = std::max(last, point);
     if (a > peak) peak = a, peak_point = point;
   }
@@ -96,6 +96,25 @@ TEST(MessagesCli, TheLogSaysTheWindowTheStagesAndAPeakAtTheEdge) {
   EXPECT_EQ(wlog.find("warning"), std::string::npos) << wlog;
   EXPECT_GE(count(wlog, "recovery of beam1: "), 3) << wlog;
   EXPECT_NE(wlog.find("points, "), std::string::npos) << wlog;
+}
+
+// `stickslip keys`: the key table on stdout, one section on request, an unknown section refused.
+TEST(MessagesCli, KeysListsTheCaseFileKeysFromTheTable) {
+  const fs::path dir = fresh_dir("keys_cli");
+  ASSERT_EQ(run("keys analysis", dir / "analysis.txt"), 0);
+  const std::string analysis = slurp(dir / "analysis.txt");
+  for (const char* key : {"analysis.method", "analysis.frequency.step_hz", "analysis.predictor"})
+    EXPECT_NE(analysis.find(key), std::string::npos) << key << "\n" << analysis;
+  EXPECT_EQ(analysis.find("recovery.method"), std::string::npos) << analysis;
+  ASSERT_EQ(run("keys", dir / "all.txt"), 0);
+  const std::string all = slurp(dir / "all.txt");
+  const size_t at = all.find("materials.NAME.youngs_modulus ");
+  ASSERT_NE(at, std::string::npos) << all;
+  const std::string line = all.substr(at, all.find('\n', at) - at);
+  EXPECT_NE(line.find("number > 0 (Pa); default required; a study may vary it"), std::string::npos)
+      << line;
+  EXPECT_EQ(run("keys analysis.nothing", dir / "bad.txt"), 2);
+  EXPECT_NE(slurp(dir / "bad.txt").find("the sections are"), std::string::npos);
 }
 
 }  // namespace

@@ -262,7 +262,7 @@ excitation:
       parse_case(text("{stiffness: k.hb, mass: m.hb}"), "hb.yaml", dir.string());
   const CaseDefinition mm = parse_case(text("{stiffness: k.mtx, mass: m.mtx, mapping: k.mapping}"),
                                        "mm.yaml", dir.string());
-  ASSERT_EQ(mm.bodies.at("blade").reduced.format, "matrix_market");
+  ASSERT_EQ(mm.bodies.at("blade").reduced.format, ReducedFileFormat::kMatrixMarket);
   const PreparedModel model_hb = prepare_model(hb, nullptr);
   const PreparedModel model_mm = prepare_model(mm, nullptr);
   const SolvedCase solved_hb = solve_case(model_hb, hb, nullptr);

@@ -31,7 +31,8 @@ bodies:
   beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
   beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}
 contacts:
-)" + contact + R"(
+)" + contact +
+         R"(
 excitation:
   - {body: beam1, node_set: FORCE1, direction: z, amplitude: 50, phase_deg: 30}
 analysis:
@@ -56,9 +57,9 @@ class CaseDescription : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("stickslip_case_description_" + std::to_string(::testing::UnitTest::GetInstance()
-                                                               ->random_seed()) +
-            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           ("stickslip_case_description_" +
+            std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_ / "elsewhere");
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -109,6 +110,30 @@ TEST_F(CaseDescription, EveryLawAndFormDescribesItselfAsAnAcceptedCase) {
     ASSERT_NO_THROW(c = parse_case(text, "case.yaml", dir_.string())) << text;
     EXPECT_EQ(described_twice(c, dir_ / "elsewhere"), describe_case(with_absolute_paths(c)));
   }
+}
+
+// A mortar contact with parameters per unit area keeps its coupling, search distance, unpaired
+// rule and per_area block (a description without them would still be a fixed point, so they are
+// looked for), and a study of a per_area parameter is accepted.
+TEST_F(CaseDescription, MortarCouplingAndParametersPerAreaAreDescribed) {
+  const std::string text = mesh_case(
+      "  - name: joint\n    law: friction\n    between: {beam1: CONTACT1, beam2: "
+      "CONTACT2}\n    coupling: mortar\n    search_distance: 0.002\n    unpaired: "
+      "skip\n    normal: [1, 0, 0]\n    per_area: {kt: 4e12, kn: 5e12, mu: 0.5, "
+      "preload: 1.5e5}",
+      "study: {parameter: contacts.joint.per_area.kn, values: [5e12, 1e13]}\n");
+  CaseDefinition c;
+  ASSERT_NO_THROW(c = parse_case(text, "case.yaml", dir_.string())) << text;
+  ASSERT_EQ(c.contacts.size(), 1u);
+  EXPECT_EQ(c.contacts[0].coupling, ContactCoupling::kMortar);
+  EXPECT_EQ(c.contacts[0].parameters_given, ContactDefinition::Parameters::kPerArea);
+  const std::string described = describe_case(with_absolute_paths(c));
+  for (const char* key : {"coupling: mortar", "search_distance: 0.002", "unpaired: skip",
+                          "per_area: {kt: 4", "contacts.joint.per_area.kn"}) {
+    EXPECT_NE(described.find(key), std::string::npos) << key << "\n" << described;
+  }
+  // (A contact `tolerance` written with coupling: mortar would be refused when read back.)
+  EXPECT_EQ(described_twice(c, dir_ / "elsewhere"), described);
 }
 
 TEST_F(CaseDescription, FilePathsBecomeAbsolute) {

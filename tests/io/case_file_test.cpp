@@ -1,10 +1,13 @@
 #include "io/case_file.h"
+#include "minimal_case.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+#include <functional>
 
 #include <complex>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -21,25 +24,7 @@ const std::string kDir = std::string(STICKSLIP_TEST_DATA_DIR) + "/case";
 constexpr double kComputed = 1e-12;  // a few ulps of O(1) products of sin/cos/sqrt
 
 // A minimal valid case; the line numbers matter to the tests below (line 1 = "stickslip: 1").
-const std::string kMinimal = R"(stickslip: 1
-materials:
-  steel: {youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}
-meshes:
-  joint: {generate: two_beam}
-bodies:
-  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}
-  beam2: {mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2}
-contacts:
-  - name: joint
-    law: friction
-    between: {beam1: CONTACT1, beam2: CONTACT2}
-    normal: [1, 0, 0]
-    per_pair: {kt: 4.467e9, kn: 5.6309e9, mu: 0.5, preload: 150}
-excitation:
-  - {body: beam1, node_set: FORCE1, direction: z, amplitude: 50}
-analysis:
-  frequency: {start_hz: 1852, stop_hz: 1856, step_hz: 0.01}
-)";
+const std::string& kMinimal = testing_cases::kMinimalCase;
 
 // kMinimal with `old` (which must occur once) replaced by `replacement`.
 std::string edited(const std::string& old, const std::string& replacement) {
@@ -102,8 +87,8 @@ TEST(CaseFile, ReferenceCaseParsesIntoTheExpectedDefinition) {
   ASSERT_EQ(c.meshes.count("joint"), 1u);
   const MeshDefinition& mesh = c.meshes.at("joint");
   EXPECT_EQ(mesh.source, MeshDefinition::Source::kGenerate);
-  EXPECT_EQ(mesh.two_beam.arrangement, "butt");
-  EXPECT_EQ(mesh.two_beam.element, "C3D8I");
+  EXPECT_EQ(mesh.two_beam.arrangement, TwoBeamOptions::Arrangement::kButt);
+  EXPECT_EQ(mesh.two_beam.element, ElementType::kC3D8I);
   EXPECT_FALSE(mesh.two_beam.coarse);
   EXPECT_EQ(mesh.two_beam.box, (std::array<int, 3>{25, 5, 8}));
   EXPECT_EQ(mesh.two_beam.end_block, (std::array<int, 3>{5, 5, 4}));
@@ -156,20 +141,21 @@ TEST(CaseFile, ReferenceCaseParsesIntoTheExpectedDefinition) {
   EXPECT_EQ(a.frequency.around_mode, 4);
   EXPECT_EQ(a.frequency.half_width_hz, 2.0);
   EXPECT_EQ(a.frequency.step_hz, 0.01);
-  EXPECT_EQ(a.method, "stepped");
+  EXPECT_EQ(a.method, SweepMethod::kStepped);
   EXPECT_EQ(a.harmonics, std::vector<int>{1});
   EXPECT_EQ(a.time_samples, 64);
-  EXPECT_EQ(a.static_coupling, "uncoupled");
+  EXPECT_EQ(a.static_coupling, StaticChoice::kUncoupled);
   EXPECT_EQ(a.tolerance, 1.0e-8);
   EXPECT_EQ(a.max_iterations, 30);
-  EXPECT_EQ(a.initial_guess, "stuck");
+  EXPECT_EQ(a.initial_guess, InitialGuessChoice::kStuck);
 
   EXPECT_EQ(c.study.parameter, "contacts.joint.per_pair.preload");
   EXPECT_EQ(c.study.values, (std::vector<double>{150, 80, 50}));
 
-  EXPECT_EQ(c.recovery.points, "peak");
-  EXPECT_EQ(c.recovery.method, "direct");
-  EXPECT_EQ(c.recovery.fields, (std::vector<std::string>{"displacement", "stress"}));
+  EXPECT_EQ(c.recovery.points, RecoveryPoints::kPeak);
+  EXPECT_EQ(c.recovery.method, RecoveryMethod::kDirect);
+  EXPECT_EQ(c.recovery.fields,
+            (std::vector<RecoveryField>{RecoveryField::kDisplacement, RecoveryField::kStress}));
 
   EXPECT_EQ(c.output.directory, kDir + "/results");  // resolved against the case file
   EXPECT_TRUE(c.output.vtu);
@@ -201,7 +187,7 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   const MeshDefinition& part = c.meshes.at("part");
   EXPECT_EQ(part.source, MeshDefinition::Source::kFile);
   EXPECT_EQ(part.file, dir + "/model.inp");
-  EXPECT_EQ(part.format, "inp");
+  EXPECT_EQ(part.format, MeshFileFormat::kInp);
 
   const BodyDefinition& disk = c.bodies.at("disk");
   EXPECT_EQ(disk.clamp.ids, (std::vector<int>{1, 2}));
@@ -215,7 +201,7 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(blade.reduced.stiffness, dir + "/k.hb");
   EXPECT_EQ(blade.reduced.mass, dir + "/m.hb");
   EXPECT_EQ(blade.reduced.mapping, dir + "/k.mapping");
-  EXPECT_EQ(blade.reduced.format, "harwell_boeing");
+  EXPECT_EQ(blade.reduced.format, ReducedFileFormat::kHarwellBoeing);
   EXPECT_EQ(blade.modal_damping_ratio, 0.002);
 
   ASSERT_EQ(c.contacts.size(), 3u);
@@ -232,7 +218,7 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(c.where("contacts.root.preloads[1]").file, dir + "/preload.csv");
   EXPECT_EQ(c.where("contacts.root.preloads[1]").line, 4);  // after a comment and a header
   EXPECT_EQ(root.parameters_given, ContactDefinition::Parameters::kTotal);
-  EXPECT_EQ(root.split, "area");
+  EXPECT_EQ(root.split, PreloadSplit::kArea);
   EXPECT_EQ(root.parameters.kt, 1.0e8);
   EXPECT_EQ(root.parameters.mu, 0.3);
   EXPECT_NEAR(root.normal[2], -1.0, kComputed);  // normalised [0, 0, -2]
@@ -269,18 +255,18 @@ TEST(CaseFile, FileAlternativesResolveAgainstTheCaseDirectory) {
   EXPECT_EQ(a.frequency.stop_hz, 300.0);
   EXPECT_EQ(a.frequency.min_step_hz, 0.01);
   EXPECT_EQ(a.frequency.max_step_hz, 2.0);
-  EXPECT_EQ(a.method, "continuation");
+  EXPECT_EQ(a.method, SweepMethod::kContinuation);
   EXPECT_EQ(a.harmonics, (std::vector<int>{1, 3}));
   EXPECT_EQ(a.time_samples, 14);  // exactly 2(2*3+1)
-  EXPECT_EQ(a.static_coupling, "coupled");
+  EXPECT_EQ(a.static_coupling, StaticChoice::kCoupled);
   EXPECT_EQ(a.max_points, 500);
-  EXPECT_EQ(a.initial_guess, "free");
+  EXPECT_EQ(a.initial_guess, InitialGuessChoice::kFree);
 
-  EXPECT_EQ(c.recovery.points, "list");
+  EXPECT_EQ(c.recovery.points, RecoveryPoints::kList);
   EXPECT_EQ(c.recovery.frequencies_hz, (std::vector<double>{150, 250.5}));
-  EXPECT_EQ(c.recovery.method, "modal");
+  EXPECT_EQ(c.recovery.method, RecoveryMethod::kModal);
   EXPECT_EQ(c.recovery.modes, 40);
-  EXPECT_EQ(c.recovery.fields, std::vector<std::string>{"stress"});
+  EXPECT_EQ(c.recovery.fields, std::vector<RecoveryField>{RecoveryField::kStress});
   EXPECT_EQ(c.recovery.nodes, std::vector<int>{7});
 
   EXPECT_EQ(c.output.directory, "/tmp/out");  // absolute: kept
@@ -297,7 +283,7 @@ TEST(CaseFile, OmittedKeysTakeTheStructDefaults) {
   EXPECT_EQ(c.analysis.harmonics, defaults.harmonics);
   EXPECT_EQ(c.analysis.time_samples, defaults.time_samples);
   EXPECT_EQ(c.analysis.tolerance, defaults.tolerance);
-  EXPECT_EQ(c.analysis.predictor, "secant");
+  EXPECT_EQ(c.analysis.predictor, PredictorChoice::kSecant);
   EXPECT_EQ(c.bodies.at("beam1").modes, BodyDefinition{}.modes);
   EXPECT_EQ(c.contacts[0].tolerance, ContactDefinition{}.tolerance);
   EXPECT_EQ(c.recovery.points, RecoveryDefinition{}.points);
@@ -385,7 +371,7 @@ TEST(CaseFile, LinearLawIn3DTakesKtKnAndTheContactFrame) {
   const CaseDefinition t = parse(total);
   EXPECT_TRUE(t.contacts[0].uses_frame);
   EXPECT_EQ(t.contacts[0].parameters_given, ContactDefinition::Parameters::kTotal);
-  EXPECT_EQ(t.contacts[0].split, "area");
+  EXPECT_EQ(t.contacts[0].split, PreloadSplit::kArea);
   EXPECT_EQ(t.contacts[0].parameters.kt, 3.0e9);
 
   std::string one_d = edited(
@@ -818,7 +804,7 @@ TEST(CaseFile, SweepBenchmarkCaseIsTheReferenceCaseWithoutItsOtherOutputs) {
   CaseDefinition reference = read_case_file(kDir + "/reference.yaml");
   const CaseDefinition bench = read_case_file(std::string(STICKSLIP_TEST_DATA_DIR) +
                                               "/../../bench/cases/reference_sweep.yaml");
-  reference.recovery.points = "none";
+  reference.recovery.points = RecoveryPoints::kNone;
   reference.output.vtu = false;
   reference.output.plots = false;
   for (ResponseDofDefinition& dof : reference.output.frf) dof.node = 11;
@@ -826,8 +812,65 @@ TEST(CaseFile, SweepBenchmarkCaseIsTheReferenceCaseWithoutItsOtherOutputs) {
   EXPECT_EQ(describe_case(bench), describe_case(reference));
 }
 
+// Each choice of the analysis and recovery blocks: the name read into its enum, and describe_case
+// writing the same name back (the text is the file's; the enum is what the program switches on).
+TEST(CaseFile, EveryChoiceIsReadIntoItsValueAndWrittenBackByName) {
+  const auto check = [](const std::string& extra, const std::string& written,
+                        const std::function<bool(const CaseDefinition&)>& holds) {
+    const CaseDefinition c = parse(kMinimal + extra);
+    EXPECT_TRUE(holds(c)) << extra;
+    EXPECT_NE(describe_case(c).find(written), std::string::npos) << extra << describe_case(c);
+  };
+  check("  aft: sampled\n", "aft: sampled",
+        [](const CaseDefinition& c) { return c.analysis.aft == AftChoice::kSampled; });
+  check("  aft: event\n", "aft: event", [](const CaseDefinition& c) {
+    return c.analysis.aft == AftChoice::kEvent && c.analysis.aft_given;
+  });
+  check("  static: coupled\n", "static: coupled", [](const CaseDefinition& c) {
+    return c.analysis.static_coupling == StaticChoice::kCoupled;
+  });
+  check("  initial_guess: free\n", "initial_guess: free", [](const CaseDefinition& c) {
+    return c.analysis.initial_guess == InitialGuessChoice::kFree;
+  });
+  check("  method: continuation\n", "method: continuation",
+        [](const CaseDefinition& c) { return c.analysis.method == SweepMethod::kContinuation; });
+  check("recovery: {points: all, method: modal}\n", "points: all", [](const CaseDefinition& c) {
+    return c.recovery.points == RecoveryPoints::kAll && c.recovery.method == RecoveryMethod::kModal;
+  });
+  check("recovery: {points: none, method: expansion}\n", "method: expansion",
+        [](const CaseDefinition& c) {
+          return c.recovery.points == RecoveryPoints::kNone &&
+                 c.recovery.method == RecoveryMethod::kExpansion;
+        });
+  check("recovery: {fields: [stress]}\n", "fields: [stress]", [](const CaseDefinition& c) {
+    return c.recovery.fields == std::vector<RecoveryField>{RecoveryField::kStress};
+  });
+  // Support directions: rows 0, 1, 2 named x, y, z, or t1, t2, n in a local frame.
+  const std::string beam1 =
+      "  beam1: {mesh: joint, element_set: BEAM1, material: steel, clamp: CLAMP1}\n";
+  const CaseDefinition held = parse(
+      edited(beam1,
+             "  beam1: {mesh: joint, element_set: BEAM1, material: steel, supports: [{nodes: "
+             "CLAMP1, directions: [z, x]}, {nodes: FORCE1, directions: n, normal: [0, 0, 1]}]}\n"));
+  const std::vector<SupportDefinition>& s = held.bodies.at("beam1").supports;
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].directions, (std::vector<int>{2, 0}));
+  EXPECT_EQ(s[1].directions, (std::vector<int>{2}));
+  EXPECT_NE(describe_case(held).find("directions: [z, x]"), std::string::npos);
+  EXPECT_NE(describe_case(held).find("directions: [n]"), std::string::npos);
+  // Not given: the default, and no `aft` written (event without the fall-back warning).
+  const CaseDefinition plain = parse(kMinimal);
+  EXPECT_FALSE(plain.analysis.aft_given);
+  EXPECT_EQ(describe_case(plain).find("aft:"), std::string::npos);
+  EXPECT_STREQ(case_name(PreloadSplit::kArea), "area");
+  EXPECT_STREQ(case_name(ReducedFileFormat::kAbaqusMatrix), "abaqus_matrix");
+  EXPECT_STREQ(case_name(MeshFileFormat::kCdb), "cdb");
+  EXPECT_STREQ(case_name(TwoBeamOptions::Arrangement::kLap), "lap");
+}
+
 TEST(CaseFile, PredictorIsAStepSweepChoice) {
-  EXPECT_EQ(parse(kMinimal + "  predictor: previous\n").analysis.predictor, "previous");
+  EXPECT_EQ(parse(kMinimal + "  predictor: previous\n").analysis.predictor,
+            PredictorChoice::kPrevious);
   expect_invalid(kMinimal + "  predictor: tangent\n", 19, "analysis.predictor",
                  "must be one of secant | previous, got 'tangent'");
   expect_invalid(kMinimal + "  method: continuation\n  predictor: secant\n", 20,

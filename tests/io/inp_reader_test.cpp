@@ -221,7 +221,7 @@ TEST(InpReader, AKeywordThatWouldChangeStiffnessOrMassIsAnErrorAtItsLine) {
   for (const char* keyword : {"*TIE, NAME=T", "*COUPLING, REF NODE=1, SURFACE=S", "*KINEMATIC",
                               "*MPC", "*RIGID BODY, NSET=A, REF NODE=1", "*SHELL SECTION, ELSET=E",
                               "*BEAM SECTION", "*DASHPOT, ELSET=E", "*DISTRIBUTING COUPLING",
-                              "*Part, name=P", "*NGEN", "*PRE-TENSION SECTION"}) {
+                              "*NGEN", "*PRE-TENSION SECTION"}) {
     std::istringstream in(tet_deck("*MATERIAL, NAME=S\n" + std::string(keyword) + "\n1\n"));
     try {
       read_inp(in, "deck");

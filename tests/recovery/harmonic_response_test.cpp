@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -474,12 +475,13 @@ TEST(HarmonicResponse, BadInputThrows) {
   const std::vector<int> h0{0};
   EXPECT_THROW(harmonic_response(direct, loads, h0, 10.0), InvalidInput);
   EXPECT_THROW(ModalRecovery(b.K, b.M, b.dofs, {}, modal_options(0)), InvalidInput);
-  // An unclamped body: no static factor, reported (not thrown) and solve refuses.
+  // An indefinite "stiffness": neither factor works, reported (not thrown) and solve refuses.
+  const SparseMatrix minus_K = -b.K;
   const DofMap none(mesh.num_dofs(), std::vector<int>{});
-  const DirectRecovery floating(b.K, b.M, none, {});
-  EXPECT_FALSE(floating.ok());
-  EXPECT_FALSE(floating.message().empty());
-  EXPECT_THROW(floating.solve(Eigen::VectorXcd::Zero(mesh.num_dofs()), 1, 10.0), InvalidInput);
+  const DirectRecovery indefinite(minus_K, b.M, none, {});
+  EXPECT_FALSE(indefinite.ok());
+  EXPECT_FALSE(indefinite.message().empty());
+  EXPECT_THROW(indefinite.solve(Eigen::VectorXcd::Zero(mesh.num_dofs()), 1, 10.0), InvalidInput);
   EXPECT_THROW(
       complex_nodal_force_vector(
           2, std::vector<ComplexNodalForce>{{.node = 2, .force = Eigen::Vector3cd::Zero()}}),
@@ -555,6 +557,157 @@ TEST(CompareResponses, AbsoluteDifferenceIsReportedWhereTheReferenceIsZero) {
   EXPECT_TRUE(std::isinf(d.max_relative[0]));
   EXPECT_EQ(d.max_absolute[1], 2.0);  // |7 − 9|
   EXPECT_DOUBLE_EQ(d.max_relative[1], 2.0 / 9.0);
+}
+
+}  // namespace
+}  // namespace stickslip
+
+namespace stickslip {
+namespace {
+
+// A free steel bar (no clamp, no support: six rigid-body modes) under a self-equilibrated static
+// load (opposite forces at the two ends, a couple of forces along y). Reference: the same bar on
+// 3-2-1 supports at three nodes of its x = 0 end (statically determinate: a balanced load leaves
+// the reactions 0 and the deformation unchanged), solved through the ordinary clamped factor. The
+// free solve must equal it up to a rigid motion, which add_rigid_motion fitted at a few DOFs puts
+// back exactly; without it the result is M-orthogonal to the rigid modes. An unbalanced load is
+// refused (kUnbalanced, NaN), and harmonic 1 of the free bar equals a dense complex solve.
+TEST(HarmonicResponse, FreeBodyStaticResponseIsExactUpToTheRigidMotionFittedAtMasters) {
+  const Mesh mesh = bar_mesh(6, 2, 2, {0.3, 0.05, 0.04}, ElementType::kC3D8);
+  Body b = make_body(mesh, -1.0);  // no node at x = -1: nothing clamped
+  ASSERT_EQ(b.dofs.num_free(), mesh.num_dofs());
+  const std::vector<int> left = nodes_at(mesh, 0, 0.0), right = nodes_at(mesh, 0, 0.3);
+  Eigen::VectorXcd F = Eigen::VectorXcd::Zero(mesh.num_dofs());
+  F(3 * right[0] + 0) += 700.0;  // tension along x
+  F(3 * left[0] + 0) -= 700.0;
+  F(3 * right[1] + 1) += 300.0;  // a couple: +y at right[1], −y at left[1] plus the moment's
+  F(3 * left[1] + 1) -= 300.0;   // balance about z through opposite x forces at two left nodes
+  const Eigen::Vector3d pr = mesh.coordinates.col(right[1]), pl = mesh.coordinates.col(left[1]);
+  // Moment about z of the ±300 N pair: 300 (x_r − x_l); balanced by ±f along x at two left nodes
+  // a distance dy apart.
+  const int l2 = left[0], l3 = left[2];  // y = 0 and y = 0.05 on the z = 0 edge
+  const double dy = mesh.coordinates(1, l3) - mesh.coordinates(1, l2);
+  ASSERT_GT(std::abs(dy), 1e-6);
+  const double f = -300.0 * (pr.x() - pl.x()) / dy;
+  F(3 * l2 + 0) += f;
+  F(3 * l3 + 0) -= f;
+  // Check the balance by hand: resultant and moment of F about the origin vanish.
+  Eigen::Vector3d resultant = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+  for (int n = 0; n < mesh.num_nodes(); ++n) {
+    const Eigen::Vector3d fn = F.segment<3>(3 * n).real();
+    resultant += fn;
+    moment += Eigen::Vector3d(mesh.coordinates.col(n)).cross(fn);
+  }
+  ASSERT_LT(resultant.norm(), 1e-9);
+  ASSERT_LT(moment.norm(), 1e-9);
+
+  const DirectRecovery free_body(b.K, b.M, b.dofs, {.alpha = 5.0, .beta = 0.0});
+  ASSERT_TRUE(free_body.ok()) << free_body.message();
+  const Eigen::MatrixXd rigid = free_body.rigid_modes();
+  ASSERT_EQ(rigid.cols(), 6);
+  const Eigen::MatrixXd K = Eigen::MatrixXd(b.K), M = Eigen::MatrixXd(b.M);
+  EXPECT_LT((K * rigid).norm(), 1e-6 * K.norm() * rigid.norm());
+  EXPECT_LT((rigid.transpose() * M * rigid - Eigen::MatrixXd::Identity(6, 6)).norm(), 1e-9);
+
+  // 3-2-1: node a all three; node b (from a along y) x and z; node c (off the line ab, in the
+  // plane x = 0) x.
+  const int a = left[0], bn = left[1], c = left[left.size() - 1];
+  ASSERT_GT((Eigen::Vector3d(mesh.coordinates.col(bn) - mesh.coordinates.col(a)))
+                .cross(Eigen::Vector3d(mesh.coordinates.col(c) - mesh.coordinates.col(a)))
+                .norm(),
+            1e-6);
+  const DofMap supported(mesh.num_dofs(),
+                         std::vector<int>{3 * a, 3 * a + 1, 3 * a + 2, 3 * bn, 3 * bn + 2, 3 * c});
+  const DirectRecovery held(b.K, b.M, supported, {});
+  ASSERT_TRUE(held.ok()) << held.message();
+  EXPECT_EQ(held.rigid_modes().cols(), 0);
+  const std::vector<int> h0{0};
+  const Eigen::VectorXcd x_ref = harmonic_response(held, F, h0, 0.0).col(0);
+
+  RecoverySummary summary;
+  Eigen::MatrixXcd x = harmonic_response(free_body, F, h0, 0.0, &summary);
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  // Without rigid motion: M-orthogonal to the rigid modes, and K x = F.
+  EXPECT_LT((rigid.transpose() * M * x.col(0).real()).norm(),
+            1e-12 * rigid.norm() * (M * x.col(0).real()).norm());
+  EXPECT_LT((K * x.col(0).real() - F.real()).norm(), 1e-8 * F.norm());
+  // The rigid motion fitted at the DOFs of four "master" nodes (an end and the middle).
+  std::vector<int> masters;
+  for (int n : {right[0], right[1], left[2], nodes_at(mesh, 0, 0.15)[0]})
+    for (int d = 0; d < 3; ++d) masters.push_back(3 * n + d);
+  Eigen::VectorXcd target(static_cast<Eigen::Index>(masters.size()));
+  for (size_t i = 0; i < masters.size(); ++i)
+    target(static_cast<Eigen::Index>(i)) = x_ref(masters[i]);
+  add_rigid_motion(rigid, masters, target, x.col(0));
+  EXPECT_LT(max_relative(x.col(0), x_ref), kSolverAgreement);
+
+  // Unbalanced: the resultant of one extra force along z has nothing to hold it.
+  Eigen::VectorXcd G = F;
+  G(3 * right[0] + 2) += 1.0;
+  const Eigen::MatrixXcd xg = harmonic_response(free_body, G, h0, 0.0, &summary);
+  EXPECT_EQ(summary.termination, RecoveryTermination::kUnbalanced);
+  EXPECT_NE(summary.message.find("resultant"), std::string::npos) << summary.message;
+  EXPECT_TRUE(xg.col(0).real().array().isNaN().all());
+
+  // Harmonic 1: D_1 is regular for a free body (rigid modes: −Ω² + iΩα ≠ 0). Dense reference on
+  // an unbalanced load (dynamic loads need no balance).
+  const double omega = 2 * M_PI * 150.0;
+  const std::vector<int> h1{1};
+  std::vector<int> all(static_cast<size_t>(mesh.num_dofs()));
+  for (int i = 0; i < mesh.num_dofs(); ++i) all[static_cast<size_t>(i)] = i;
+  const Eigen::VectorXcd x1 = harmonic_response(free_body, G, h1, omega, &summary).col(0);
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  const Eigen::VectorXcd x1_dense =
+      dense_solve(K, M, K, all, G, omega, {.alpha = 5.0, .beta = 0.0});
+  EXPECT_LT(max_relative(x1, x1_dense), kSolverAgreement);
+
+  // The modal path: six rigid modes (exactly 0) beside 12 elastic ones. Harmonic 0 with the
+  // residual correction is K⁺F, the direct solve's; the unbalanced load is refused the same way;
+  // harmonic 1 is the dense solve up to the truncation the static correction leaves,
+  // O((Ω/ω_13)²) of the truncated part (150 Hz against the 13th free–free mode, above 10 kHz).
+  const ModalRecovery modal(b.K, b.M, b.dofs, {.alpha = 5.0, .beta = 0.0}, modal_options(12));
+  ASSERT_TRUE(modal.ok()) << modal.message();
+  ASSERT_EQ(modal.rigid_modes().cols(), 6);
+  EXPECT_EQ(modal.eigenvalues().head(6).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(modal.eigenvalues()(6), 0.0);
+  const Eigen::MatrixXcd x_direct = harmonic_response(free_body, F, h0, 0.0);
+  const Eigen::MatrixXcd x_modal = harmonic_response(modal, F, h0, 0.0, &summary);
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  EXPECT_LT(max_relative(x_modal.col(0), x_direct.col(0)), kSolverAgreement);
+  harmonic_response(modal, G, h0, 0.0, &summary);
+  EXPECT_EQ(summary.termination, RecoveryTermination::kUnbalanced);
+  const Eigen::VectorXcd x1_modal = harmonic_response(modal, G, h1, omega, &summary).col(0);
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  const double truncation = max_relative(x1_modal, x1_dense);
+  std::printf("free bar, modal recovery (6 rigid + 12 modes, residual) at 150 Hz vs dense: %.2e\n",
+              truncation);
+  EXPECT_LT(truncation, 1e-3);
+  // Without the correction the rigid modes are found the same way, and harmonic 0 is the modal
+  // part of K⁺F only (no rigid coordinate: finite, balanced loads only).
+  const ModalRecovery plain(b.K, b.M, b.dofs, {.alpha = 5.0, .beta = 0.0},
+                            modal_options(12, false));
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  ASSERT_EQ(plain.rigid_modes().cols(), 6);
+  const Eigen::MatrixXcd x_plain = harmonic_response(plain, F, h0, 0.0, &summary);
+  ASSERT_TRUE(summary.ok()) << summary.message;
+  EXPECT_TRUE(x_plain.allFinite());
+}
+
+TEST(HarmonicResponse, AddRigidMotionLeavesUnseenMotionAtZero) {
+  // Two "rigid modes" of a 4-DOF toy: e0 = (1,1,0,0)/√2 seen at DOF 0, e1 = (0,0,1,1)/√2 seen by
+  // neither listed DOF: its amplitude stays 0, e0's is fitted exactly.
+  Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(4, 2);
+  rigid(0, 0) = rigid(1, 0) = rigid(2, 1) = rigid(3, 1) = 1.0 / std::sqrt(2.0);
+  Eigen::VectorXcd x = Eigen::VectorXcd::Zero(4);
+  const std::vector<int> dofs{0, 1};
+  Eigen::VectorXcd target(2);
+  target << Complex(2.0, 1.0), Complex(2.0, 1.0);
+  const Eigen::VectorXcd a = add_rigid_motion(rigid, dofs, target, x);
+  EXPECT_NEAR(std::abs(a(0) - Complex(2.0, 1.0) * std::sqrt(2.0)), 0.0, 1e-14);
+  EXPECT_EQ(a(1), Complex(0.0));
+  EXPECT_NEAR(std::abs(x(1) - Complex(2.0, 1.0)), 0.0, 1e-14);
+  EXPECT_EQ(x(3), Complex(0.0));
+  EXPECT_THROW(add_rigid_motion(rigid, std::vector<int>{7, 0}, target, x), InvalidInput);
 }
 
 }  // namespace
