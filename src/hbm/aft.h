@@ -11,7 +11,7 @@
 // Only harmonics in the basis's set are returned; aliasing of higher ones is the usual AFT error,
 // controlled by N.
 //
-// Two methods (AftMethod):
+// Three methods (AftMethod):
 //  - kSampled: the above. The piecewise law sampled at N instants: every transition (stick/slip,
 //    lift-off) costs accuracy, O(N^-1.4..-2) in the force coefficients.
 //  - kEvent: exact for Jenkins1D and FrictionContact3D (lift-off included). Collinear tangential
@@ -22,7 +22,11 @@
 //    per interval) and located to round-off by safeguarded Newton; the force's Fourier integrals
 //    are Gauss–Legendre sums per smooth segment, with enough nodes for the segment's trigonometric
 //    degree that they are exact to round-off (0.75 H_max L + 10 nodes on a segment of length L).
-//    General planar motion (event_aft_planar.cpp): in slip τ = μN e(φ) and the direction obeys
+//    Tangential motion that is not collinear, and a stuck cycle holding a tangential force off e:
+//    the sampled method (fallback, below). ∂F_⊥/∂c_⊥ of a collinear cycle: the sampled method's.
+//  - kEventPlanar: kEvent, and general planar motion (event_aft_planar.cpp; opt-in because it
+//    costs 0.2–0.8 ms per slipping cycle at H = 1, 20–50 times the sampled AFT at N = 64 on the
+//    reference sweep: docs/performance.md). In slip τ = μN e(φ) and the direction obeys
 //    φ' = kt e⊥·u_t'/(μN) (from τ' = kt (u_t' − λe), |τ| = μN; slip rate λ = e·u_t' − μN'/kt),
 //    integrated by 8-stage Gauss collocation (order 16, A-stable) with error control; slip → stick
 //    (λ = 0) is located on the integrated solution by Newton on the last step's length; stick →
@@ -66,7 +70,7 @@ struct AftSamples {
   Eigen::MatrixXd f;  // m x N local force samples (force on B)
 };
 
-enum class AftMethod { kSampled, kEvent };
+enum class AftMethod { kSampled, kEvent, kEventPlanar };
 
 class Aft {
  public:

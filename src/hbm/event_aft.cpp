@@ -499,7 +499,9 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
     off_line = std::max(off_line, std::abs(eperp.dot(
                                       Eigen::Vector2d(coefficients[i], coefficients[nc + i]))));
   }
+  const bool planar = method_ == AftMethod::kEventPlanar;
   if (off_line > kCollinearTolerance * amp) {
+    if (!planar) return false;
     return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
   }
   const bool perp_mean = std::abs(eperp.dot(mean)) > 1e-12 * (mean.norm() + amp);
@@ -519,6 +521,7 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   // A stuck cycle keeps a tangential force perpendicular to e from the mean offset (2D history):
   // not the scalar law's.
   if (stuck && perp_mean) {
+    if (!planar) return false;
     return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
   }
   CycleIntegrals ci;
@@ -534,11 +537,11 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   forces.segment(0, nc) = e[0] * ci.Fs + eperp[0] * Fp;
   forces.segment(nc, nc) = e[1] * ci.Fs + eperp[1] * Fp;
   forces.segment(2 * nc, nc) = ci.Fn;
-  // The Jacobian of a cycle that slips or lifts off: the planar method's (event_aft_planar.cpp),
-  // exact also across the line (∂F_⊥/∂c_⊥: the slip direction turns off e); its forces equal
-  // these to round-off.
+  // kEventPlanar: the Jacobian of a cycle that slips or lifts off is the planar method's
+  // (event_aft_planar.cpp), exact also across the line (∂F_⊥/∂c_⊥: the slip direction turns off
+  // e); its forces equal these to round-off. kEvent: ∂F_⊥/∂c_⊥ the sampled method's, below.
   bool planar_jacobian = false;
-  if (jacobian && !virgin_stuck) {
+  if (jacobian && !virgin_stuck && planar) {
     Eigen::VectorXd Ftmp;
     CycleStatistics tmp;
     planar_jacobian = evaluate_planar(*contact, coefficients, offset, Ftmp, jacobian, nullptr, tmp);
@@ -548,8 +551,9 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
     if (virgin_stuck) {
       Jpp = p.kt * Eigen::MatrixXd::Identity(nc, nc);
     } else {
-      // A stuck cycle whose anchor comes from an earlier slip: ∂F_⊥/∂c_⊥ the sampled method's,
-      // on the rotated coefficients (the law is isotropic in the tangent plane).
+      // ∂F_⊥/∂c_⊥ the sampled method's, on the rotated coefficients (the law is isotropic in the
+      // tangent plane): kEvent, and with kEventPlanar a stuck cycle whose anchor comes from an
+      // earlier slip.
       Eigen::VectorXd rot(3 * nc), rot_offset, Ftmp;
       rot << cs, cp, cw;
       if (offset.size() == 3) rot_offset = Eigen::Vector3d(s0, p0, off(2));

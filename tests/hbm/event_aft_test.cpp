@@ -113,12 +113,14 @@ std::vector<Case> cases() {
 
 TEST(EventAft, JacobianMatchesCentralDifferencesAtStickSlipAndLiftOff) {
   // h = 1e-7 of the coefficient scale: O(h²) truncation and O(eps/h) round-off ≲ 1e-8 relative.
-  // The perturbations perpendicular to the tangential line leave the collinear case (the planar
-  // method on both sides): the Jacobian is the planar method's there.
+  // The perturbations perpendicular to the tangential line leave the collinear case: kEvent falls
+  // back to sampled on both sides (the ⊥ block is the sampled method's, consistently), kEventPlanar
+  // takes the planar method on both sides (the Jacobian is the planar method's there).
   constexpr double kFdRelativeTolerance = 1e-6;
-  const Aft aft(FourierBasis(HarmonicSet::up_to(3), 64), AftMethod::kEvent);
+  for (const AftMethod method : {AftMethod::kEvent, AftMethod::kEventPlanar})
   for (const Case& c : cases()) {
-    SCOPED_TRACE(c.label);
+    const Aft aft(FourierBasis(HarmonicSet::up_to(3), 64), method);
+    SCOPED_TRACE(c.label + (method == AftMethod::kEvent ? " (event)" : " (event_planar)"));
     Eigen::VectorXd F;
     Eigen::MatrixXd J;
     const CycleStatistics st = aft.evaluate(*c.element, c.c, Eigen::VectorXd(), F, &J);
@@ -177,14 +179,20 @@ TEST(EventAft, SampledMethodConvergesToTheEventForces) {
   }
 }
 
-TEST(EventAft, OtherElementsFallBackToSampled) {
-  // (Non-collinear tangential motion is the planar method's: planar_event_aft_test.cpp.)
+TEST(EventAft, OtherElementsAndNonCollinearMotionFallBackToSampled) {
   const Aft event(FourierBasis(HarmonicSet::up_to(3), 64), AftMethod::kEvent);
   const Aft sampled(FourierBasis(HarmonicSet::up_to(3), 64));
   std::mt19937 rng(5);
+  const auto c3 = std::make_shared<FrictionContact3D>(
+      FrictionContactParameters{.kt = 1e6, .kn = 2e6, .mu = 0.5, .normal_preload = 100.0});
+  Eigen::VectorXd c(21);
+  c << signal(0, 3e-4, 1e-4, rng), signal(0, -1e-4, 2e-4, rng), signal(0, 1e-5, 0, rng);
   const UnilateralSpring spring({.k = 1e4, .gap = 1e-3});
   const Eigen::VectorXd cu = signal(1e-3, 2e-3, 1e-3, rng);
   Eigen::VectorXd Fe, Fs;
+  EXPECT_TRUE(event.evaluate(*c3, c, Eigen::VectorXd(), Fe, nullptr).aft_fallback);
+  sampled.evaluate(*c3, c, Eigen::VectorXd(), Fs, nullptr);
+  EXPECT_EQ(Fe, Fs);
   EXPECT_TRUE(event.evaluate(spring, cu, Eigen::VectorXd(), Fe, nullptr).aft_fallback);
   sampled.evaluate(spring, cu, Eigen::VectorXd(), Fs, nullptr);
   EXPECT_EQ(Fe, Fs);

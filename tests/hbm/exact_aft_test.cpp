@@ -115,13 +115,15 @@ TEST(ExactAft, EllipticalSlipMatchesTimeIntegrationWithinHarmonicTruncation) {
       return e / scale;
     };
     const FrequencyPoint pe =
-        solve_point(make_node(node, c, StaticCoupling::kCoupled, 15, 256), node, c, fine.x);
+        solve_point(make_node(node, c, StaticCoupling::kCoupled, 15, 256, AftMethod::kEventPlanar),
+                    node, c, fine.x);
     ASSERT_TRUE(pe.converged) << pe.message;
     EXPECT_FALSE(pe.pairs[0].cycle.aft_fallback);
     EXPECT_GT(pe.pairs[0].cycle.slip_fraction, 0.0);
     EXPECT_EQ(pe.pairs[0].cycle.separation_fraction > 0.0, fine.min_normal <= 0.0);
     const FrequencyPoint p64 =
-        solve_point(make_node(node, c, StaticCoupling::kCoupled, 15, 64), node, c, fine.x);
+        solve_point(make_node(node, c, StaticCoupling::kCoupled, 15, 64, AftMethod::kEventPlanar),
+                    node, c, fine.x);
     ASSERT_TRUE(p64.converged) << p64.message;
     const FrequencyPoint ps = solve_point(
         make_node(node, c, StaticCoupling::kCoupled, 15, 1024, AftMethod::kSampled), node, c,

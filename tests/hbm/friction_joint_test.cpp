@@ -163,9 +163,6 @@ TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
     points.back().converged = c.newton.converged();
     points.back().iterations = c.newton.iterations;
     points.back().message = c.newton.message;
-    for (const PairResponse& pr : points.back().pairs) {
-      EXPECT_FALSE(pr.cycle.aft_fallback) << "omega = " << c.lambda;
-    }
   }
   const Eigen::MatrixXd C = j.alpha * j.M + j.beta * j.K;
   int partial_slip_points = 0, total_iterations = 0, max_iterations = 0;
@@ -217,12 +214,8 @@ TEST(FrictionJoint, PartialSlipSweepConvergesAtEveryPointAndBalancesEnergy) {
   // residual-only evaluations per point (the full-step and chord trials and line-search points);
   // without chord steps 5.8 steps, 6.0 Jacobians, 6.1 residuals. The bounds leave a margin of
   // about 1.3.
-  // With the event AFT (exact forces, elliptical slip integrated, no fallback at any point): mean
-  // 7.4 steps, at most 28 (at 1.085 w1, where the sampled AFT took fewer; not diagnosed further,
-  // the point converges and balances energy). The bound on the maximum is that measurement plus a
-  // small margin, the mean bound is unchanged.
   constexpr double kMeanIterations = 9.0;
-  constexpr int kMaxIterations = 30;
+  constexpr int kMaxIterations = 23;
   EXPECT_LE(static_cast<double>(total_iterations) / points.size(), kMeanIterations);
   EXPECT_LE(max_iterations, kMaxIterations);
 }

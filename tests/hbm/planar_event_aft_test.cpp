@@ -31,7 +31,7 @@ TEST(PlanarEventAft, CircularOrbitSlipsWithTheForceLaggingTheVelocityByTheStickP
   constexpr double kTolerance = 1e-11;
   const FrictionContactParameters p{.kt = 1e6, .kn = 2e6, .mu = 0.5, .normal_preload = 100.0};
   const FrictionContact3D element(p);
-  const Aft aft(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEvent);
+  const Aft aft(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEventPlanar);
   const double fs = p.mu * p.normal_preload;
   for (double A : {5.001e-5, 6e-5, 1e-4, 1e-3}) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(3 * kNc), F;
@@ -101,7 +101,7 @@ TEST(PlanarEventAft, EllipticalCyclesAreTheSampledLawsLimit) {
   // kRichardsonTolerance of the event forces while the raw samples are ~1e-4 off.
   constexpr double kRichardsonTolerance = 2e-6;
   const FrictionContact3D element(kContact);
-  const Aft event(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEvent);
+  const Aft event(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEventPlanar);
   const Aft coarse(FourierBasis(HarmonicSet::up_to(kH), 16384));
   const Aft fine(FourierBasis(HarmonicSet::up_to(kH), 32768));
   for (const Case& c : cases()) {
@@ -127,8 +127,8 @@ TEST(PlanarEventAft, EllipticalCyclesAreTheSampledLawsLimit) {
 TEST(PlanarEventAft, ForcesDoNotDependOnTheGrid) {
   // N sets only the bracketing grid and the largest step: the forces agree to round-off.
   const FrictionContact3D element(kContact);
-  const Aft a(FourierBasis(HarmonicSet::up_to(kH), 32), AftMethod::kEvent);
-  const Aft b(FourierBasis(HarmonicSet::up_to(kH), 512), AftMethod::kEvent);
+  const Aft a(FourierBasis(HarmonicSet::up_to(kH), 32), AftMethod::kEventPlanar);
+  const Aft b(FourierBasis(HarmonicSet::up_to(kH), 512), AftMethod::kEventPlanar);
   for (const Case& c : cases()) {
     SCOPED_TRACE(c.label);
     Eigen::VectorXd Fa, Fb;
@@ -142,7 +142,7 @@ TEST(PlanarEventAft, JacobianMatchesCentralDifferencesAtEllipticalStickSlipAndLi
   // h = 1e-7 of the coefficient scale: O(h²) truncation and O(eps/h) round-off ≲ 1e-8 relative.
   constexpr double kFdRelativeTolerance = 1e-6;
   const FrictionContact3D element(kContact);
-  const Aft aft(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEvent);
+  const Aft aft(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEventPlanar);
   for (const Case& c : cases()) {
     SCOPED_TRACE(c.label);
     Eigen::VectorXd F;
