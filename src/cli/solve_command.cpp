@@ -274,16 +274,20 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   const std::string& study_cells = study.cells;
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
     out << "point,frequency_hz,converged,iterations,residual_m,dissipated_energy_j,"
-           "residual_relative,static_mismatch,static_warning"
+           "residual_relative,static_mismatch,static_warning,aft_fallback_pairs"
         << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       double e = 0;
-      for (const PairResponse& r : p.pairs) e += energy(r.cycle);
-      fmt::print(out, "{},{},{},{},{},{},{},{},{}{}\n", i, rad_s_to_hz(p.omega),
+      int fallback = 0;  // pairs whose cycle the event AFT left to the sampled one
+      for (const PairResponse& r : p.pairs) {
+        e += energy(r.cycle);
+        fallback += r.cycle.aft_fallback ? 1 : 0;
+      }
+      fmt::print(out, "{},{},{},{},{},{},{},{},{},{}{}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
                  p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0,
-                 study_cells);
+                 fallback, study.cells);
     }
   });
 
@@ -467,6 +471,15 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   summary["completed"] = fr.completed;
   summary["message"] = fr.message;
   summary["static_check"] = static_check_json(def, model, solved, pair_in_contact);
+  int fallback_points = 0;  // points where some pair's cycle came from the sampled AFT
+  for (const FrequencyPoint& p : fr.points) {
+    bool any = false;
+    for (const PairResponse& r : p.pairs) any = any || r.cycle.aft_fallback;
+    fallback_points += any ? 1 : 0;
+  }
+  summary["aft"] = {{"method", case_name(def.analysis.aft)},
+                    {"time_samples", def.analysis.time_samples},
+                    {"fallback_points", fallback_points}};
   summary["bodies"] = Json::array();
   for (const PreparedBody& body : model.bodies) {
     summary["bodies"].push_back({{"name", body.name},
@@ -516,11 +529,17 @@ SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
   }
   if (inexact > 0 && solved.warn_aft_fallback) {
     std::fprintf(stderr,
-                 "stickslip: warning: `analysis.aft: event` is exact only for contacts whose "
-                 "tangential motion stays on one line; at %d of %zu points some pairs moved in "
-                 "the tangent plane and their forces come from the sampled AFT with time_samples "
-                 "= %d (error at the stick/slip and lift-off instants; raise time_samples to "
-                 "check)\n",
+                 solved.system->options().aft == AftMethod::kEventPlanar
+                     ? "stickslip: warning: `analysis.aft: event_planar` could not close the "
+                       "cycle of some pairs at %d of %zu points: their forces come from the "
+                       "sampled AFT with time_samples = %d (points.csv aft_fallback_pairs; error "
+                       "at the stick/slip and lift-off instants; raise time_samples to check)\n"
+                     : "stickslip: warning: `analysis.aft: event` is exact only for contacts "
+                       "whose tangential motion stays on one line; at %d of %zu points some "
+                       "pairs moved in the tangent plane and their forces come from the sampled "
+                       "AFT with time_samples = %d (points.csv aft_fallback_pairs; error at the "
+                       "stick/slip and lift-off instants; raise time_samples to check, or use "
+                       "`aft: event_planar`, exact and slower: docs/performance.md)\n",
                  inexact, solved.response.points.size(),
                  solved.system->options().time_samples);
   }

@@ -48,7 +48,7 @@ AftWorkspace& workspace() {
 CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                               const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
                               Eigen::MatrixXd* jacobian, AftSamples* samples) const {
-  if (method_ == AftMethod::kEvent) {
+  if (method_ != AftMethod::kSampled) {
     CycleStatistics stats;
     if (evaluate_events(element, coefficients, offset, forces, jacobian, samples, stats))
       return stats;

@@ -23,6 +23,7 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "hbm/aft.h"
+#include "hbm/gauss_legendre.h"
 
 namespace stickslip {
 
@@ -37,34 +38,6 @@ constexpr double kSwitchTolerance = 1e-12;
 // fraction of the largest one from the line through e.
 constexpr double kCollinearTolerance = 1e-9;
 constexpr int kMaxCyclePeriods = 20;
-
-// Gauss–Legendre nodes and weights on [−1, 1], cached per order (per thread).
-const std::pair<std::vector<double>, std::vector<double>>& gauss_legendre(int q) {
-  thread_local std::map<int, std::pair<std::vector<double>, std::vector<double>>> cache;
-  auto it = cache.find(q);
-  if (it != cache.end()) return it->second;
-  std::vector<double> x(q), w(q);
-  for (int i = 0; i < (q + 1) / 2; ++i) {
-    double z = std::cos(kPi * (i + 0.75) / (q + 0.5)), dp = 0;
-    for (int it2 = 0; it2 < 100; ++it2) {
-      double p0 = 1, p1 = z;  // Legendre recurrence: P_q(z) and P_q'(z)
-      for (int n = 2; n <= q; ++n) {
-        const double p2 = ((2 * n - 1) * z * p1 - (n - 1) * p0) / n;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (q == 1) p0 = 1;
-      dp = q * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-16) break;
-    }
-    x[i] = -z;
-    x[q - 1 - i] = z;
-    w[i] = w[q - 1 - i] = 2 / ((1 - z * z) * dp * dp);
-  }
-  return cache.emplace(q, std::make_pair(std::move(x), std::move(w))).first->second;
-}
 
 // f(θ) = c0 + Σ coef_i φ_i^{(p)}(θ): a switching function or a signal (p = derivative order).
 struct Trig {
@@ -526,7 +499,11 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
     off_line = std::max(off_line, std::abs(eperp.dot(
                                       Eigen::Vector2d(coefficients[i], coefficients[nc + i]))));
   }
-  if (off_line > kCollinearTolerance * amp) return false;
+  const bool planar = method_ == AftMethod::kEventPlanar;
+  if (off_line > kCollinearTolerance * amp) {
+    if (!planar) return false;
+    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
+  }
   const bool perp_mean = std::abs(eperp.dot(mean)) > 1e-12 * (mean.norm() + amp);
 
   const Eigen::VectorXd ct1 = coefficients.segment(0, nc), ct2 = coefficients.segment(nc, nc);
@@ -543,7 +520,10 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   const bool stuck = segs.size() == 1 && segs[0].state.mode == Mode::kStick;
   // A stuck cycle keeps a tangential force perpendicular to e from the mean offset (2D history):
   // not the scalar law's.
-  if (stuck && perp_mean) return false;
+  if (stuck && perp_mean) {
+    if (!planar) return false;
+    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
+  }
   CycleIntegrals ci;
   integrate(cy, set, segs, jacobian != nullptr, ci);
 
@@ -557,13 +537,23 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   forces.segment(0, nc) = e[0] * ci.Fs + eperp[0] * Fp;
   forces.segment(nc, nc) = e[1] * ci.Fs + eperp[1] * Fp;
   forces.segment(2 * nc, nc) = ci.Fn;
-  if (jacobian) {
+  // kEventPlanar: the Jacobian of a cycle that slips or lifts off is the planar method's
+  // (event_aft_planar.cpp), exact also across the line (∂F_⊥/∂c_⊥: the slip direction turns off
+  // e); its forces equal these to round-off. kEvent: ∂F_⊥/∂c_⊥ the sampled method's, below.
+  bool planar_jacobian = false;
+  if (jacobian && !virgin_stuck && planar) {
+    Eigen::VectorXd Ftmp;
+    CycleStatistics tmp;
+    planar_jacobian = evaluate_planar(*contact, coefficients, offset, Ftmp, jacobian, nullptr, tmp);
+  }
+  if (jacobian && !planar_jacobian) {
     Eigen::MatrixXd Jpp;
     if (virgin_stuck) {
       Jpp = p.kt * Eigen::MatrixXd::Identity(nc, nc);
     } else {
-      // ∂F_⊥/∂c_⊥: the sampled method's, on the rotated coefficients (the law is isotropic in
-      // the tangent plane).
+      // ∂F_⊥/∂c_⊥ the sampled method's, on the rotated coefficients (the law is isotropic in the
+      // tangent plane): kEvent, and with kEventPlanar a stuck cycle whose anchor comes from an
+      // earlier slip.
       Eigen::VectorXd rot(3 * nc), rot_offset, Ftmp;
       rot << cs, cp, cw;
       if (offset.size() == 3) rot_offset = Eigen::Vector3d(s0, p0, off(2));

@@ -97,7 +97,9 @@ const Choices<SweepMethod>& choices_of(SweepMethod) {
   return c;
 }
 const Choices<AftChoice>& choices_of(AftChoice) {
-  static const Choices<AftChoice> c{{"event", AftChoice::kEvent}, {"sampled", AftChoice::kSampled}};
+  static const Choices<AftChoice> c{{"event", AftChoice::kEvent},
+                                    {"sampled", AftChoice::kSampled},
+                                    {"event_planar", AftChoice::kEventPlanar}};
   return c;
 }
 const Choices<StaticChoice>& choices_of(StaticChoice) {

@@ -82,7 +82,7 @@ enum class PreloadSplit { kEqual, kArea };                  // contacts.C.total.
 enum class ContactCoupling { kAuto, kNodes, kMortar };      // contacts.C.coupling
 enum class UnpairedChoice { kError, kSkip };                // contacts.C.unpaired
 enum class SweepMethod { kStepped, kContinuation };         // analysis.method
-enum class AftChoice { kEvent, kSampled };                  // analysis.aft
+enum class AftChoice { kEvent, kSampled, kEventPlanar };    // analysis.aft
 enum class StaticChoice { kUncoupled, kCoupled };           // analysis.static
 enum class InitialGuessChoice { kStuck, kFree };            // analysis.initial_guess
 enum class PredictorChoice { kSecant, kPrevious };          // analysis.predictor
@@ -306,7 +306,7 @@ struct AnalysisDefinition {
   std::vector<int> harmonics{1};      // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                       // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;              // N per period, ≥ 2(2 H_max + 1)
-  AftChoice aft = AftChoice::kEvent;  // event | sampled (hbm/aft.h AftMethod)
+  AftChoice aft = AftChoice::kEvent;  // event | sampled | event_planar (hbm/aft.h AftMethod)
   bool aft_given = false;  // `aft` written in the file (then event warns where it falls back)
   StaticChoice static_coupling = StaticChoice::kUncoupled;  // key `static`: uncoupled | coupled
   double tolerance = 1.0e-8;                                // Newton, relative residual (> 0)

@@ -1092,7 +1092,9 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.harmonic_list = an.harmonics;
   model.hbm.harmonics = an.max_harmonic();
   model.hbm.time_samples = an.time_samples;
-  model.hbm.aft = an.aft == AftChoice::kSampled ? AftMethod::kSampled : AftMethod::kEvent;
+  model.hbm.aft = an.aft == AftChoice::kSampled        ? AftMethod::kSampled
+                  : an.aft == AftChoice::kEventPlanar ? AftMethod::kEventPlanar
+                                                      : AftMethod::kEvent;
   model.hbm.static_coupling = an.static_coupling == StaticChoice::kCoupled
                                   ? StaticCoupling::kCoupled
                                   : StaticCoupling::kUncoupled;
@@ -1207,7 +1209,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                       const ProgressFn& progress, const SweepProgress* sweep) {
   const auto t0 = Clock::now();
   SolvedCase solved;
-  solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft == AftChoice::kEvent;
+  solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft != AftChoice::kSampled;
   check_memory(model, def);
   if (model.pairs.empty() && def.analysis.method == SweepMethod::kContinuation) {
     throw InvalidInput(def.where("analysis.method"),

@@ -1,7 +1,8 @@
 // analysis.aft through the program (issue 25): example 01's Jenkins oscillator at H = 1 with
 // `aft: event` and 16 time samples equals the one-harmonic balance with the Jenkins describing
 // function solved here in closed form; `aft: sampled` with the same samples does not; a wrong
-// value stops at the key.
+// value stops at the key. The fallback count of points.csv and summary.json on the coarse joint,
+// whose contact slips on ellipses: against the pairs whose tangential forces leave a line.
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
@@ -9,7 +10,11 @@
 #include <cmath>
 #include <complex>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -117,6 +122,57 @@ TEST(AftCli, EventAftGivesTheDescribingFunctionSolutionWithSixteenSamples) {
   EXPECT_EQ(run("run -q " + bad.string() + " -o " + (dir / "bad").string(), log), 2);
   EXPECT_NE(slurp(log).find("analysis.aft"), std::string::npos) << slurp(log);
   EXPECT_NE(slurp(log).find(":20"), std::string::npos) << slurp(log);  // its line
+  fs::remove_all(dir);
+}
+
+TEST(AftCli, FallbackCountIsThePairsWhoseTangentialMotionLeavesALine) {
+  // `aft: event` computes a pair exactly when its tangential motion stays on a line and falls back
+  // to the sampled AFT otherwise; the force of a collinear cycle is collinear too (τ = ±μN e or
+  // kt-proportional along e), that of a pair moving on an ellipse is not. So the pairs counted in
+  // points.csv aft_fallback_pairs are those whose harmonic-1 tangential force (X_t1, X_t2) in
+  // contact_forces.csv spans the plane: Im(X_t1 conj X_t2) beyond round-off of |X_t1||X_t2|.
+  // summary.json aft.fallback_points counts the points with any. `sampled` never falls back, and
+  // `event_planar` computes these ellipses itself.
+  constexpr double kLineTolerance = 1e-9;
+  const fs::path dir = fresh_dir("aft_fallback");
+  for (const std::string aft : {"event", "sampled", "event_planar"}) {
+    SCOPED_TRACE(aft);
+    const fs::path c = write_case(dir, aft, coarse_joint_head(2.0, 1.0, "50") + "  aft: " + aft +
+                                                "\nrecovery: {points: none}\n"
+                                                "output: {directory: results, plots: false, "
+                                                "vtu: false}\n");
+    const fs::path out = dir / aft, log = dir / (aft + ".log");
+    ASSERT_EQ(run("run -q " + c.string() + " -o " + out.string(), log), 0) << slurp(log);
+    std::map<std::pair<int, int>, std::complex<double>> t1, t2;
+    for (const auto& r : read_csv(out / "contact_forces.csv")) {
+      if (r.at("frame") != "local" || r.at("harmonic") != "1") continue;
+      const auto key = std::make_pair(std::stoi(r.at("point")), std::stoi(r.at("pair")));
+      const std::complex<double> x(std::stod(r.at("real_n")), std::stod(r.at("imag_n")));
+      if (r.at("axis") == "t1") t1[key] = x;
+      if (r.at("axis") == "t2") t2[key] = x;
+    }
+    std::map<int, int> planar;  // point -> pairs whose tangential force spans the plane
+    for (const auto& [key, x1] : t1) {
+      const std::complex<double> x2 = t2.at(key);
+      planar[key.first] += std::abs((x1 * std::conj(x2)).imag()) >
+                           kLineTolerance * std::abs(x1) * std::abs(x2);
+    }
+    int points_with = 0, total = 0;
+    for (const auto& r : read_csv(out / "points.csv")) {
+      const int point = std::stoi(r.at("point")), n = std::stoi(r.at("aft_fallback_pairs"));
+      EXPECT_EQ(n, aft == "event" ? planar[point] : 0) << "point " << point;
+      points_with += n > 0;
+      total += n;
+    }
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    EXPECT_EQ(summary["aft"]["method"], aft);
+    EXPECT_EQ(summary["aft"]["fallback_points"], points_with);
+    if (aft == "event") {
+      EXPECT_GT(total, 0);  // the case this test is about: elliptical slip at some points
+      std::printf("aft: event: %d pair cycles fell back at %d points\n", total, points_with);
+    }
+  }
   fs::remove_all(dir);
 }
 

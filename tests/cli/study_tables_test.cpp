@@ -33,7 +33,8 @@ folders = sorted(glob.glob(os.path.join(root, 'preload_*')))
 assert len(folders) == len(values), folders
 expected = {
     'points.csv': ['point', 'frequency_hz', 'converged', 'iterations', 'residual_m',
-                   'dissipated_energy_j', 'residual_relative', 'static_mismatch', 'static_warning'],
+                   'dissipated_energy_j', 'residual_relative', 'static_mismatch', 'static_warning',
+                   'aft_fallback_pairs'],
     'master_response.csv': ['point', 'body', 'node', 'axis', 'harmonic', 'real_m', 'imag_m'],
     'contact_forces.csv': ['point', 'contact', 'pair', 'node_a', 'node_b', 'frame', 'axis',
                            'harmonic', 'real_n', 'imag_n'],

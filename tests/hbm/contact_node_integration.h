@@ -31,6 +31,7 @@ struct Case {
   double omega;                // rad/s
   Eigen::Vector3d static_load; // N, global
   Eigen::Vector3d load;        // N, F cos Ωt, global
+  Eigen::Vector3d load_sin = Eigen::Vector3d::Zero();  // N, + F_s sin Ωt (elliptical forcing)
 };
 
 // The last period of an RK4 integration (fixed step, contact state updated once per step: the
@@ -70,7 +71,8 @@ inline ReferenceCycle integrate_node(const Node& n, const Case& c, int steps, do
   };
   auto acc = [&](double ts, const Eigen::Vector3d& xs, const Eigen::Vector3d& vs) {
     // Force on the node (A) = −Rᵀ f.
-    return Eigen::Vector3d(c.static_load + c.load * std::cos(c.omega * ts) - n.c * vs - n.k * xs -
+    return Eigen::Vector3d(c.static_load + c.load * std::cos(c.omega * ts) +
+                           c.load_sin * std::sin(c.omega * ts) - n.c * vs - n.k * xs -
                            n.R.transpose() * local_force(xs));
   };
   ReferenceCycle out;
@@ -120,7 +122,7 @@ inline HarmonicBalanceSystem make_node(const Node& n, const Case& c, StaticCoupl
                    .element = std::make_shared<FrictionContact3D>(n.contact)};
   Excitation e;
   e.harmonics[0] = c.static_load.cast<Complex>();
-  e.harmonics[1] = c.load.cast<Complex>();
+  e.harmonics[1] = c.load.cast<Complex>() - Complex(0, 1) * c.load_sin.cast<Complex>();
   HarmonicBalanceOptions o;
   o.harmonics = H;
   o.time_samples = samples;

@@ -113,12 +113,14 @@ std::vector<Case> cases() {
 
 TEST(EventAft, JacobianMatchesCentralDifferencesAtStickSlipAndLiftOff) {
   // h = 1e-7 of the coefficient scale: O(h²) truncation and O(eps/h) round-off ≲ 1e-8 relative.
-  // The perturbations perpendicular to the tangential line leave the collinear case (sampled
-  // fall-back on both sides): the ⊥ block is the sampled method's, consistently.
+  // The perturbations perpendicular to the tangential line leave the collinear case: kEvent falls
+  // back to sampled on both sides (the ⊥ block is the sampled method's, consistently), kEventPlanar
+  // takes the planar method on both sides (the Jacobian is the planar method's there).
   constexpr double kFdRelativeTolerance = 1e-6;
-  const Aft aft(FourierBasis(HarmonicSet::up_to(3), 64), AftMethod::kEvent);
+  for (const AftMethod method : {AftMethod::kEvent, AftMethod::kEventPlanar})
   for (const Case& c : cases()) {
-    SCOPED_TRACE(c.label);
+    const Aft aft(FourierBasis(HarmonicSet::up_to(3), 64), method);
+    SCOPED_TRACE(c.label + (method == AftMethod::kEvent ? " (event)" : " (event_planar)"));
     Eigen::VectorXd F;
     Eigen::MatrixXd J;
     const CycleStatistics st = aft.evaluate(*c.element, c.c, Eigen::VectorXd(), F, &J);

@@ -859,6 +859,8 @@ TEST(CaseFile, EveryChoiceIsReadIntoItsValueAndWrittenBackByName) {
   check("  aft: event\n", "aft: event", [](const CaseDefinition& c) {
     return c.analysis.aft == AftChoice::kEvent && c.analysis.aft_given;
   });
+  check("  aft: event_planar\n", "aft: event_planar",
+        [](const CaseDefinition& c) { return c.analysis.aft == AftChoice::kEventPlanar; });
   check("  static: coupled\n", "static: coupled", [](const CaseDefinition& c) {
     return c.analysis.static_coupling == StaticChoice::kCoupled;
   });
