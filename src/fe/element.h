@@ -44,7 +44,9 @@
 // centre and are scaled by det J0 / det J, so that integral(grad P dV) = 0 and the element passes
 // the patch test. The 9 internal DOFs are condensed statically:
 //   K_e = K_uu - K_ua K_aa^-1 K_au,   alpha = -K_aa^-1 K_au u_e.
-// The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass).
+// The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass). For linear
+// elasticity this is also ANSYS SOLID185 with KEYOPT(2)=3 (9 enhanced strain modes, Simo and
+// Rifai), which the CDB reader maps to C3D8I.
 // CalculiX 2.20's C3D8I uses J0 but omits the det J0 / det J factor: identical on
 // parallelepipeds, different (and failing the patch test) on distorted bricks.
 //

@@ -308,10 +308,12 @@ TEST(CdbReader, KeyoptTwoOfSolid185ChoosesOrRefuses) {
 }
 
 TEST(CdbReader, Solid185PyramidShapeIsC3D5WithAWarning) {
-  std::string text = cube_file("ET,1,185\n");
+  const std::string cube = cube_file("ET,1,185\n");
   const std::string hexahedron = "        5        6        7        8\n";
-  ASSERT_NE(text.find(hexahedron), std::string::npos);
-  text.replace(text.find(hexahedron), hexahedron.size(), "        5        5        5        5\n");
+  const size_t at = cube.find(hexahedron);
+  ASSERT_NE(at, std::string::npos);
+  const std::string text = cube.substr(0, at) + "        5        5        5        5\n" +
+                           cube.substr(at + hexahedron.size());
   std::vector<std::string> warnings;
   const Mesh m = read_text(text, &warnings);
   ASSERT_EQ(m.num_elements(), 1);
