@@ -269,6 +269,25 @@ void shape_wedge15(const Vector3d& p, Matrix<double, 15, 1>& N, Matrix<double, 3
   }
 }
 
+// Pyramid C3D5: the 8-node brick with its top face collapsed onto the apex (ANSYS's degenerate
+// SOLID185 pyramid, M = N = O = P). Base nodes 0-3 at zeta = -1 as the brick's, apex 4:
+//   N_a = (1 + xi_a xi)(1 + eta_a eta)(1 - zeta) / 8 (a = 0..3),  N_4 = (1 + zeta) / 2,
+// the sum of the four collapsed brick functions. Natural coordinates of the apex: (0, 0, 1).
+void shape_pyr5(const Vector3d& p, Matrix<double, 5, 1>& N, Matrix<double, 3, 5>& dN) {
+  for (int a = 0; a < 4; ++a) {
+    const double* c = kHexNodes[a];
+    const double f0 = 1.0 + c[0] * p(0), f1 = 1.0 + c[1] * p(1), f2 = 1.0 - p(2);
+    N(a) = 0.125 * f0 * f1 * f2;
+    dN(0, a) = 0.125 * c[0] * f1 * f2;
+    dN(1, a) = 0.125 * c[1] * f0 * f2;
+    dN(2, a) = -0.125 * f0 * f1;
+  }
+  N(4) = 0.5 * (1.0 + p(2));
+  dN(0, 4) = 0.0;
+  dN(1, 4) = 0.0;
+  dN(2, 4) = 0.5;
+}
+
 // ---------------------------------------------------------------- reference data (cached)
 
 template <int NEN>
@@ -316,6 +335,16 @@ const RefData<10>& tet10_4() {
 }
 const RefData<10>& tet10_64() {
   static const RefData<10> r = make_ref<10>(tet_rule_64(), shape_tet10);
+  return r;
+}
+// Pyramid: the collapsed brick's 2x2x2 Gauss rule (stiffness) and 3x3x3 (exact mass: N_a N_b
+// det J has degree <= 4 in each natural coordinate).
+const RefData<5>& pyr5_2() {
+  static const RefData<5> r = make_ref<5>(gauss_hex_rule(2), shape_pyr5);
+  return r;
+}
+const RefData<5>& pyr5_3() {
+  static const RefData<5> r = make_ref<5>(gauss_hex_rule(3), shape_pyr5);
   return r;
 }
 // Wedges. Stiffness rules as CalculiX 2.20 (its frequencies to 1e-11, tests/validation):
@@ -637,6 +666,12 @@ void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
       copy_out<10>(k, K);
       return;
     }
+    case ElementType::kC3D5: {
+      Matrix<double, 15, 15> k;
+      stiffness_standard<5>(fixed_coordinates<5>(type, X), pyr5_2(), l, m, k);
+      copy_out<5>(k, K);
+      return;
+    }
     case ElementType::kC3D6: {
       Matrix<double, 18, 18> k;
       stiffness_standard<6>(fixed_coordinates<6>(type, X), wedge6_k(), l, m, k);
@@ -684,6 +719,12 @@ void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, E
       copy_out<10>(m, M);
       return;
     }
+    case ElementType::kC3D5: {
+      Matrix<double, 15, 15> m;
+      mass_standard<5>(fixed_coordinates<5>(type, X), exact ? pyr5_3() : pyr5_2(), density, m);
+      copy_out<5>(m, M);
+      return;
+    }
     case ElementType::kC3D6: {
       Matrix<double, 18, 18> m;
       mass_standard<6>(fixed_coordinates<6>(type, X), exact ? wedge6_m() : wedge6_k(), density, m);
@@ -713,6 +754,8 @@ double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
       return volume_standard<4>(fixed_coordinates<4>(type, X), tet4_4());
     case ElementType::kC3D10:
       return volume_standard<10>(fixed_coordinates<10>(type, X), tet10_64());
+    case ElementType::kC3D5:
+      return volume_standard<5>(fixed_coordinates<5>(type, X), pyr5_3());
     case ElementType::kC3D6:
       return volume_standard<6>(fixed_coordinates<6>(type, X), wedge6_m());
     case ElementType::kC3D15:
@@ -784,6 +827,12 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
       det_range<10>(x, tet10_64(), &r);
       break;
     }
+    case ElementType::kC3D5: {
+      const Matrix<double, 3, 5> x = X;
+      det_range<5>(x, pyr5_2(), &r);
+      det_range<5>(x, pyr5_3(), &r);
+      break;
+    }
     case ElementType::kC3D6: {
       const Matrix<double, 3, 6> x = X;
       det_range<6>(x, wedge6_k(), &r);
@@ -824,6 +873,10 @@ Eigen::Matrix3Xd natural_node_coordinates(ElementType type) {
       P(i, a) = hex ? kHexNodes[a][i] : (wedge ? kWedgeNodes[a][i] : kTetNodes[a][i]);
     }
   }
+  if (n == 5) {  // pyramid: the brick's base, the apex at (0, 0, 1)
+    for (int a = 0; a < 4; ++a) P.col(a) = Vector3d(kHexNodes[a][0], kHexNodes[a][1], -1.0);
+    P.col(4) = Vector3d(0.0, 0.0, 1.0);
+  }
   return P;
 }
 
@@ -853,6 +906,8 @@ void stiffness_rule(ElementType type, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
       return rule_out<4>(tet4_1(), P, w);
     case ElementType::kC3D10:
       return rule_out<10>(tet10_4(), P, w);
+    case ElementType::kC3D5:
+      return rule_out<5>(pyr5_2(), P, w);
     case ElementType::kC3D6:
       return rule_out<6>(wedge6_k(), P, w);
     case ElementType::kC3D15:
@@ -901,6 +956,8 @@ void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorX
       return evaluate_shape<4>(shape_tet4, xi, N, dN);
     case ElementType::kC3D10:
       return evaluate_shape<10>(shape_tet10, xi, N, dN);
+    case ElementType::kC3D5:
+      return evaluate_shape<5>(shape_pyr5, xi, N, dN);
     case ElementType::kC3D6:
       return evaluate_shape<6>(shape_wedge6, xi, N, dN);
     case ElementType::kC3D15:
@@ -926,6 +983,8 @@ void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
       return strain_operators_standard<4>(fixed_coordinates<4>(type, X), tet4_1(), B);
     case ElementType::kC3D10:
       return strain_operators_standard<10>(fixed_coordinates<10>(type, X), tet10_4(), B);
+    case ElementType::kC3D5:
+      return strain_operators_standard<5>(fixed_coordinates<5>(type, X), pyr5_2(), B);
     case ElementType::kC3D6:
       return strain_operators_standard<6>(fixed_coordinates<6>(type, X), wedge6_k(), B);
     case ElementType::kC3D15:

@@ -22,6 +22,7 @@
 //   C3D6     2 points: triangle centroid x 2 Gauss in zeta     7-point triangle (deg. 5) x 3
 //   C3D15    9 points: 3 triangle points (1/6, 1/6), (2/3, 1/6), (1/6, 2/3) x 3 Gauss
 //                                      7-point triangle (deg. 5) x 4 Gauss
+//   C3D5     2x2x2 Gauss               3x3x3 Gauss
 // MassIntegration::kStiffnessRule integrates the mass with the stiffness rule, as CalculiX does
 // (identical for C3D8, C3D8I, C3D8B, C3D20; rank-deficient for C3D20R, C3D4 and C3D6).
 // The wedge rules are CalculiX 2.20's (its frequencies of wedge meshes reproduced to 1e-11,
@@ -29,13 +30,23 @@
 // zero-energy mode on a single free element, constrained in a mesh.
 // Hexahedron Gauss points are ordered xi fastest, then eta, then zeta.
 //
+// C3D5 (5-node pyramid) is the 8-node brick with its top face collapsed onto the apex, as ANSYS
+// defines SOLID185's pyramid (M = N = O = P) and as a C3D8 with nodes 5-8 equal is in CalculiX:
+// base nodes 1-4 at zeta = -1 in the brick's order (their right-hand normal points to the apex),
+// apex 5 at natural coordinates (0, 0, 1); N_a = (1 ± xi)(1 ± eta)(1 - zeta)/8 on the base,
+// N_5 = (1 + zeta)/2. Linear on each triangular face (conforming with C3D4 and C3D6 triangles),
+// bilinear on the base (conforming with C3D8 faces); det J = 0 at the apex, which no integration
+// point reaches. Exact mass rule 3x3x3, so the mass is ρV exactly for a planar base.
+//
 // C3D8I (Wilson-Taylor incompatible modes): displacement u = sum N_a u_a + sum_k P_k alpha_k with
 // P = (1 - xi^2, 1 - eta^2, 1 - zeta^2) times three internal 3-vectors alpha. Following Taylor,
 // Beresford and Wilson (1976), the physical derivatives of P use the Jacobian J0 at the element
 // centre and are scaled by det J0 / det J, so that integral(grad P dV) = 0 and the element passes
 // the patch test. The 9 internal DOFs are condensed statically:
 //   K_e = K_uu - K_ua K_aa^-1 K_au,   alpha = -K_aa^-1 K_au u_e.
-// The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass).
+// The C3D8I mass is the C3D8 consistent mass (the incompatible modes carry no mass). For linear
+// elasticity this is also ANSYS SOLID185 with KEYOPT(2)=3 (9 enhanced strain modes, Simo and
+// Rifai), which the CDB reader maps to C3D8I.
 // CalculiX 2.20's C3D8I uses J0 but omits the det J0 / det J factor: identical on
 // parallelepipeds, different (and failing the patch test) on distorted bricks.
 //

@@ -95,6 +95,28 @@ void validate(const CalculixDeckOptions& options) {
           "finite and > 0 when a harmonic >= 1 is listed");
 }
 
+namespace {
+// ccx has no pyramid element: C3D5 is the 8-node brick with nodes 5-8 collapsed onto the apex
+// (fe/element.h), so the deck writes it as exactly that C3D8 (same shape functions and rule).
+void write_pyramids_as_collapsed_bricks(Mesh& mesh) {
+  if (std::count(mesh.element_types.begin(), mesh.element_types.end(), ElementType::kC3D5) == 0) {
+    return;
+  }
+  std::vector<int> offsets{0}, connectivity;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const std::span<const int> nodes = mesh.element_nodes(e);
+    connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
+    if (mesh.element_types[static_cast<size_t>(e)] == ElementType::kC3D5) {
+      connectivity.insert(connectivity.end(), 3, nodes[4]);
+      mesh.element_types[static_cast<size_t>(e)] = ElementType::kC3D8;
+    }
+    offsets.push_back(static_cast<int>(connectivity.size()));
+  }
+  mesh.element_offsets = std::move(offsets);
+  mesh.connectivity = std::move(connectivity);
+}
+}  // namespace
+
 void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::MatrixXcd& loads,
                          const CalculixDeckOptions& options) {
   validate(options);
@@ -114,6 +136,7 @@ void write_calculix_deck(std::ostream& out, const Mesh& mesh, const Eigen::Matri
       std::count(mesh.element_types.begin(), mesh.element_types.end(), ElementType::kC3D8B) > 0;
   std::replace(deck_mesh.element_types.begin(), deck_mesh.element_types.end(), ElementType::kC3D8B,
                ElementType::kC3D8);
+  write_pyramids_as_collapsed_bricks(deck_mesh);
   std::vector<int> all_nodes(static_cast<size_t>(mesh.num_nodes()));
   std::iota(all_nodes.begin(), all_nodes.end(), 0);
   std::vector<int> all_elements(static_cast<size_t>(mesh.num_elements()));

@@ -33,7 +33,8 @@
 // harmonic. Numbers are written in shortest round-trip decimal form. Node and element numbers are
 // the mesh's external ids. Element types are those of the mesh (C3D8 for stickslip's
 // kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass),
-// except C3D8B (B-bar), which ccx lacks: written as C3D8, with a comment line saying so.
+// except C3D8B (B-bar), which ccx lacks: written as C3D8, with a comment line saying so, and
+// C3D5 (pyramid), which ccx lacks too: written as the C3D8 it is (nodes 5-8 = the apex).
 // Inputs: loads 3 num_nodes x nh, column j = harmonics[j], harmonic 0 real. Bad input throws
 // InvalidInput naming the field and rule (also if the mesh already has a set named SS_*).
 #pragma once

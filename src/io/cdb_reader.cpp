@@ -67,7 +67,6 @@ const char* ignore_reason(const std::string& key) {
 // Commands that tie DOFs together or add stiffness or mass the reader does not build: refused.
 const char* refusal(const std::string& key) {
   static const std::pair<const char*, const char*> kRefused[] = {
-      {"CP", "coupled DOFs tie DOFs together"},
       {"CERI", "a rigid region ties DOFs to a master node"},
       {"RBE3", "a distributing constraint ties DOFs to a master node"},
       {"E", "elements given by E commands (write the model with CDWRITE: EBLOCK)"},
@@ -229,6 +228,7 @@ class CdbParser {
     if (key == "MPDA") return mpdata(f);
     if (key == "D") return d(f);
     if (name == "CE") return ce(f);
+    if (name == "CP") return cp(f);
     if (name == "N" || key == "EN") {
       // "N,R5.3,LOC,-1" and "EN,R5.5,ATTR,-1" close blocks; a real N or EN command defines a node
       // or element outside the blocks.
@@ -614,6 +614,82 @@ class CdbParser {
     }
   }
 
+  // Coupled DOF sets: "CP,NSET,Lab,NODE1,...,NODE17" (ANSYS's CP command). NSET a number, HIGH
+  // (the default: the highest set defined) or NEXT (one above it); Lab UX, UY or UZ (ALL: one set
+  // per direction, numbered from NSET; blank: the set's own label). A CP on an existing set adds
+  // its nodes; a negative node number takes the node out; duplicates are ignored. The set's first
+  // node is its primary (retained) node.
+  void cp(const std::vector<std::string>& f) {
+    if (f.size() > 1 && !trim(f[1]).empty() && upper(trim(f[1]))[0] == 'R') {
+      fail(line_, "CP: the blocked form (CP," + trim(f[1]) +
+                      ",...) is not read; write coupled sets as CP,NSET,Lab,NODE1,NODE2,...");
+    }
+    const std::string nset = f.size() > 1 ? upper(trim(f[1])) : "";
+    const std::string lab = f.size() > 2 ? upper(trim(f[2])) : "";
+    const int highest = cp_sets_.empty() ? 0 : cp_sets_.rbegin()->first;
+    int number = 0;
+    if (nset.empty() || nset == "HIGH") {
+      number = lab == "ALL" ? highest + 1 : std::max(highest, 1);
+    } else if (nset == "NEXT") {
+      number = highest + 1;
+    } else if (nset == "LOW") {
+      number = cp_sets_.empty() ? 1 : cp_sets_.begin()->first;
+    } else {
+      number = parse_int(f[1], line_, "CP set number");
+      if (number < 1) fail(line_, "CP: set number " + std::to_string(number) + " (needs >= 1)");
+    }
+    if (f.size() > 3 && (upper(trim(f[3])) == "ALL" || upper(trim(f[3])) == "P")) {
+      fail(line_, "CP: NODE1 = " + upper(trim(f[3])) +
+                      " takes the nodes selected in ANSYS, which the file does not record; list "
+                      "the nodes");
+    }
+    std::vector<int> directions;
+    if (lab == "ALL") {
+      directions = {0, 1, 2};
+    } else if (lab == "UX" || lab == "UY" || lab == "UZ") {
+      directions = {lab[1] - 'X'};
+    } else if (!lab.empty()) {
+      fail(line_, "CP: degree of freedom '" + trim(f[2]) +
+                      "' is not a translation UX, UY, UZ of a solid element");
+    }
+    if (lab == "ALL") {
+      for (int d = 0; d < 3; ++d) {
+        if (cp_sets_.count(number + d)) {
+          fail(line_, "CP: Lab = ALL needs new set numbers; set " + std::to_string(number + d) +
+                          " exists");
+        }
+      }
+    }
+    for (size_t s = 0; s < std::max<size_t>(directions.size(), 1); ++s) {
+      const int set_number = number + static_cast<int>(s);
+      auto [it, inserted] = cp_sets_.try_emplace(set_number, RawCp{-1, {}, line_});
+      RawCp& set = it->second;
+      if (!directions.empty()) {
+        if (!inserted && set.direction >= 0 && set.direction != directions[s]) {
+          fail(line_, "CP: set " + std::to_string(set_number) + " couples " +
+                          "XYZ"[set.direction] + " (line " + std::to_string(set.line + 1) +
+                          "); a different label for it is not supported");
+        }
+        set.direction = directions[s];
+      } else if (set.direction < 0) {
+        fail(line_, "CP: set " + std::to_string(set_number) +
+                        " is new and the command gives no label (UX, UY or UZ)");
+      }
+      for (size_t k = 3; k < f.size(); ++k) {
+        if (trim(f[k]).empty()) continue;
+        const int node = parse_int(f[k], line_, "CP node");
+        if (node == 0) continue;
+        const auto at = std::find_if(set.nodes.begin(), set.nodes.end(),
+                                     [&](const auto& n) { return n.first == std::abs(node); });
+        if (node < 0) {
+          if (at != set.nodes.end()) set.nodes.erase(at);
+        } else if (at == set.nodes.end()) {
+          set.nodes.emplace_back(node, line_);
+        }
+      }
+    }
+  }
+
   // --- building the mesh ---
   Mesh resolve() {
     if (ce_terms_left_ > 0) {
@@ -637,6 +713,7 @@ class CdbParser {
     std::set<int> skipped_elements;
     std::vector<int> element_numbers;  // material number of each element kept
     int mesh200 = 0, mesh200_line = -1, wedges = 0, wedge_line = -1;
+    int pyramids = 0, pyramid_line = -1;
     for (const RawElement& e : elements_) {
       std::vector<int> nodes;
       const std::optional<ElementType> type = map_element(e, &nodes);
@@ -664,6 +741,7 @@ class CdbParser {
       if (*type == ElementType::kC3D6 || *type == ElementType::kC3D15) {
         if (wedges++ == 0) wedge_line = e.line;
       }
+      if (*type == ElementType::kC3D5 && pyramids++ == 0) pyramid_line = e.line;
       element_index[e.id] = mesh.add_element(e.id, *type, local);
       Eigen::Matrix3Xd X(3, static_cast<Eigen::Index>(local.size()));
       for (size_t a = 0; a < local.size(); ++a) {
@@ -702,6 +780,13 @@ class CdbParser {
                        ") read as CalculiX wedges C3D6/C3D15: the same shape functions as "
                        "ANSYS's collapsed hexahedra, CalculiX's integration rules (ANSYS's may "
                        "differ; no B-bar on SOLID185 wedges)");
+    }
+    if (pyramids > 0) {
+      notes_.push_back(file_ + ": " + std::to_string(pyramids) +
+                       " degenerate SOLID185 element(s) of pyramid shape (first on line " +
+                       std::to_string(pyramid_line + 1) +
+                       ") read as C3D5, ANSYS's collapsed hexahedron with 2x2x2 Gauss points, "
+                       "without B-bar");
     }
     for (const RawSet& s : sets_) {
       auto& target = s.node ? mesh.node_sets : mesh.element_sets;
@@ -774,6 +859,23 @@ class CdbParser {
         lc.coefficients.push_back(t.coefficient);
       }
       mesh.equations.push_back(std::move(lc));
+    }
+    // Coupled sets: u(node) - u(primary) = 0 for every other node, the node's DOF dependent.
+    for (const auto& [number, set] : cp_sets_) {
+      std::vector<int> dofs;
+      for (const auto& [node, line] : set.nodes) {
+        const auto it = node_index.find(node);
+        if (it == node_index.end()) fail(line, "CP on unknown node " + std::to_string(node));
+        if (rotated_nodes_.count(node)) {
+          fail(line, "CP on node " + std::to_string(node) +
+                         ", whose nodal coordinate system is rotated: not supported");
+        }
+        dofs.push_back(3 * it->second + set.direction);
+      }
+      for (size_t k = 1; k < dofs.size(); ++k) {
+        mesh.equations.push_back(
+            {{dofs[k], dofs[0]}, {1.0, -1.0}, where(set.nodes[k].second)});
+      }
     }
     if (materials_ != nullptr) {
       materials_->clear();
@@ -851,10 +953,9 @@ class CdbParser {
       return refuse("its corner nodes repeat in a way that is no ANSYS shape");
     }
     const int k2 = keyopt(2);
-    if (shape == "pyramid") {
-      return refuse("the pyramid shape of SOLID" + std::to_string(t.number) +
-                    " is not supported (stickslip has no pyramid element: CalculiX, its "
-                    "reference, has none to check one against)");
+    if (shape == "pyramid" && t.number == 186) {
+      return refuse("the pyramid shape of SOLID186 is not supported (stickslip has no 13-node "
+                    "pyramid; mesh with SOLID185 pyramids or SOLID187 tetrahedra)");
     }
     if (t.number == 185) {
       if (shape == "tetrahedron") {
@@ -865,12 +966,31 @@ class CdbParser {
             "KEYOPT(2) = 1, uniform reduced integration with hourglass control: "
             "stickslip has no hourglass control");
       }
-      if (k2 == 2 || k2 == 3) {
-        return refuse("KEYOPT(2) = " + std::to_string(k2) +
-                      ", enhanced strain: not the same formulation as C3D8I's incompatible modes "
-                      "and not checked against ANSYS (use KEYOPT(2) = 0, B-bar)");
+      if (k2 == 2) {
+        return refuse(
+            "KEYOPT(2) = 2, enhanced strain with 13 internal DOFs (9 against shear locking, 4 "
+            "against volumetric locking): ANSYS does not publish the 4 volumetric modes, so "
+            "stickslip cannot reproduce them (KEYOPT(2) = 3, the 9 bending modes alone, is read "
+            "as C3D8I; KEYOPT(2) = 0 as B-bar)");
+      }
+      if (k2 == 3 && shape != "hexahedron") {
+        return refuse("KEYOPT(2) = 3 (simplified enhanced strain) on the " + shape +
+                      " shape is not supported (only its hexahedron is: C3D8I)");
+      }
+      if (k2 == 3) {
+        // Simplified enhanced strain: 9 enhanced strain modes against shear locking (Simo and
+        // Rifai's method), for a linear elastic hexahedron the incompatible modes of Wilson and
+        // Taylor with Taylor's modification: C3D8I.
+        *nodes = n;
+        return ElementType::kC3D8I;
       }
       if (k2 != 0) return refuse("KEYOPT(2) = " + std::to_string(k2) + " is not supported");
+      if (shape == "pyramid") {
+        // Pyramid I J K L M M M M: C3D5 is this collapsed hexahedron (same shape functions and
+        // 2x2x2 rule), without B-bar.
+        *nodes = {n[0], n[1], n[2], n[3], n[4]};
+        return ElementType::kC3D5;
+      }
       if (shape == "wedge") {
         // Prism I J K K M N O O: the collapsed hexahedron interpolates exactly as the 6-node
         // wedge (its shape functions are the wedge's), integrated here with CalculiX's C3D6 rule.
@@ -928,6 +1048,12 @@ class CdbParser {
   };
   std::vector<RawCe> ce_;
   int ce_terms_left_ = 0;
+  struct RawCp {
+    int direction;                             // 0-2, -1 before a label is given
+    std::vector<std::pair<int, int>> nodes;    // (node id, line), the first the primary
+    int line;                                  // where the set is first defined
+  };
+  std::map<int, RawCp> cp_sets_;
   // reason -> (command, first line), in order of first appearance
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, int>>>> ignored_;
   std::vector<std::string> notes_;

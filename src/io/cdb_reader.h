@@ -27,22 +27,32 @@
 //                           *EQUATION).
 // Element types (KEYOPT(2) chooses the integration):
 //   SOLID185  hexahedron, KEYOPT(2)=0 (B-bar)        -> C3D8B;
+//             hexahedron, KEYOPT(2)=3 (simplified enhanced strain: 9 modes against shear
+//             locking)                               -> C3D8I (Wilson–Taylor incompatible modes
+//             with Taylor's modification, the same element for linear elasticity)
 //             wedge shape (K=L, O=P)                 -> C3D6 (corners I J K M N O; CalculiX's
 //             wedge: the collapsed brick's shape functions, CalculiX's rule, no B-bar)
+//             pyramid shape (M=N=O=P)                -> C3D5 (corners I J K L M: the collapsed
+//             brick, 2x2x2 Gauss, no B-bar)
 //   SOLID186  hexahedron, KEYOPT(2)=0 (reduced 2x2x2) -> C3D20R, KEYOPT(2)=1 (full 3x3x3) -> C3D20;
 //             tetrahedral shape (K=L, M=N=O=P)         -> C3D10 (ANSYS uses the 10-node
 //             tetrahedron's shape functions for it); wedge shape (K=L, O=P) -> C3D15
 //   SOLID187  10-node tetrahedron                      -> C3D10
 //   MESH200   mesh-only element, no stiffness: skipped with a warning.
-// Refused with the element id, its line and why: SOLID185 KEYOPT(2)=1 (uniform reduced
-// integration with hourglass control: stickslip has none), =2 and =3 (enhanced strain: not the
-// same formulation as C3D8I's incompatible modes, and not checked against ANSYS), mixed u-P
-// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, pyramid
-// shapes (no pyramid element: CalculiX has none to check one against), the tetrahedral shape of
-// SOLID185, mid-side nodes left out (0 or a short list), other element types. Also refused, at
-// their line: a D or CE with a non-zero value, CE on rotations, CP / rigid regions (they tie
-// DOFs), temperature-dependent or anisotropic material data, rotated nodal coordinate systems on
-// nodes with D or CE. Every other command is listed in one warning per reason
+//   CP,NSET,Lab,NODE1,...,NODE17  coupled sets (NSET a number, HIGH or NEXT; Lab UX, UY, UZ or
+//                           ALL; a CP on an existing set adds nodes, a negative node removes
+//                           one): u(node) = u(NODE1) for every other node, as the equations
+//                           "node, d, 1, NODE1, d, -1" (the node's DOF dependent).
+// Refused with the element id, its SOLID type, its line and why: SOLID185 KEYOPT(2)=1 (uniform
+// reduced integration with hourglass control: stickslip has none), =2 (enhanced strain with 4
+// volumetric modes ANSYS does not publish), =3 on a wedge or pyramid shape, mixed u-P
+// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, the
+// pyramid shape of SOLID186 (no 13-node pyramid), the tetrahedral shape of SOLID185, mid-side
+// nodes left out (0 or a short list), other element types. Also refused, at their line: a D or
+// CE with a non-zero value, CE or CP on rotations, CP's blocked form or NODE1 = ALL, rigid
+// regions (they tie DOFs), temperature-dependent or anisotropic material data, rotated nodal
+// coordinate systems on nodes with D, CE or CP. Every other command is listed in one warning per
+// reason
 // ("<file>: ignored (<why>): F (line 80), ACEL (line 75), ...") appended to `warnings`.
 //
 // Errors: InvalidInput with SourceLocation{file, line} and what is wrong.

@@ -22,6 +22,7 @@ constexpr int kGmshTet10 = 11;
 constexpr int kGmshHex20 = 17;
 constexpr int kGmshPrism6 = 6;
 constexpr int kGmshPrism15 = 18;
+constexpr int kGmshPyramid5 = 7;
 
 constexpr int kIdentity8[8] = {0, 1, 2, 3, 4, 5, 6, 7};
 // Gmsh 20-node hexahedron: corners 0-7 as CalculiX, then edges (0,1) (0,3) (0,4) (1,2) (1,5)
@@ -149,6 +150,7 @@ const int* gmsh_to_calculix_order(int gmsh_type) {
     case kGmshTet4:
     case kGmshHex8:
     case kGmshPrism6:
+    case kGmshPyramid5:  // base 0-3 (normal towards the apex), apex 4: C3D5's order
       return kIdentity8;
     case kGmshPrism15:
       return kPrism15;
@@ -222,11 +224,14 @@ Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& option
       case kGmshPrism15:
         type = ElementType::kC3D15;
         break;
+      case kGmshPyramid5:
+        type = ElementType::kC3D5;
+        break;
       default:
         throw InvalidInput({source, 0, ""},
                            "unsupported element type " + gmsh_element_name(types[t]) +
                                " (supported: 4- and 10-node tetrahedra, 6- and 15-node "
-                               "prisms, 8- and 20-node hexahedra)");
+                               "prisms, 5-node pyramids, 8- and 20-node hexahedra)");
     }
     const size_t n = static_cast<size_t>(nodes_per_element(type));
     STICKSLIP_VERIFY(element_nodes[t].size() == n * element_tags[t].size(),

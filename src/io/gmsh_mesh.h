@@ -4,8 +4,9 @@
 // Conversion rules:
 //  - All 3D elements of the model become elements (lower-dimensional elements are ignored):
 //    Gmsh 4-node tetrahedron -> C3D4, 10-node -> C3D10, 8-node hexahedron -> options.hexahedron8
-//    (C3D8I by default), 20-node -> options.hexahedron20 (C3D20 by default). Any other 3D type
-//    (prism, pyramid, 27-node hexahedron, ...) is rejected with its Gmsh name.
+//    (C3D8I by default), 20-node -> options.hexahedron20 (C3D20 by default), 6- and 15-node
+//    prisms -> C3D6, C3D15, 5-node pyramid -> C3D5 (same node order). Any other 3D type (13- and
+//    14-node pyramids, 18-node prism, 27-node hexahedron, ...) is rejected with its Gmsh name.
 //  - Node order is converted from Gmsh's to CalculiX's (they differ in the mid-edge nodes of the
 //    20-node hexahedron and of the 10-node tetrahedron; see gmsh_mesh.cpp). Only nodes used by a
 //    3D element are kept. External ids = Gmsh node/element tags; nodes and elements sorted by tag.

@@ -423,12 +423,10 @@ class InpParser {
             upper(*type) == "C3D8R"
                 ? " (one-point integration with hourglass control: stickslip has no hourglass "
                   "control; mesh with C3D8I, C3D8 or C3D20R)"
-                : upper(*type) == "C3D5"
-                      ? " (pyramids: CalculiX has none to check one against)"
-                      : "";
+                : "";
         fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) + why +
                          " (supported: C3D8, C3D8I, C3D8B, C3D20, C3D20R, C3D4, C3D10, C3D6, "
-                         "C3D15)");
+                         "C3D15, C3D5)");
       }
       mode_ = Mode::kElement;
       if (auto n = param(k, "ELSET")) current_set_ = new_set(false, *n, k.line);

@@ -218,6 +218,8 @@ int vtk_cell_type(ElementType type) {
       return 13;
     case ElementType::kC3D15:
       return 26;
+    case ElementType::kC3D5:  // VTK_PYRAMID: base 0-3 with its normal towards the apex 4, as ours
+      return 14;
   }
   return 0;
 }

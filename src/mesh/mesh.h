@@ -32,6 +32,7 @@ enum class ElementType {
             // not a CalculiX element (CalculiX's C3D8 is plain full integration)
   kC3D6,    // 6-node wedge (pentahedron)
   kC3D15,   // 15-node wedge
+  kC3D5,    // 5-node pyramid: the collapsed 8-node brick (ANSYS SOLID185's pyramid), 2x2x2
 };
 
 int nodes_per_element(ElementType type);

@@ -27,6 +27,9 @@ constexpr int kTetEdges[6][3] = {{0, 1, 4}, {1, 2, 5}, {0, 2, 6}, {0, 3, 7}, {1,
 // Wedges (C3D6, C3D15): two triangles and three quadrilaterals, ordered as the hexahedron's.
 constexpr int kWedgeTriangles[2][3] = {{0, 1, 2}, {3, 5, 4}};
 constexpr int kWedgeQuads[3][4] = {{0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}};
+// Pyramid (C3D5): the base and four triangles, the brick's faces with nodes 5-8 collapsed to 4.
+constexpr int kPyramidQuad[4] = {0, 1, 2, 3};
+constexpr int kPyramidTriangles[4][3] = {{0, 4, 1}, {1, 4, 2}, {2, 4, 3}, {3, 4, 0}};
 constexpr int kWedgeEdges[9][3] = {{0, 1, 6},  {1, 2, 7},  {0, 2, 8},  {3, 4, 9}, {4, 5, 10},
                                    {3, 5, 11}, {0, 3, 12}, {1, 4, 13}, {2, 5, 14}};
 
@@ -62,6 +65,9 @@ std::vector<std::vector<int>> local_faces(ElementType type) {
   };
   if (hex) {
     for (const auto& c : kHexFaces) add(c, 4);
+  } else if (type == ElementType::kC3D5) {
+    add(kPyramidQuad, 4);
+    for (const auto& c : kPyramidTriangles) add(c, 3);
   } else if (wedge) {
     for (const auto& c : kWedgeTriangles) add(c, 3);
     for (const auto& c : kWedgeQuads) add(c, 4);

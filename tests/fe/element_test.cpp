@@ -113,8 +113,29 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{ElementType::kC3D20, 6}, Case{ElementType::kC3D20R, 12},
                       Case{ElementType::kC3D4, 6}, Case{ElementType::kC3D10, 6},
                       Case{ElementType::kC3D8B, 6}, Case{ElementType::kC3D6, 7},
-                      Case{ElementType::kC3D15, 6}),
+                      Case{ElementType::kC3D15, 6}, Case{ElementType::kC3D5, 6}),
     case_name);
+
+// C3D5 is by definition the 8-node brick with nodes 5-8 collapsed onto the apex: its stiffness
+// and its mass with the stiffness rule equal Pᵀ K_C3D8 P and Pᵀ M_C3D8 P, P the 24 x 15 map that
+// gives nodes 5-8 of the brick the apex's displacement, on distorted pyramids.
+TEST(ElementKernels, PyramidIsTheCollapsedBrick) {
+  for (unsigned seed : {7u, 8u, 9u}) {
+    const Eigen::Matrix3Xd X = distorted_element(ElementType::kC3D5, seed, 0.2, 0.0);
+    Eigen::Matrix3Xd X8(3, 8);
+    X8.leftCols(5) = X;
+    for (int a = 5; a < 8; ++a) X8.col(a) = X.col(4);
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(24, 15);
+    for (int a = 0; a < 8; ++a) P.block<3, 3>(3 * a, 3 * std::min(a, 4)).setIdentity();
+    Eigen::MatrixXd K5, K8, M5, M8;
+    element_stiffness(ElementType::kC3D5, X, kSteel, K5);
+    element_stiffness(ElementType::kC3D8, X8, kSteel, K8);
+    EXPECT_LT((K5 - P.transpose() * K8 * P).norm(), kRoundOff * K5.norm()) << "seed " << seed;
+    element_mass(ElementType::kC3D5, X, kSteel.density, M5, MassIntegration::kStiffnessRule);
+    element_mass(ElementType::kC3D8, X8, kSteel.density, M8, MassIntegration::kStiffnessRule);
+    EXPECT_LT((M5 - P.transpose() * M8 * P).norm(), kRoundOff * M5.norm()) << "seed " << seed;
+  }
+}
 
 // Exact closed forms on undistorted elements.
 TEST(ElementKernels, Tet4MatchesClosedFormConstantStrainTetrahedron) {
@@ -196,7 +217,7 @@ TEST(ElementKernels, ShapeFunctionsInterpolateAndDerivativesMatchFiniteDifferenc
   constexpr double kFdTolerance = 1e-8;  // O(h^2) truncation + O(eps/h) round-off
   for (ElementType t :
        {ElementType::kC3D8, ElementType::kC3D20, ElementType::kC3D4, ElementType::kC3D10,
-        ElementType::kC3D6, ElementType::kC3D15}) {
+        ElementType::kC3D6, ElementType::kC3D15, ElementType::kC3D5}) {
     const Eigen::Matrix3Xd P = natural_node_coordinates(t);
     Eigen::VectorXd N, Np, Nm;
     Eigen::Matrix3Xd dN, tmp;

@@ -19,6 +19,7 @@ bool is_quadratic(ElementType t) {
 }
 bool is_hex(ElementType t) { return nodes_per_element(t) == 8 || nodes_per_element(t) == 20; }
 bool is_wedge(ElementType t) { return t == ElementType::kC3D6 || t == ElementType::kC3D15; }
+bool is_pyramid(ElementType t) { return t == ElementType::kC3D5; }
 
 // (mid node, end a, end b) local indices of the edges of quadratic elements.
 std::vector<std::array<int, 3>> mid_edges(ElementType t) {
@@ -41,7 +42,7 @@ std::vector<std::array<int, 3>> mid_edges(ElementType t) {
 Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& size) {
   Mesh mesh;
   const bool quad = is_quadratic(type);
-  const int r = quad ? 2 : 1;  // lattice points per cell edge
+  const int r = quad || is_pyramid(type) ? 2 : 1;  // lattice points per cell edge
   const int Nx = r * nx + 1, Ny = r * ny + 1, Nz = r * nz + 1;
   std::vector<int> lattice(static_cast<size_t>(Nx) * Ny * Nz, -1);
   auto lid = [&](int i, int j, int k) { return (static_cast<size_t>(k) * Ny + j) * Nx + i; };
@@ -69,6 +70,21 @@ Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& s
             nodes.push_back(node(r * ci + di, r * cj + dj, r * ck + dk));
           }
           mesh.add_element(eid++, type, nodes);
+        } else if (is_pyramid(type)) {
+          // Six pyramids per cell: each face of the cell is a base (corners ordered so that
+          // their right-hand normal points into the cell), the cell's centre the apex.
+          static const int kBases[6][4][3] = {
+              {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}},
+              {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}},
+              {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}}};
+          for (const auto& base : kBases) {
+            std::vector<int> nodes;
+            for (const auto& c : base) {
+              nodes.push_back(node(r * (ci + c[0]), r * (cj + c[1]), r * (ck + c[2])));
+            }
+            nodes.push_back(node(r * ci + 1, r * cj + 1, r * ck + 1));
+            mesh.add_element(eid++, type, nodes);
+          }
         } else if (is_wedge(type)) {
           // Two wedges per cell: the x-y square split along its (0,0)-(1,1) diagonal, extruded
           // in z; the natural triangle (L2 = xi, L3 = eta) is mapped onto each half.
@@ -172,7 +188,7 @@ Eigen::Matrix3Xd distorted_element(ElementType type, unsigned seed, double corne
   const Eigen::Vector3d s(0.7 + 0.2 * u(rng), 1.0 + 0.2 * u(rng), 0.4 + 0.1 * u(rng));
   const Eigen::Vector3d t(u(rng), u(rng), u(rng));
   const Eigen::Matrix3Xd ref = natural_node_coordinates(type);
-  const int nc = is_hex(type) ? 8 : (is_wedge(type) ? 6 : 4);
+  const int nc = is_hex(type) ? 8 : (is_wedge(type) ? 6 : (is_pyramid(type) ? 5 : 4));
   Eigen::Matrix3Xd X(3, ref.cols());
   for (int a = 0; a < ref.cols(); ++a) {
     Eigen::Vector3d p = ref.col(a);
@@ -186,7 +202,39 @@ Eigen::Matrix3Xd distorted_element(ElementType type, unsigned seed, double corne
   return X;
 }
 
+namespace {
+// V = 1/3 ∫ x·n dS over the bilinear quadrilateral f (outward, counter-clockwise seen from
+// outside), with 2x2 Gauss points (exact for a bilinear face).
+double bilinear_face_flux(const Eigen::Matrix3Xd& X, const std::array<int, 4>& f) {
+  const double g = 1.0 / std::sqrt(3.0);
+  double v = 0.0;
+  for (double s : {-g, g}) {
+    for (double t : {-g, g}) {
+      const Eigen::Vector3d x =
+          0.25 * ((1 - s) * (1 - t) * X.col(f[0]) + (1 + s) * (1 - t) * X.col(f[1]) +
+                  (1 + s) * (1 + t) * X.col(f[2]) + (1 - s) * (1 + t) * X.col(f[3]));
+      const Eigen::Vector3d xs = 0.25 * (-(1 - t) * X.col(f[0]) + (1 - t) * X.col(f[1]) +
+                                         (1 + t) * X.col(f[2]) - (1 + t) * X.col(f[3]));
+      const Eigen::Vector3d xt = 0.25 * (-(1 - s) * X.col(f[0]) - (1 + s) * X.col(f[1]) +
+                                         (1 + s) * X.col(f[2]) + (1 - s) * X.col(f[3]));
+      v += x.dot(xs.cross(xt));
+    }
+  }
+  return v / 3.0;
+}
+}  // namespace
+
 double independent_volume(ElementType type, const Eigen::Matrix3Xd& X) {
+  if (is_pyramid(type)) {
+    // Divergence theorem: the bilinear base (outward: 0 3 2 1) and four flat triangles.
+    double v = bilinear_face_flux(X, {0, 3, 2, 1});
+    for (const auto& t : {std::array<int, 3>{0, 1, 4}, std::array<int, 3>{1, 2, 4},
+                          std::array<int, 3>{2, 3, 4}, std::array<int, 3>{3, 0, 4}}) {
+      const Eigen::Vector3d a = X.col(t[0]), b = X.col(t[1]), c = X.col(t[2]);
+      v += ((a + b + c) / 3.0).dot(0.5 * (b - a).cross(c - a)) / 3.0;
+    }
+    return v;
+  }
   if (is_wedge(type)) {
     // Divergence theorem: V = 1/3 Σ_faces ∫ x·n dS; flat triangles exactly (centroid · area
     // vector), bilinear quadrilaterals with 2x2 Gauss points (exact for them). Outward faces.

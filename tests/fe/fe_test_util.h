@@ -11,7 +11,9 @@
 namespace stickslip::testing {
 
 // nx x ny x nz cells over [0,Lx]x[0,Ly]x[0,Lz]. Hexahedra: one element per cell; tetrahedra:
-// six per cell (Kuhn subdivision, conforming). Node ids = index + 1, element ids = index + 1.
+// six per cell (Kuhn subdivision, conforming); wedges: two per cell; pyramids (C3D5): six per
+// cell, one on each face, apex at the cell's centre (a node of its own). Node ids = index + 1,
+// element ids = index + 1.
 Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& size);
 
 // Moves every node by a seeded random vector of length <= amplitude in each component; nodes on
@@ -33,7 +35,8 @@ Eigen::Matrix3Xd distorted_element(ElementType type, unsigned seed, double corne
 
 // Volume of a straight-edged element from its corner nodes, independent of the element code:
 // hexahedra by the divergence theorem V = 1/3 sum_faces integral x.n dS over the bilinear faces
-// (2x2 Gauss is exact for them); tetrahedra by the triple product.
+// (2x2 Gauss is exact for them); tetrahedra by the triple product; wedges and pyramids by the
+// divergence theorem over their bilinear quadrilaterals and flat triangles.
 double independent_volume(ElementType type, const Eigen::Matrix3Xd& X);
 
 // The 6 rigid-body displacement fields (3 translations, 3 rotations about the origin) at the

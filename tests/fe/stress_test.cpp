@@ -27,7 +27,7 @@ constexpr double kRoundOff = 1e-10;  // relative; small dense solves and sums in
 
 const ElementType kAllTypes[] = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
                                  ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10,
-                                 ElementType::kC3D6,   ElementType::kC3D15};
+                                 ElementType::kC3D6,   ElementType::kC3D15, ElementType::kC3D5};
 
 TEST(Stress, ExtrapolationIsExactForItsPolynomialBasis) {
   for (ElementType type : kAllTypes) {

@@ -286,10 +286,14 @@ TEST(CdbReader, KeyoptTwoOfSolid185ChoosesOrRefuses) {
   EXPECT_EQ(read_text(cube_file("ET,1,185\n")).element_types[0], ElementType::kC3D8B);
   EXPECT_EQ(read_text(cube_file("ET,1,SOLID185\nKEYOPT,1,2,0\n")).element_types[0],
             ElementType::kC3D8B);
-  for (int k2 : {1, 2, 3}) {
+  // KEYOPT(2) = 3, simplified enhanced strain (9 modes against shear locking): C3D8I.
+  EXPECT_EQ(read_text(cube_file("ET,1,185\nKEYOPT,1,2,3\n")).element_types[0],
+            ElementType::kC3D8I);
+  for (int k2 : {1, 2}) {
     const InvalidInput e = error_of(
         [&] { read_text(cube_file("ET,1,185\nKEYOPT,1,2," + std::to_string(k2) + "\n")); });
     EXPECT_TRUE(contains(e.message(), "element 7")) << e.message();
+    EXPECT_TRUE(contains(e.message(), "SOLID185")) << e.message();
     EXPECT_TRUE(contains(e.message(), "KEYOPT(2) = " + std::to_string(k2))) << e.message();
     EXPECT_EQ(e.where().line, 17);  // the element record
   }
@@ -301,6 +305,24 @@ TEST(CdbReader, KeyoptTwoOfSolid185ChoosesOrRefuses) {
   EXPECT_TRUE(
       contains(error_of([&] { read_text(cube_file("ET,1,45\n")); }).message(), "not supported"));
   EXPECT_TRUE(contains(error_of([&] { read_text(cube_file("")); }).message(), "no ET"));
+}
+
+TEST(CdbReader, Solid185PyramidShapeIsC3D5WithAWarning) {
+  const std::string cube = cube_file("ET,1,185\n");
+  const std::string hexahedron = "        5        6        7        8\n";
+  const size_t at = cube.find(hexahedron);
+  ASSERT_NE(at, std::string::npos);
+  const std::string text = cube.substr(0, at) + "        5        5        5        5\n" +
+                           cube.substr(at + hexahedron.size());
+  std::vector<std::string> warnings;
+  const Mesh m = read_text(text, &warnings);
+  ASSERT_EQ(m.num_elements(), 1);
+  EXPECT_EQ(m.element_types[0], ElementType::kC3D5);
+  const auto nodes = m.element_nodes(0);
+  for (int a = 0; a < 5; ++a) EXPECT_EQ(m.node_ids[nodes[a]], a + 1);  // I J K L M
+  std::string all;
+  for (const std::string& w : warnings) all += w + "\n";
+  EXPECT_TRUE(contains(all, "pyramid shape (first on line 16) read as C3D5")) << all;
 }
 
 TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
@@ -319,7 +341,12 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   EXPECT_TRUE(contains(message("CE,R5.0,DEFI,3,1,0\nCE,R5.0,NODE,1,UX,1.0,2,UX,-1.0\n"),
                        "1 term(s) missing"));
   EXPECT_TRUE(contains(message("CE,R5.0,NODE,1,UX,1.0,2,UX,-1.0\n"), "without a CE,R5.0,DEFI"));
-  EXPECT_TRUE(contains(message("CP,1,UX,1,2\n"), "CP is not supported"));
+  EXPECT_TRUE(contains(message("CP,1,ROTX,1,2\n"), "'ROTX'"));
+  EXPECT_TRUE(contains(message("CP,1,UX,ALL\n"), "NODE1 = ALL"));
+  EXPECT_TRUE(contains(message("CP,1,,1,2\n"), "no label"));
+  EXPECT_TRUE(contains(message("CP,1,UX,1,2\nCP,1,UY,3\n"), "a different label"));
+  EXPECT_TRUE(contains(message("CP,1,UX,1,9\n"), "unknown node 9"));
+  EXPECT_TRUE(contains(message("CP,R5.0,1,UX,1,2\n"), "blocked form"));
   EXPECT_TRUE(contains(message("MPTEMP,R5.0,2,1,0,100\nMPDATA,R5.0,2,EX,1,1,2e11,1.9e11,\n"),
                        "temperature-dependent"));
   EXPECT_TRUE(contains(message("MPDATA,R5.0,1,EY,1,1,2e11,\n"), "anisotropic"));
@@ -357,6 +384,34 @@ TEST(CdbReader, RulesOnConstraintsMaterialsAndBlocks) {
   const Mesh c =
       read_text(cube_file(et, "CMBLOCK,SIDE,NODE,3\n(8i10)\n         1        -3         8\n"));
   EXPECT_EQ(ids_of(c, c.node_sets.at("SIDE")), (std::vector<int>{1, 2, 3, 8}));
+}
+
+// CP (coupled DOF sets, ANSYS's CP command): u(node) = u(primary) in the set's direction for
+// every node after the first, the node's DOF dependent, as *EQUATION "node, d, 1, primary, d, -1".
+TEST(CdbReader, CoupledSetsBecomeEquationsOnTheirPrimaryNode) {
+  const Mesh m = read_text(cube_file("ET,1,185\n",
+                                     "CP,1,UX,1,2,3\n"     // set 1: UX of 2 and 3 = UX of 1
+                                     "CP,1,,4,-3,2\n"      // adds 4, takes 3 out, 2 again ignored
+                                     "CP,NEXT,UZ,5,6\n"    // set 2
+                                     "CP,HIGH,,7\n"        // adds 7 to set 2
+                                     "CP,10,ALL,8,1\n"));  // sets 10, 11, 12: UX, UY, UZ
+  const auto dof = [&](int id, int d) {
+    return 3 * static_cast<int>(std::find(m.node_ids.begin(), m.node_ids.end(), id) -
+                                m.node_ids.begin()) +
+           d;
+  };
+  const std::vector<std::vector<int>> expected = {
+      {dof(2, 0), dof(1, 0)}, {dof(4, 0), dof(1, 0)}, {dof(6, 2), dof(5, 2)},
+      {dof(7, 2), dof(5, 2)}, {dof(1, 0), dof(8, 0)}, {dof(1, 1), dof(8, 1)},
+      {dof(1, 2), dof(8, 2)}};
+  ASSERT_EQ(m.equations.size(), expected.size());
+  for (size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_EQ(m.equations[k].dofs, expected[k]) << k;
+    EXPECT_EQ(m.equations[k].coefficients, (std::vector<double>{1.0, -1.0})) << k;
+  }
+  EXPECT_EQ(m.equations[0].origin, "cube.cdb:18");
+  EXPECT_EQ(m.equations[1].origin, "cube.cdb:19");
+  EXPECT_EQ(m.equations[3].origin, "cube.cdb:21");
 }
 
 TEST(CdbReader, Solid186FullIntegrationAndBrokenBlocks) {

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.h"
+#include "fe/element.h"
 
 namespace stickslip {
 namespace {
@@ -260,7 +261,7 @@ TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
   }
 }
 
-TEST(GmshMesh, ReadsPrismsAsC3D6AndRejectsPyramidsNamingThem) {
+TEST(GmshMesh, ReadsPrismsAsC3D6PyramidsAsC3D5AndRejectsQuadraticPyramidsNamingThem) {
   const std::string path = temp_path("prism.msh");
   {
     GmshSession session;
@@ -287,14 +288,56 @@ TEST(GmshMesh, ReadsPrismsAsC3D6AndRejectsPyramidsNamingThem) {
     gmsh::write(path);
     gmsh::model::remove();
   }
+  const Mesh pyramid = read_gmsh(path);
+  ASSERT_EQ(pyramid.num_elements(), 1);
+  EXPECT_EQ(pyramid.element_types[0], ElementType::kC3D5);
+  const auto pyramid_nodes = pyramid.element_nodes(0);
+  for (int a = 0; a < 5; ++a) EXPECT_EQ(pyramid.node_ids[pyramid_nodes[a]], a + 1);
+  {
+    GmshSession session;
+    gmsh::model::add("pyramid13");
+    const int v = gmsh::model::addDiscreteEntity(3);
+    std::vector<std::size_t> tags;
+    std::vector<double> xyz;
+    for (int i = 0; i < 13; ++i) {
+      tags.push_back(static_cast<std::size_t>(i + 1));
+      for (double c : {0.1 * i, 0.2 * (i % 3), 0.3 * (i % 5)}) xyz.push_back(c);
+    }
+    gmsh::model::mesh::addNodes(3, v, tags, xyz);
+    gmsh::model::mesh::addElementsByType(v, 19, {1}, tags);
+    gmsh::write(path);
+    gmsh::model::remove();
+  }
   try {
     read_gmsh(path);
-    FAIL() << "a pyramid was accepted";
+    FAIL() << "a 13-node pyramid was accepted";
   } catch (const InvalidInput& e) {
     EXPECT_EQ(e.where().file, path);
     EXPECT_NE(e.message().find("Pyramid"), std::string::npos) << e.message();
   }
   std::filesystem::remove(path);
+}
+
+// Gmsh's own reference pyramid (getElementProperties): base corners 0-3 at w = 0 and apex 4 at
+// (0, 0, 1), in the order of C3D5's natural nodes (base at zeta = -1, apex at (0, 0, 1)), so the
+// reader keeps Gmsh's node order.
+TEST(GmshMesh, GmshReferencePyramidHasC3D5sNodeOrder) {
+  GmshSession session;
+  std::string name;
+  int dim = 0, order = 0, num_nodes = 0, primary = 0;
+  std::vector<double> local;
+  gmsh::model::mesh::getElementProperties(7, name, dim, order, num_nodes, local, primary);
+  ASSERT_EQ(num_nodes, 5);
+  const Eigen::Matrix3Xd ours = natural_node_coordinates(ElementType::kC3D5);
+  const int* perm = gmsh_to_calculix_order(7);
+  ASSERT_NE(perm, nullptr);
+  for (int a = 0; a < 5; ++a) {
+    const int g = perm[a];
+    const Eigen::Vector3d gmsh(local[3 * g], local[3 * g + 1], local[3 * g + 2]);
+    // Gmsh's w in [0, 1] is our zeta in [-1, 1] on the base; both put the apex at (0, 0, 1).
+    const Eigen::Vector3d mapped(gmsh(0), gmsh(1), a < 4 ? 2 * gmsh(2) - 1 : gmsh(2));
+    EXPECT_EQ(mapped, Eigen::Vector3d(ours.col(a))) << "node " << a;
+  }
 }
 
 TEST(GmshMesh, WarnsAboutElementsAndGroupNodesItDoesNotUse) {

@@ -1,0 +1,229 @@
+// End-to-end: pyramids (C3D5) in a mesh with hexahedra and tetrahedra.
+//  - Frequencies through `stickslip modes` against CalculiX *FREQUENCY run by the test on the same
+//    mesh. ccx has no pyramid element; C3D5 is by definition the 8-node brick with nodes 5-8
+//    collapsed onto the apex (ANSYS SOLID185's pyramid), so ccx gets each pyramid as exactly that
+//    C3D8 (nodes 5-8 = the apex): an exact reference, computed by ccx's own C3D8 code. (The same
+//    pyramids split into two tetrahedra would not be one: the brick's bilinear term differs from a
+//    piecewise linear field.) With `mass_rule: calculix` both integrate the mass with 2x2x2
+//    points, so the frequencies agree to ccx's 7 printed digits.
+//  - The mesh's volume: the sum of element_volume over bricks, pyramids and tetrahedra equals the
+//    bar's (an affine image of a box: det A · lx ly lz).
+//  - VTK (Debian's python3-vtk9) reads the VTU stickslip writes: pyramids as VTK_PYRAMID (14) with
+//    VTK's volume = ours, and VTK's own pyramid shape functions (vtkCell::EvaluateLocation) map
+//    parametric points where ours do.
+#include <gtest/gtest.h>
+
+#include "../required_tool.h"
+#include "cli_test_support.h"
+#include "fe/element.h"
+#include "io/inp_reader.h"
+#include "pyramid_decks.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <Eigen/LU>
+
+namespace {
+
+using namespace stickslip::cli_test;
+using stickslip::ElementType;
+
+// The skewed bar: det A = 0.865 > 0 (not a mirror), no two columns parallel.
+constexpr double kA[3][3] = {{1.0, 0.3, -0.2}, {0.1, 1.1, 0.25}, {-0.15, 0.2, 0.9}};
+constexpr double kLx = 0.2, kLy = 0.03, kLz = 0.02;
+
+std::string mixed_bar(int nx, int ny, int nz, bool pyramids_as_c3d8) {
+  return mixed_pyramid_bar_inp(nx, ny, nz, kLx, kLy, kLz, kA, 2, nx - 3, pyramids_as_c3d8);
+}
+
+int count_type(const stickslip::Mesh& mesh, ElementType type) {
+  int n = 0;
+  for (ElementType t : mesh.element_types) n += t == type ? 1 : 0;
+  return n;
+}
+
+TEST(PyramidCli, MixedBrickPyramidTetBarModesMatchCalculixWithPyramidsAsCollapsedBricks) {
+  constexpr int kModes = 8;
+  const fs::path dir = fresh_dir("pyramid_ccx");
+  std::ofstream(dir / "bar.inp") << mixed_bar(8, 2, 2, false);
+  std::ofstream(dir / "job.inp")
+      << mixed_bar(8, 2, 2, true)
+      << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2e11, 0.3\n*DENSITY\n7800\n"
+         "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*STEP\n*FREQUENCY\n"
+      << kModes << "\n*BOUNDARY\nFIX, 1, 3\n*END STEP\n";
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  ASSERT_GT(count_type(mesh, ElementType::kC3D5), 20);
+  ASSERT_GT(count_type(mesh, ElementType::kC3D4), 10);
+  ASSERT_GT(count_type(mesh, ElementType::kC3D8), 10);
+  const std::string plain = tip_spring_bar_case((dir / "bar.inp").string());
+  const std::string body = "clamp: FIX,";
+  const size_t at = plain.find(body);
+  ASSERT_NE(at, std::string::npos);
+  const std::string yaml =
+      plain.substr(0, at) + "clamp: FIX, mass_rule: calculix," + plain.substr(at + body.size());
+  run_stage("modes", write_case(dir, "bar", yaml), dir / "out");
+  const auto rows = read_csv(dir / "out" / "modes" / "frequencies.csv");
+  ASSERT_GE(static_cast<int>(rows.size()), kModes);
+  const std::vector<double> lambda = ccx_job_eigenvalues(dir);
+  ASSERT_EQ(static_cast<int>(lambda.size()), kModes) << slurp(dir / "ccx.log");
+  // Same K and M; ccx prints 7 significant digits (eigenvalue to 5e-8, frequency half of it).
+  constexpr double kPrintedDigits = 1e-6;
+  const double worst = expect_frequencies_match(rows, lambda, kModes, kPrintedDigits);
+  std::printf(
+      "[ CalculiX ] brick/pyramid/tet bar 8x2x2 cells: max relative frequency "
+      "difference %.2e\n",
+      worst);
+  RecordProperty("max_relative_frequency_difference_to_ccx", std::to_string(worst));
+  fs::remove_all(dir);
+}
+
+TEST(PyramidCli, VolumesOfBricksPyramidsAndTetrahedraAddUpToTheBar) {
+  const fs::path dir = fresh_dir("pyramid_volume");
+  std::ofstream(dir / "bar.inp") << mixed_bar(6, 2, 3, false);
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  ASSERT_GT(count_type(mesh, ElementType::kC3D5), 20);
+  double volume = 0.0;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    const auto nodes = mesh.element_nodes(e);
+    Eigen::Matrix3Xd X(3, nodes.size());
+    for (size_t a = 0; a < nodes.size(); ++a) X.col(a) = mesh.coordinates.col(nodes[a]);
+    volume += stickslip::element_volume(mesh.element_types[e], X);
+  }
+  Eigen::Matrix3d A;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) A(i, j) = kA[i][j];
+  const double exact = A.determinant() * kLx * kLy * kLz;
+  // The deck's coordinates carry 12 significant digits.
+  constexpr double kDeckDigits = 1e-10;
+  EXPECT_NEAR(volume, exact, kDeckDigits * exact);
+  fs::remove_all(dir);
+}
+
+bool vtk_available() {
+  return fs::exists("/usr/bin/python3") &&
+         std::system("/usr/bin/python3 -c 'import vtk' 2>/dev/null") == 0;
+}
+
+// Parametric points (r, s, t) of VTK's pyramid (vtkPyramid: base points 0-3 at (r, s) = (0, 0),
+// (1, 0), (1, 1), (0, 1) with t = 0, apex 4 at t = 1), none on a symmetry of the pyramid.
+constexpr double kParametric[4][3] = {
+    {0.2, 0.5, 0.3}, {0.1, 0.15, 0.9}, {0.6, 0.25, 0.05}, {0.7, 0.8, 0.4}};
+
+constexpr const char* kVtkCheck = R"PY(
+import sys
+import vtk
+reader = vtk.vtkXMLUnstructuredGridReader()
+reader.SetFileName(sys.argv[1])
+reader.Update()
+grid = reader.GetOutput()
+sizes = vtk.vtkCellSizeFilter()
+sizes.SetInputData(grid)
+sizes.Update()
+volume = sizes.GetOutput().GetCellData().GetArray('Volume')
+ids = grid.GetCellData().GetArray('element_id')
+pcoords = [[float(v) for v in p.split(',')] for p in sys.argv[3:]]
+with open(sys.argv[2], 'w') as out:
+    for c in range(grid.GetNumberOfCells()):
+        cell = grid.GetCell(c)
+        eid = int(ids.GetValue(c))
+        out.write('cell %d %d %r\n' % (eid, cell.GetCellType(), volume.GetValue(c)))
+        if cell.GetCellType() != 14:
+            continue
+        for k, p in enumerate(pcoords):
+            x = [0.0, 0.0, 0.0]
+            w = [0.0] * cell.GetNumberOfPoints()
+            cell.EvaluateLocation(vtk.reference(0), p, x, w)
+            out.write('point %d %d %r %r %r\n' % (eid, k, x[0], x[1], x[2]))
+)PY";
+
+TEST(PyramidCli, VtkReadsPyramidsWithTheMeshsVolumesAndGeometry) {
+  STICKSLIP_REQUIRE_TOOL(vtk_available(), "/usr/bin/python3 with VTK (python3-vtk9)");
+  const fs::path dir = fresh_dir("pyramid_vtk");
+  std::ofstream(dir / "bar.inp") << mixed_bar(6, 1, 1, false);
+  run_stage("modes", write_case(dir, "bar", tip_spring_bar_case((dir / "bar.inp").string())),
+            dir / "out");
+  const fs::path vtu = dir / "out" / "modes" / "bar" / "shapes.vtu";
+  ASSERT_TRUE(fs::exists(vtu));
+  std::ofstream(dir / "check.py") << kVtkCheck;
+  std::string command = "/usr/bin/python3 " + (dir / "check.py").string() + " " + vtu.string() +
+                        " " + (dir / "vtk.txt").string();
+  for (const auto& p : kParametric) {
+    std::ostringstream s;
+    s.precision(17);
+    s << " " << p[0] << "," << p[1] << "," << p[2];
+    command += s.str();
+  }
+  ASSERT_EQ(shell(command, dir / "python.log"), 0) << slurp(dir / "python.log");
+
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  std::map<int, int> element_of_id;
+  for (int e = 0; e < mesh.num_elements(); ++e) element_of_id[mesh.element_ids[e]] = e;
+  // VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA (vtkCellType.h).
+  const std::map<ElementType, int> vtk_types = {
+      {ElementType::kC3D8, 12}, {ElementType::kC3D5, 14}, {ElementType::kC3D4, 10}};
+  std::ifstream in(dir / "vtk.txt");
+  std::string line;
+  int cells = 0, pyramid_points = 0;
+  const auto coordinates = [&](int e) {
+    const auto nodes = mesh.element_nodes(e);
+    Eigen::Matrix3Xd X(3, nodes.size());
+    for (size_t a = 0; a < nodes.size(); ++a) X.col(a) = mesh.coordinates.col(nodes[a]);
+    return X;
+  };
+  // Volumes and positions are sums of O(1) products of coordinates of size ~0.1 m (digits as in
+  // the deck, 17 in the VTU): round-off is ~1e-16 of the element's size.
+  constexpr double kRoundOff = 1e-12;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string kind;
+    int id = 0;
+    s >> kind >> id;
+    ASSERT_TRUE(element_of_id.count(id)) << line;
+    const int e = element_of_id.at(id);
+    const ElementType type = mesh.element_types[e];
+    const Eigen::Matrix3Xd X = coordinates(e);
+    const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    if (kind == "cell") {
+      int cell_type = 0;
+      std::string volume;
+      s >> cell_type >> volume;
+      EXPECT_EQ(cell_type, vtk_types.at(type)) << line;
+      const double ours = stickslip::element_volume(type, X);
+      EXPECT_GT(ours, 0.0);
+      EXPECT_NEAR(std::strtod(volume.c_str(), nullptr), ours, kRoundOff * std::pow(size, 3))
+          << "element " << id;
+      ++cells;
+    } else {
+      ASSERT_EQ(kind, "point") << line;
+      ASSERT_EQ(type, ElementType::kC3D5) << line;
+      int k = 0;
+      std::string x[3];
+      s >> k >> x[0] >> x[1] >> x[2];
+      ASSERT_TRUE(k >= 0 && k < 4) << line;
+      // VTK's (r, s, t) in [0, 1]^3 is our (xi, eta, zeta) in [-1, 1]^3.
+      const Eigen::Vector3d xi(2 * kParametric[k][0] - 1, 2 * kParametric[k][1] - 1,
+                               2 * kParametric[k][2] - 1);
+      Eigen::VectorXd N;
+      Eigen::Matrix3Xd dN;
+      stickslip::shape_functions(type, xi, N, dN);
+      const Eigen::Vector3d ours = X * N;
+      for (int d = 0; d < 3; ++d) {
+        EXPECT_NEAR(std::strtod(x[d].c_str(), nullptr), ours(d), kRoundOff * size)
+            << "element " << id << " parametric point " << k << " direction " << d;
+      }
+      ++pyramid_points;
+    }
+  }
+  EXPECT_EQ(cells, mesh.num_elements());
+  EXPECT_EQ(pyramid_points, 4 * count_type(mesh, ElementType::kC3D5));
+  EXPECT_GT(pyramid_points, 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
