@@ -342,8 +342,11 @@ TEST(Examples, NonMatchingJointWithAComputedPreload) {
   const auto check = read_csv(out / "recovery_check.csv");
   ASSERT_FALSE(check.empty());
   const std::string point = check.front().at("point");
-  for (const auto& r : check)
-    if (r.at("harmonic") == "1") EXPECT_LT(std::stod(r.at("max_relative")), 1e-3);
+  for (const auto& r : check) {
+    if (r.at("harmonic") == "1") {
+      EXPECT_LT(std::stod(r.at("max_relative")), 1e-3);
+    }
+  }
   double reaction = 0, normal = 0;
   for (const auto& r : read_csv(out / "reactions.csv"))
     if (r.at("point") == point && r.at("body") == "beam1" && r.at("axis") == "x" &&
