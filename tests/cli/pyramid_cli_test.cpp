@@ -18,6 +18,7 @@
 #include "fe/element.h"
 #include "io/inp_reader.h"
 #include "pyramid_decks.h"
+#include "vtk_cells.h"
 
 #include <cmath>
 #include <cstdio>
@@ -105,42 +106,10 @@ TEST(PyramidCli, VolumesOfBricksPyramidsAndTetrahedraAddUpToTheBar) {
   fs::remove_all(dir);
 }
 
-bool vtk_available() {
-  return fs::exists("/usr/bin/python3") &&
-         std::system("/usr/bin/python3 -c 'import vtk' 2>/dev/null") == 0;
-}
-
 // Parametric points (r, s, t) of VTK's pyramid (vtkPyramid: base points 0-3 at (r, s) = (0, 0),
 // (1, 0), (1, 1), (0, 1) with t = 0, apex 4 at t = 1), none on a symmetry of the pyramid.
-constexpr double kParametric[4][3] = {
+const std::vector<std::array<double, 3>> kParametric = {
     {0.2, 0.5, 0.3}, {0.1, 0.15, 0.9}, {0.6, 0.25, 0.05}, {0.7, 0.8, 0.4}};
-
-constexpr const char* kVtkCheck = R"PY(
-import sys
-import vtk
-reader = vtk.vtkXMLUnstructuredGridReader()
-reader.SetFileName(sys.argv[1])
-reader.Update()
-grid = reader.GetOutput()
-sizes = vtk.vtkCellSizeFilter()
-sizes.SetInputData(grid)
-sizes.Update()
-volume = sizes.GetOutput().GetCellData().GetArray('Volume')
-ids = grid.GetCellData().GetArray('element_id')
-pcoords = [[float(v) for v in p.split(',')] for p in sys.argv[3:]]
-with open(sys.argv[2], 'w') as out:
-    for c in range(grid.GetNumberOfCells()):
-        cell = grid.GetCell(c)
-        eid = int(ids.GetValue(c))
-        out.write('cell %d %d %r\n' % (eid, cell.GetCellType(), volume.GetValue(c)))
-        if cell.GetCellType() != 14:
-            continue
-        for k, p in enumerate(pcoords):
-            x = [0.0, 0.0, 0.0]
-            w = [0.0] * cell.GetNumberOfPoints()
-            cell.EvaluateLocation(vtk.reference(0), p, x, w)
-            out.write('point %d %d %r %r %r\n' % (eid, k, x[0], x[1], x[2]))
-)PY";
 
 TEST(PyramidCli, VtkReadsPyramidsWithTheMeshsVolumesAndGeometry) {
   STICKSLIP_REQUIRE_TOOL(vtk_available(), "/usr/bin/python3 with VTK (python3-vtk9)");
@@ -150,79 +119,52 @@ TEST(PyramidCli, VtkReadsPyramidsWithTheMeshsVolumesAndGeometry) {
             dir / "out");
   const fs::path vtu = dir / "out" / "modes" / "bar" / "shapes.vtu";
   ASSERT_TRUE(fs::exists(vtu));
-  std::ofstream(dir / "check.py") << kVtkCheck;
-  std::string command = "/usr/bin/python3 " + (dir / "check.py").string() + " " + vtu.string() +
-                        " " + (dir / "vtk.txt").string();
-  for (const auto& p : kParametric) {
-    std::ostringstream s;
-    s.precision(17);
-    s << " " << p[0] << "," << p[1] << "," << p[2];
-    command += s.str();
-  }
-  ASSERT_EQ(shell(command, dir / "python.log"), 0) << slurp(dir / "python.log");
+  constexpr int kVtkPyramid = 14;  // vtkCellType.h
+  const VtkCells vtk = read_with_vtk(vtu, dir, kParametric, kVtkPyramid);
 
   const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
   std::map<int, int> element_of_id;
   for (int e = 0; e < mesh.num_elements(); ++e) element_of_id[mesh.element_ids[e]] = e;
   // VTK_HEXAHEDRON, VTK_PYRAMID, VTK_TETRA (vtkCellType.h).
   const std::map<ElementType, int> vtk_types = {
-      {ElementType::kC3D8, 12}, {ElementType::kC3D5, 14}, {ElementType::kC3D4, 10}};
-  std::ifstream in(dir / "vtk.txt");
-  std::string line;
-  int cells = 0, pyramid_points = 0;
-  const auto coordinates = [&](int e) {
-    const auto nodes = mesh.element_nodes(e);
-    Eigen::Matrix3Xd X(3, nodes.size());
-    for (size_t a = 0; a < nodes.size(); ++a) X.col(a) = mesh.coordinates.col(nodes[a]);
-    return X;
-  };
+      {ElementType::kC3D8, 12}, {ElementType::kC3D5, kVtkPyramid}, {ElementType::kC3D4, 10}};
   // Volumes and positions are sums of O(1) products of coordinates of size ~0.1 m (digits as in
   // the deck, 17 in the VTU): round-off is ~1e-16 of the element's size.
   constexpr double kRoundOff = 1e-12;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string kind;
-    int id = 0;
-    s >> kind >> id;
-    ASSERT_TRUE(element_of_id.count(id)) << line;
-    const int e = element_of_id.at(id);
+  for (const VtkCell& cell : vtk.cells) {
+    ASSERT_TRUE(element_of_id.count(cell.element_id)) << cell.element_id;
+    const int e = element_of_id.at(cell.element_id);
     const ElementType type = mesh.element_types[e];
-    const Eigen::Matrix3Xd X = coordinates(e);
+    const Eigen::Matrix3Xd X = element_coordinates(mesh, e);
     const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
-    if (kind == "cell") {
-      int cell_type = 0;
-      std::string volume;
-      s >> cell_type >> volume;
-      EXPECT_EQ(cell_type, vtk_types.at(type)) << line;
-      const double ours = stickslip::element_volume(type, X);
-      EXPECT_GT(ours, 0.0);
-      EXPECT_NEAR(std::strtod(volume.c_str(), nullptr), ours, kRoundOff * std::pow(size, 3))
-          << "element " << id;
-      ++cells;
-    } else {
-      ASSERT_EQ(kind, "point") << line;
-      ASSERT_EQ(type, ElementType::kC3D5) << line;
-      int k = 0;
-      std::string x[3];
-      s >> k >> x[0] >> x[1] >> x[2];
-      ASSERT_TRUE(k >= 0 && k < 4) << line;
-      // VTK's (r, s, t) in [0, 1]^3 is our (xi, eta, zeta) in [-1, 1]^3.
-      const Eigen::Vector3d xi(2 * kParametric[k][0] - 1, 2 * kParametric[k][1] - 1,
-                               2 * kParametric[k][2] - 1);
-      Eigen::VectorXd N;
-      Eigen::Matrix3Xd dN;
-      stickslip::shape_functions(type, xi, N, dN);
-      const Eigen::Vector3d ours = X * N;
-      for (int d = 0; d < 3; ++d) {
-        EXPECT_NEAR(std::strtod(x[d].c_str(), nullptr), ours(d), kRoundOff * size)
-            << "element " << id << " parametric point " << k << " direction " << d;
-      }
-      ++pyramid_points;
+    EXPECT_EQ(cell.type, vtk_types.at(type)) << "element " << cell.element_id;
+    const double ours = stickslip::element_volume(type, X);
+    EXPECT_GT(ours, 0.0);
+    EXPECT_NEAR(cell.volume, ours, kRoundOff * std::pow(size, 3)) << "element " << cell.element_id;
+  }
+  for (const VtkPoint& point : vtk.points) {
+    ASSERT_TRUE(element_of_id.count(point.element_id)) << point.element_id;
+    const int e = element_of_id.at(point.element_id);
+    ASSERT_EQ(mesh.element_types[e], ElementType::kC3D5) << "element " << point.element_id;
+    ASSERT_TRUE(point.k >= 0 && point.k < 4);
+    const Eigen::Matrix3Xd X = element_coordinates(mesh, e);
+    const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    // VTK's (r, s, t) in [0, 1]^3 is our (xi, eta, zeta) in [-1, 1]^3.
+    const auto& r = kParametric[point.k];
+    const Eigen::Vector3d xi(2 * r[0] - 1, 2 * r[1] - 1, 2 * r[2] - 1);
+    Eigen::VectorXd N;
+    Eigen::Matrix3Xd dN;
+    stickslip::shape_functions(ElementType::kC3D5, xi, N, dN);
+    const Eigen::Vector3d ours = X * N;
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(point.x(d), ours(d), kRoundOff * size)
+          << "element " << point.element_id << " parametric point " << point.k << " direction "
+          << d;
     }
   }
-  EXPECT_EQ(cells, mesh.num_elements());
-  EXPECT_EQ(pyramid_points, 4 * count_type(mesh, ElementType::kC3D5));
-  EXPECT_GT(pyramid_points, 0);
+  EXPECT_EQ(static_cast<int>(vtk.cells.size()), mesh.num_elements());
+  EXPECT_EQ(static_cast<int>(vtk.points.size()), 4 * count_type(mesh, ElementType::kC3D5));
+  EXPECT_GT(vtk.points.size(), 0u);
   fs::remove_all(dir);
 }
 
