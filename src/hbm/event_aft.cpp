@@ -23,6 +23,7 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "hbm/aft.h"
+#include "hbm/event_roots.h"
 #include "hbm/gauss_legendre.h"
 
 namespace stickslip {
@@ -122,54 +123,11 @@ class EventCycle {
     }
   }
 
-  // Zero of fun in (lo, hi), fun(lo) >= 0 > fun(hi) taken as given: safeguarded Newton.
-  template <class F, class D>
-  double locate(const F& fun, const D& dfun, double lo, double hi) const {
-    const double eps = std::numeric_limits<double>::epsilon();
-    double x = 0.5 * (lo + hi);
-    for (int it = 0; it < 200; ++it) {
-      const double fx = fun(x), dfx = dfun(x);
-      (fx >= 0 ? lo : hi) = x;
-      if (hi - lo <= 4 * eps * std::max(1.0, std::abs(x))) break;
-      double xn = dfx != 0.0 ? x - fx / dfx : lo - 1.0;
-      if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
-      if (std::abs(xn - x) <= 2 * eps * std::max(1.0, std::abs(x))) {
-        x = xn;
-        break;
-      }
-      x = xn;
-    }
-    return x;
-  }
-
-  // The first θ in (a, b] where f < −tolerance: bracketed on the grid θ_k = k·2π/N, plus a
-  // check of each interval's interior minimum (f' from − to +), then located.
+  // The first θ in (a, b] where f < −tolerance, bracketed on the grid θ_k = k·2π/N
+  // (event_roots.h).
   std::optional<double> first_exit(const Trig& f, double a, double b) const {
-    const double tol = kSwitchTolerance * scale(f);
-    auto fv = [&](double t) { return value(f, t, 0); };
-    auto fd = [&](double t) { return value(f, t, 1); };
-    auto fdd = [&](double t) { return value(f, t, 2); };
-    double left = a, dl = fd(a);
-    long k = static_cast<long>(std::floor(a / grid_)) + 1;
-    for (;;) {
-      double t = k * grid_;
-      const bool last = t >= b;
-      if (last) t = b;
-      if (t > left) {
-        const double ft = fv(t);
-        if (ft < -tol) return locate(fv, fd, left, t);
-        const double dr = fd(t);
-        if (dl < 0 && dr > 0) {
-          const double m = locate([&](double x) { return -fd(x); },
-                                  [&](double x) { return -fdd(x); }, left, t);
-          if (fv(m) < -tol) return locate(fv, fd, left, m);
-        }
-        dl = dr;
-        left = t;
-      }
-      if (last) return std::nullopt;
-      ++k;
-    }
+    return event_roots::first_exit([&](double t, int q) { return value(f, t, q); },
+                                   kSwitchTolerance * scale(f), grid_, a, b);
   }
 
   // Marches from θ = a in state st to b (or to the first transition if stop_at_event; its time

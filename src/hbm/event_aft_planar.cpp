@@ -28,6 +28,7 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "hbm/aft.h"
+#include "hbm/event_roots.h"
 #include "hbm/gauss_legendre.h"
 
 namespace stickslip {
@@ -371,55 +372,13 @@ class PlanarCycle {
     if (full_) d.block(r, blk * nc_, 1, nc_) += s * v.transpose();
   }
 
-  // First θ in (a, b] where fun < −tol (fun(θ, q): derivative q = 0, 1, 2): bracketed on the
-  // grid plus each interval's interior minimum, then located. The grid is the N-point one, refined
-  // to π/(4 H_max): the stick function (μN)² − |τ|² has degree 2 H_max, and the check of one
-  // interior minimum per interval needs a few points per period of its highest harmonic.
+  // First θ in (a, b] where fun < −tol (fun(θ, q): derivative q = 0, 1, 2; event_roots.h). The
+  // grid is the N-point one, refined to π/(4 H_max): the stick function (μN)² − |τ|² has degree
+  // 2 H_max, and the check of one interior minimum per interval needs a few points per period of
+  // its highest harmonic.
   template <class F>
   std::optional<double> first_exit(const F& fun, double tol, double a, double b) {
-    auto fv = [&](double t) { return fun(t, 0); };
-    auto fd = [&](double t) { return fun(t, 1); };
-    double left = a, dl = fd(a);
-    long k = static_cast<long>(std::floor(a / exit_grid_)) + 1;
-    for (;;) {
-      double t = k * exit_grid_;
-      const bool last = t >= b;
-      if (last) t = b;
-      if (t > left) {
-        const double ft = fv(t);
-        if (ft < -tol) return locate(fv, fd, left, t);
-        const double dr = fd(t);
-        if (dl < 0 && dr > 0) {
-          const double m = locate([&](double x) { return -fun(x, 1); },
-                                  [&](double x) { return -fun(x, 2); }, left, t);
-          if (fv(m) < -tol) return locate(fv, fd, left, m);
-        }
-        dl = dr;
-        left = t;
-      }
-      if (last) return std::nullopt;
-      ++k;
-    }
-  }
-
-  // Zero of fun in (lo, hi), fun(lo) ≥ 0 > fun(hi) taken as given: safeguarded Newton.
-  template <class F, class D>
-  static double locate(const F& fun, const D& dfun, double lo, double hi) {
-    const double eps = std::numeric_limits<double>::epsilon();
-    double x = 0.5 * (lo + hi);
-    for (int it = 0; it < 200; ++it) {
-      const double fx = fun(x), dfx = dfun(x);
-      (fx >= 0 ? lo : hi) = x;
-      if (hi - lo <= 4 * eps * std::max(1.0, std::abs(x))) break;
-      double xn = dfx != 0.0 ? x - fx / dfx : lo - 1.0;
-      if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
-      if (std::abs(xn - x) <= 2 * eps * std::max(1.0, std::abs(x))) {
-        x = xn;
-        break;
-      }
-      x = xn;
-    }
-    return x;
+    return event_roots::first_exit(fun, tol, exit_grid_, a, b);
   }
 
   double normal(double th, int q) {
@@ -717,8 +676,9 @@ class PlanarCycle {
             lifted = true;
             return th;
           }
-          end = locate([&](double t) { return normal(t, 0); },
-                       [&](double t) { return normal(t, 1); }, th, r.th[r.nonpositive]);
+          end =
+              event_roots::locate([&](double t) { return normal(t, 0); },
+                                  [&](double t) { return normal(t, 1); }, th, r.th[r.nonpositive]);
           lifted = true;
           continue;
         }
@@ -749,7 +709,7 @@ class PlanarCycle {
           if (ok && solve_step(th, st.phi, x, tmp)) slip_rate(th + x, tmp.phi_end, &d);
           return d;
         };
-        step = locate(fun, dfun, 0.0, neg);
+        step = event_roots::locate(fun, dfun, 0.0, neg);
         if (!ok || !solve_step(th, st.phi, step, r)) return -1;
         to_stick = true;
       }
