@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,6 +23,15 @@
 #include "continuation/parametrized_system.h"
 
 namespace stickslip::testing {
+
+// A state for derivative checks: n entries uniform in [−amplitude, amplitude], from a fixed seed.
+inline Eigen::VectorXd random_state(Eigen::Index n, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> dist(-1, 1);
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) x[i] = amplitude * dist(rng);
+  return x;
+}
 
 // A remainder below kTaylorRoundOff (‖r(x)‖ + ‖Jδ‖) is round-off: r evaluated in double precision
 // with O(10–1000) operations per entry loses ≈ 1e-14 of its scale; 1e-12 leaves a margin.

@@ -35,6 +35,7 @@
 #include <Eigen/Dense>
 
 #include "../required_tool.h"
+#include "ccx_matrices.h"
 #include "cli_test_support.h"
 
 namespace stickslip::cli_test {
@@ -202,34 +203,6 @@ std::optional<NodalStress> el_print_nodal_stress(const fs::path& dat, int i, int
   return out;
 }
 
-// ccx's stored matrices: K, M on its free DOFs (.sti/.mas: "row col value", one triangle,
-// 1-based) and what each row is (.dof: "node.direction").
-struct CalculixMatrices {
-  Eigen::MatrixXd K, M;
-  std::vector<std::pair<int, int>> dofs;  // (node id, direction 0..2)
-};
-CalculixMatrices read_matrices(const fs::path& dir, const std::string& job) {
-  CalculixMatrices out;
-  std::ifstream dof(dir / (job + ".dof"));
-  std::string text;
-  while (dof >> text) {
-    const size_t dot = text.find('.');
-    out.dofs.emplace_back(std::stoi(text.substr(0, dot)), std::stoi(text.substr(dot + 1)) - 1);
-  }
-  const int n = static_cast<int>(out.dofs.size());
-  for (auto [ext, target] : {std::pair{".sti", &out.K}, std::pair{".mas", &out.M}}) {
-    *target = Eigen::MatrixXd::Zero(n, n);
-    std::ifstream in(dir / (job + ext));
-    int r = 0, c = 0;
-    double v = 0;
-    while (in >> r >> c >> v) {
-      (*target)(r - 1, c - 1) = v;
-      (*target)(c - 1, r - 1) = v;
-    }
-  }
-  return out;
-}
-
 std::string damper_case(const std::string& static_mode, const std::string& method) {
   std::ostringstream nodes;
   for (int k = 0; k <= 2; ++k)
@@ -297,7 +270,7 @@ TEST(DamperCli, FreeBlockHeldBySpringsBetweenClampedBlocksMatchesCalculix) {
   // ccx's matrices; harmonic 1 solved here densely on them.
   std::ofstream(dir / "mat.inp") << model << "*STEP\n*FREQUENCY,SOLVER=MATRIXSTORAGE\n*END STEP\n";
   ASSERT_TRUE(run_ccx(dir, "mat", *ccx)) << slurp(dir / "mat.log");
-  const CalculixMatrices mats = read_matrices(dir, "mat");
+  const CalculixMatrices mats = read_calculix_matrices(dir, "mat");
   ASSERT_EQ(mats.dofs.size(), 3u * (27 + 45 + 27 - 18));
   const double w = 2 * M_PI * kFrequencyHz;
   const int n = static_cast<int>(mats.dofs.size());

@@ -31,6 +31,7 @@
 #include <Eigen/SparseLU>
 
 #include "../required_tool.h"
+#include "ccx_matrices.h"
 #include "cli_test_support.h"
 
 namespace stickslip::cli_test {
@@ -159,35 +160,6 @@ std::string tied_model(const InpMesh& beam1, const InpMesh& beam2, bool slave_be
   return s.str();
 }
 
-// ccx's K and M (SOLVER=MATRIXSTORAGE) on its free DOFs: (node id, direction 0..2) per row.
-struct Matrices {
-  Eigen::SparseMatrix<double> K, M;
-  std::vector<std::pair<int, int>> dofs;
-};
-Matrices read_matrices(const fs::path& dir, const std::string& job) {
-  Matrices out;
-  std::ifstream dof(dir / (job + ".dof"));
-  std::string text;
-  while (dof >> text) {
-    const size_t dot = text.find('.');
-    out.dofs.emplace_back(std::stoi(text.substr(0, dot)), std::stoi(text.substr(dot + 1)) - 1);
-  }
-  const int n = static_cast<int>(out.dofs.size());
-  for (auto [ext, target] : {std::pair{".sti", &out.K}, std::pair{".mas", &out.M}}) {
-    std::vector<Eigen::Triplet<double>> t;
-    std::ifstream in(dir / (job + ext));
-    int r = 0, c = 0;
-    double v = 0;
-    while (in >> r >> c >> v) {
-      t.emplace_back(r - 1, c - 1, v);
-      if (r != c) t.emplace_back(c - 1, r - 1, v);
-    }
-    target->resize(n, n);
-    target->setFromTriplets(t.begin(), t.end());
-  }
-  return out;
-}
-
 // Harmonic 1 along `dof` (axis x, y, z) at `node` of point 0 in master_response.csv.
 Complex response(const fs::path& out, int node, const std::string& dof) {
   for (const auto& r : read_csv(out / "master_response.csv")) {
@@ -229,7 +201,7 @@ TEST(NonMatchingJointCli, TiedModesAndHarmonicResponseLieBetweenCalculixTies) {
     ASSERT_GE(static_cast<int>(rows.size()), kModes);
     // ccx: eigenvalues and matrices of each tie (soft: beam 1's nodes slaves; stiff: beam 2's).
     std::vector<double> lambda[2];
-    Matrices matrices[2];
+    CalculixMatrices matrices[2];
     for (int tie = 0; tie < 2; ++tie) {
       const fs::path sub = dir / (tie == 0 ? "soft" : "stiff");
       fs::create_directories(sub);
@@ -242,7 +214,7 @@ TEST(NonMatchingJointCli, TiedModesAndHarmonicResponseLieBetweenCalculixTies) {
       ASSERT_EQ(shell("cd '" + sub.string() + "' && OMP_NUM_THREADS=1 ccx -i mat", sub / "mat.log"),
                 0)
           << slurp(sub / "mat.log");
-      matrices[tie] = read_matrices(sub, "mat");
+      matrices[tie] = read_calculix_matrices(sub, "mat");
     }
     double soft_stiff = 0.0, position = 0.0;  // largest spread of ccx's ties; where ours lies
     for (int j = 0; j < kModes; ++j) {
@@ -275,7 +247,7 @@ TEST(NonMatchingJointCli, TiedModesAndHarmonicResponseLieBetweenCalculixTies) {
     for (const int node : {force1, force2}) {
       Complex x[2];
       for (int tie = 0; tie < 2; ++tie) {
-        const Matrices& m = matrices[tie];
+        const CalculixMatrices& m = matrices[tie];
         const int n = static_cast<int>(m.dofs.size());
         Eigen::VectorXcd F = Eigen::VectorXcd::Zero(n);
         int row = -1;

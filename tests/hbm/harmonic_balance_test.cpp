@@ -156,10 +156,8 @@ TEST(HarmonicBalance, JacobiansMatchFiniteDifferences) {
     const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.alpha, s.beta), pairs, e,
                                     o);
     ASSERT_TRUE(sys.static_summary().converged());
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> dist(-1, 1);
-    Eigen::VectorXd x(sys.size());
-    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = 6e-4 * dist(rng);  // ~ lift-off amplitude
+    const Eigen::VectorXd x =
+        testing::random_state(sys.size(), 6e-4, 3);  // ~ lift-off amplitude
     testing::expect_derivatives_match_central_differences(sys, x, 110.0, 1e-7 * 6e-4,
                                                           kFdRelativeTolerance);
     // Cycle covers the regimes the derivatives must handle.

@@ -76,10 +76,7 @@ TEST(MortarPoint, JacobiansMatchFiniteDifferences) {
     const HarmonicBalanceSystem sys(linear_model_from_matrices(s.K, s.M, s.alpha, s.beta),
                                     {mortar_point(s, contact)}, e, o);
     ASSERT_TRUE(sys.static_summary().converged());
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> dist(-1, 1);
-    Eigen::VectorXd x(sys.size());
-    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = 6e-4 * dist(rng);  // ~ lift-off amplitude
+    const Eigen::VectorXd x = testing::random_state(sys.size(), 6e-4, 5);  // ~ lift-off amplitude
     testing::expect_derivatives_match_central_differences(sys, x, 110.0, 1e-7 * 6e-4,
                                                           kFdRelativeTolerance);
     testing::expect_first_pair_slips_and_separates(sys, x);
