@@ -547,6 +547,19 @@ void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::Vect
   }
 }
 
+Eigen::MatrixXd HarmonicBalanceSystem::force_jacobian(const Eigen::VectorXd& x) const {
+  STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(size(), size());
+  Eigen::VectorXd fp;
+  Eigen::MatrixXd block;
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
+    aft_.evaluate(*pairs_[p].element, x.segment(c, w), pair_offset_[p], fp, &block);
+    J.block(c, c, w, w) = block;
+  }
+  return J;
+}
+
 AftSamples HarmonicBalanceSystem::pair_cycle(const Eigen::VectorXd& x, int pair) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
   STICKSLIP_VERIFY(pair >= 0 && pair < static_cast<int>(pairs_.size()),

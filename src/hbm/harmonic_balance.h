@@ -195,6 +195,12 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   int master_dofs() const { return static_cast<int>(model_.Phi.rows()); }
   const std::vector<ContactPair>& pairs() const { return pairs_; }
   const Aft& aft() const { return aft_; }
+  // The linear model the system was built with and its contact modes Ψ = BΦ (nu x nm).
+  const LinearModel& linear_model() const { return model_; }
+  const Eigen::MatrixXd& contact_modes() const { return Psi_; }
+  // J = ∂F/∂x at unknowns x: the AFT's exact force Jacobian, block-diagonal per pair (n x n,
+  // zero outside the blocks); dR/dx = I + 𝔾 J (with the static shift when rigid modes are held).
+  Eigen::MatrixXd force_jacobian(const Eigen::VectorXd& x) const;
   const HarmonicBalanceOptions& options() const { return options_; }
 
   // With a modal damping matrix: whether the state-space expansion is used, and if it was asked

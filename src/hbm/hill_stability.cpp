@@ -1,0 +1,157 @@
+#include "hbm/hill_stability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "core/errors.h"
+#include "core/format.h"
+
+namespace stickslip {
+
+namespace {
+// Mean harmonic indices closer than this count as equal (then the smaller |Im μ| is preferred).
+constexpr double kSameIndex = 0.25;
+}  // namespace
+
+void validate(const HillOptions& options) {
+  if (!(std::isfinite(options.dynamic_mode_factor) && options.dynamic_mode_factor >= 0)) {
+    throw InvalidInput("HillOptions.dynamic_mode_factor = " +
+                       format_number(options.dynamic_mode_factor) + ": must be finite and >= 0");
+  }
+  if (!(std::isfinite(options.stability_tolerance) && options.stability_tolerance > 0)) {
+    throw InvalidInput("HillOptions.stability_tolerance = " +
+                       format_number(options.stability_tolerance) + ": must be finite and > 0");
+  }
+}
+
+FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                              double omega, const HillOptions& options) {
+  validate(options);
+  if (!(std::isfinite(omega) && omega > 0)) {
+    throw InvalidInput("hill_stability: Ω = " + format_number(omega) + " rad/s: must be > 0");
+  }
+  if (x.size() != system.size()) {
+    throw InvalidInput("hill_stability: " + std::to_string(x.size()) + " unknowns given, the " +
+                       "system has " + std::to_string(system.size()));
+  }
+  const LinearModel& model = system.linear_model();
+  const Eigen::MatrixXd& Psi = system.contact_modes();  // nu x nm
+  const HarmonicSet& S = system.unknown_harmonics();
+  const int nm = static_cast<int>(model.omega2.size());
+  const int nu = system.contact_rows();
+  const int nc = S.coefficient_count();
+  const int n = nu * nc;
+
+  // Dynamic and quasi-static modes.
+  const double cutoff = options.dynamic_mode_factor * (S.max_harmonic() + 1) * omega;
+  std::vector<int> dynamic, quasi_static;
+  for (int r = 0; r < nm; ++r) {
+    const double w = std::sqrt(std::max(model.omega2[r], 0.0));
+    (options.dynamic_mode_factor == 0 || w <= cutoff ? dynamic : quasi_static).push_back(r);
+  }
+  const int nd = static_cast<int>(dynamic.size());
+  FloquetSummary summary;
+  summary.dynamic_modes = nd;
+  summary.quasi_static_modes = static_cast<int>(quasi_static.size());
+
+  // J_eff = (I + J G_s)⁻¹ J, G_s = kron(Ψ_s diag(1/ω_s²) Ψ_sᵀ, I_nc) in the unknown layout.
+  Eigen::MatrixXd J = system.force_jacobian(x);
+  if (!quasi_static.empty() && n > 0) {
+    Eigen::MatrixXd Gs = Eigen::MatrixXd::Zero(nu, nu);
+    for (int r : quasi_static) Gs.noalias() += Psi.col(r) * Psi.col(r).transpose() / model.omega2[r];
+    Eigen::MatrixXd Gbig = Eigen::MatrixXd::Zero(n, n);
+    for (int a = 0; a < nu; ++a) {
+      for (int b = 0; b < nu; ++b) {
+        if (Gs(a, b) == 0) continue;
+        for (int c = 0; c < nc; ++c) Gbig(a * nc + c, b * nc + c) = Gs(a, b);
+      }
+    }
+    const Eigen::MatrixXd IJG = Eigen::MatrixXd::Identity(n, n) + J * Gbig;
+    J = Eigen::PartialPivLU<Eigen::MatrixXd>(IJG).solve(J);
+  }
+  if (nd == 0) return summary;
+
+  // Ψ_S = kron(Ψ_d, I_nc): unknown layout (row·nc + c) x mode-major (mode·nc + c).
+  const int m = nd * nc;
+  Eigen::MatrixXd PsiS = Eigen::MatrixXd::Zero(n, m);
+  for (int a = 0; a < nu; ++a) {
+    for (int j = 0; j < nd; ++j) {
+      const double v = Psi(a, dynamic[j]);
+      if (v == 0) continue;
+      for (int c = 0; c < nc; ++c) PsiS(a * nc + c, j * nc + c) = v;
+    }
+  }
+  const Eigen::MatrixXd D = FourierBasis(S, S.min_time_samples()).derivative() * omega;  // d/dt
+  const Eigen::MatrixXd D2 = D * D;
+  const bool dense_damping = model.modal_damping_matrix.size() > 0;
+  Eigen::MatrixXd M1 = Eigen::MatrixXd::Zero(m, m), M0 = PsiS.transpose() * J * PsiS;
+  for (int i = 0; i < nd; ++i) {
+    const int r = dynamic[i];
+    M1.block(i * nc, i * nc, nc, nc) += 2 * D;
+    M0.block(i * nc, i * nc, nc, nc) += D2;
+    M0.block(i * nc, i * nc, nc, nc).diagonal().array() += model.omega2[r];
+    for (int j = 0; j < nd; ++j) {
+      const double c = dense_damping ? model.modal_damping_matrix(r, dynamic[j])
+                                     : (i == j ? model.modal_damping[r] : 0.0);
+      if (c == 0) continue;
+      M1.block(i * nc, j * nc, nc, nc).diagonal().array() += c;
+      M0.block(i * nc, j * nc, nc, nc) += c * D;
+    }
+  }
+  // Companion form: [p; μp]' = A [p; μp], A = [0 I; −M0 −M1].
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+  A.topRightCorner(m, m).setIdentity();
+  A.bottomLeftCorner(m, m) = -M0;
+  A.bottomRightCorner(m, m) = -M1;
+  const Eigen::EigenSolver<Eigen::MatrixXd> solver(A, /*computeEigenvectors=*/true);
+  STICKSLIP_VERIFY(solver.info() == Eigen::Success, "hill_stability: the eigen-solver failed");
+  const Eigen::VectorXcd& all = solver.eigenvalues();
+  const Eigen::MatrixXcd& vectors = solver.eigenvectors();
+
+  // Mean harmonic index of each eigenvector's periodic part p(t) in complex exponentials: a
+  // harmonic k ≥ 1 with (complex) coefficients a, b is (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
+  const int ns = static_cast<int>(all.size());
+  std::vector<double> mean_index(ns);
+  for (int e = 0; e < ns; ++e) {
+    double weight = 0, moment = 0;
+    for (int j = 0; j < nd; ++j) {
+      for (int h = 0; h < S.size(); ++h) {
+        const int k = S.harmonics()[h], o = j * nc + S.offset(h);
+        if (k == 0) {
+          weight += std::norm(vectors(o, e));
+          continue;
+        }
+        const std::complex<double> a = vectors(o, e), b = vectors(o + 1, e), i(0, 1);
+        const double plus = std::norm(a - i * b), minus = std::norm(a + i * b);
+        weight += plus + minus;
+        moment += k * (plus - minus);
+      }
+    }
+    mean_index[e] = weight > 0 ? moment / weight : 0.0;
+  }
+  std::vector<int> order(ns);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const double da = std::abs(mean_index[a]), db = std::abs(mean_index[b]);
+    if (std::abs(da - db) > kSameIndex) return da < db;
+    return std::abs(all[a].imag()) < std::abs(all[b].imag());
+  });
+  order.resize(2 * nd);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return all[a].real() > all[b].real(); });
+  summary.exponents.resize(2 * nd);
+  for (int i = 0; i < 2 * nd; ++i) summary.exponents[i] = all[order[i]];
+  summary.max_real_part = summary.exponents[0].real();
+  summary.max_multiplier = std::exp(summary.max_real_part * 2 * std::numbers::pi / omega);
+  summary.stable = summary.max_real_part <= options.stability_tolerance * omega;
+  return summary;
+}
+
+}  // namespace stickslip

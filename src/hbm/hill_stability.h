@@ -1,0 +1,73 @@
+// Stability of a periodic solution of the condensed harmonic balance by Hill's method
+// (docs/conventions.md, "Stability").
+//
+// The structure's modal equations (harmonic_balance.h) q̈ + C_m q̇ + diag(ω²) q = Φᵀ F(t) − Ψᵀ f(u),
+// u = Ψ q, linearised about the periodic solution, are solved for perturbations of Floquet form
+//   δq(t) = e^{μt} p(t),  p T-periodic (T = 2π/Ω), expanded in the solution's harmonics S,
+// with the element forces' perturbation δF = J δU, J = ∂F/∂U the AFT's exact Jacobian of the
+// force coefficients at the solution (block-diagonal per pair: the Jacobian Newton already has).
+// With d/dt → μ + Ω D (D the coefficients' derivative, fourier.h) this is the quadratic
+// eigenvalue problem
+//   [μ² I + μ (2Ω D + C_m) + (Ω² D² + Ω C_m D + diag(ω²) + Ψ_Sᵀ J_eff Ψ_S)] p = 0
+// over the modes' coefficients (Ψ_S = Ψ ⊗ I_nc), solved through its companion linearisation
+// (real, 2·n_d·nc) by a dense eigen-solver.
+//
+// Modes. The modes with ω_r ≤ dynamic_mode_factor · (H_max + 1) · Ω are dynamic (all of them when
+// the factor is 0); the others respond quasi-statically to the perturbation: their flexibility
+// G_s = Ψ_s diag(1/ω_s²) Ψ_sᵀ (undamped, μ-independent) is folded into the elements,
+//   J_eff = (I + J G_s)⁻¹ J,
+// and their own exponents (≈ −c_r/2 ± iω_r, stable) are not computed. Exact in the limit of the
+// factor → ∞; the error is O((Ω H_max/ω_s)²) of the coupling through those modes.
+//
+// Selection. Each Floquet exponent μ appears in the Hill spectrum as the family μ + i m Ω, the
+// member m having its eigenvector's periodic part p(t) shifted by e^{−imΩt} (for a time-invariant
+// system exactly: p concentrated on the complex harmonic −m). The physical representative is the
+// member whose p is centred on harmonic 0: per eigenvalue the mean complex harmonic index
+// k̄ = Σ k |p_k|² / Σ |p_k|² (over k = ±S) is computed, and the 2 n_d eigenvalues with the smallest
+// |k̄| are taken (ties within 0.25: the smaller |Im μ|). The imaginary-part criterion alone (the
+// 2 n_d smallest |Im μ|) fails when a mode lies above H Ω: its family's members within the strip
+// are cut off by the truncation and another mode's outer members take their place. Without
+// harmonic 0 in S (uncoupled statics) the centre is not representable and the members with
+// |k̄| ≈ 1 are taken: their imaginary parts are ambiguous by Ω, their real parts are not. The
+// real part — all stability needs — is common to a family. The multiplier of largest modulus is
+// ρ = exp(max Re μ · T); the solution is stable when max Re μ ≤ stability_tolerance · Ω.
+//
+// Non-smooth laws. J is the derivative of the converged periodic force cycle with respect to the
+// periodic motion (hysteresis: the stick phases' memory is in it). For friction this is the
+// Jacobian of the periodic map restricted to periodic perturbations, frozen over the
+// perturbation's slow e^{μt} envelope: exact for smooth memoryless laws (cubic spring, and the
+// sampled law in its stuck or open phases), an approximation across stick–slip transitions, where
+// the law is not differentiable; the exponents are then those of the harmonic-balance model as
+// solved (docs/conventions.md gives the tests that bound it).
+//
+// Uncoupled statics (S without harmonic 0): the perturbation keeps the frozen static state; its
+// mean part is not represented.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "hbm/harmonic_balance.h"
+
+namespace stickslip {
+
+struct HillOptions {
+  double dynamic_mode_factor = 4.0;    // ≥ 0; 0: every mode dynamic
+  double stability_tolerance = 1e-7;   // > 0: stable when max Re μ ≤ tolerance · Ω
+};
+void validate(const HillOptions& options);
+
+struct FloquetSummary {
+  Eigen::VectorXcd exponents{};  // the 2 n_d selected μ (1/s), by decreasing real part
+  double max_real_part = 0.0;    // 1/s
+  double max_multiplier = 1.0;   // |ρ| = exp(max_real_part · 2π/Ω)
+  bool stable = true;
+  int dynamic_modes = 0;
+  int quasi_static_modes = 0;
+};
+
+// Floquet exponents of the solution x at Ω (x: the converged unknowns of `system`). Throws
+// InvalidInput on bad options, Ω ≤ 0 or a wrong size of x.
+FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                              double omega, const HillOptions& options = {});
+
+}  // namespace stickslip
