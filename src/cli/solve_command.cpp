@@ -273,9 +273,12 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   const StudyColumns study = study_columns(def, run.value);
   const std::string& study_cells = study.cells;
   write_file_atomically((dir / "points.csv").string(), [&](std::ostream& out) {
+    // With analysis.stability: whether the point is stable and its largest Floquet multiplier
+    // modulus (empty for a point that did not converge).
+    const bool stability = def.analysis.stability;
     out << "point,frequency_hz,converged,iterations,residual_m,dissipated_energy_j,"
            "residual_relative,static_mismatch,static_warning,aft_fallback_pairs"
-        << study.header << "\n";
+        << (stability ? ",stable,floquet_multiplier" : "") << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       double e = 0;
@@ -284,10 +287,16 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
         e += energy(r.cycle);
         fallback += r.cycle.aft_fallback ? 1 : 0;
       }
-      fmt::print(out, "{},{},{},{},{},{},{},{},{},{}{}\n", i, rad_s_to_hz(p.omega),
+      std::string floquet;
+      if (stability) {
+        floquet = p.stability_computed ? fmt::format(",{},{}", p.floquet.stable ? 1 : 0,
+                                                     p.floquet.max_multiplier)
+                                       : std::string(",,");
+      }
+      fmt::print(out, "{},{},{},{},{},{},{},{},{},{}{}{}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
                  p.residual_norm / p.residual_scale, p.static_mismatch, p.static_warning ? 1 : 0,
-                 fallback, study.cells);
+                 fallback, floquet, study.cells);
     }
   });
 
@@ -480,6 +489,18 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   summary["aft"] = {{"method", case_name(def.analysis.aft)},
                     {"time_samples", def.analysis.time_samples},
                     {"fallback_points", fallback_points}};
+  if (def.analysis.stability) {  // Hill's method (points.csv stable, floquet_multiplier)
+    int unstable = 0;
+    double largest = 0;
+    for (const FrequencyPoint& p : fr.points) {
+      if (!p.stability_computed) continue;
+      unstable += p.floquet.stable ? 0 : 1;
+      largest = std::max(largest, p.floquet.max_multiplier);
+    }
+    summary["stability"] = {{"unstable_points", unstable}, {"largest_multiplier", largest}};
+  } else {
+    summary["stability"] = nullptr;
+  }
   summary["bodies"] = Json::array();
   for (const PreparedBody& body : model.bodies) {
     summary["bodies"].push_back({{"name", body.name},

@@ -254,6 +254,7 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     require(options.history_pairs[i] >= 0 && options.history_pairs[i] < npairs,
             "FrequencyResponseOptions.history_pairs[" + std::to_string(i) + "]",
             std::to_string(options.history_pairs[i]), "in [0, " + std::to_string(npairs) + ")");
+  if (options.stability) validate(options.hill);
   }
   require(system.size() > 0 || options.method == ContinuationMethod::kSteppedSweep,
           "FrequencyResponseOptions.method", "arc-length",
@@ -310,6 +311,10 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     point.iterations = c.newton.iterations;
     point.residual_norm = c.newton.residual_norm;
     point.message = c.newton.message;
+    if (options.stability && point.converged) {
+      point.floquet = hill_stability(system, c.x, c.lambda, options.hill);
+      point.stability_computed = true;
+    }
     response.points.push_back(std::move(point));
   }
   return response;

@@ -29,6 +29,7 @@
 #include "continuation/arclength.h"
 #include "continuation/sweep.h"
 #include "hbm/harmonic_balance.h"
+#include "hbm/hill_stability.h"
 
 namespace stickslip {
 
@@ -76,6 +77,10 @@ struct FrequencyPoint {
   double static_mismatch = 0.0;
   int static_worst_pair = -1;
   bool static_warning = false;
+  // FrequencyResponseOptions.stability only: Hill's method at this (converged) point
+  // (hill_stability.h); stability_computed false otherwise and for points that did not converge.
+  bool stability_computed = false;
+  FloquetSummary floquet;
 };
 
 enum class ContinuationMethod { kSteppedSweep, kArcLength };
@@ -88,6 +93,8 @@ struct FrequencyResponseOptions {
   ArcLengthOptions arclength;  // arc-length: lambda = Ω
   InitialGuess initial_guess = InitialGuess::kLinearStuck;
   std::vector<int> history_pairs{};  // pairs whose sampled cycle is kept per point
+  bool stability = false;            // Hill's method at every converged point
+  HillOptions hill{};
 };
 
 struct FrequencyResponse {

@@ -547,14 +547,30 @@ void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::Vect
   }
 }
 
-Eigen::MatrixXd HarmonicBalanceSystem::force_jacobian(const Eigen::VectorXd& x) const {
+Eigen::MatrixXd HarmonicBalanceSystem::force_jacobian(const Eigen::VectorXd& x,
+                                                      const Aft* wider) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(size(), size());
+  const Aft& aft = wider ? *wider : aft_;
+  const HarmonicSet& S = aft_.basis().harmonics();
+  const HarmonicSet& W = aft.basis().harmonics();
+  const int nw = W.coefficient_count();
+  // x in the wider layout: each row's coefficients moved to their harmonics' places.
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(rows_ * nw);
+  for (int h = 0; h < S.size(); ++h) {
+    const int k = S.harmonics()[h], to = W.position_of(k);
+    STICKSLIP_VERIFY(to >= 0, "HarmonicBalanceSystem::force_jacobian: harmonic " +
+                                  std::to_string(k) + " missing from the wider basis");
+    for (int r = 0; r < rows_; ++r) {
+      y[r * nw + W.offset(to)] = x[r * nc_ + S.offset(h)];
+      if (k > 0) y[r * nw + W.offset(to) + 1] = x[r * nc_ + S.offset(h) + 1];
+    }
+  }
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows_ * nw, rows_ * nw);
   Eigen::VectorXd fp;
   Eigen::MatrixXd block;
   for (size_t p = 0; p < pairs_.size(); ++p) {
-    const int w = pairs_[p].element->dimension() * nc_, c = pair_rows_[p] * nc_;
-    aft_.evaluate(*pairs_[p].element, x.segment(c, w), pair_offset_[p], fp, &block);
+    const int w = pairs_[p].element->dimension() * nw, c = pair_rows_[p] * nw;
+    aft.evaluate(*pairs_[p].element, y.segment(c, w), pair_offset_[p], fp, &block);
     J.block(c, c, w, w) = block;
   }
   return J;

@@ -200,7 +200,10 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   const Eigen::MatrixXd& contact_modes() const { return Psi_; }
   // J = ∂F/∂x at unknowns x: the AFT's exact force Jacobian, block-diagonal per pair (n x n,
   // zero outside the blocks); dR/dx = I + 𝔾 J (with the static shift when rigid modes are held).
-  Eigen::MatrixXd force_jacobian(const Eigen::VectorXd& x) const;
+  // With `wider` (an AFT whose harmonics include the unknown ones): the same motion (x, its other
+  // harmonics 0) and the Jacobian of the force harmonics of wider's basis with respect to the
+  // motion's, in wider's layout (nu·nc' square).
+  Eigen::MatrixXd force_jacobian(const Eigen::VectorXd& x, const Aft* wider = nullptr) const;
   const HarmonicBalanceOptions& options() const { return options_; }
 
   // With a modal damping matrix: whether the state-space expansion is used, and if it was asked

@@ -43,7 +43,10 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   }
   const LinearModel& model = system.linear_model();
   const Eigen::MatrixXd& Psi = system.contact_modes();  // nu x nm
-  const HarmonicSet& S = system.unknown_harmonics();
+  // The perturbation's harmonics: 0..H_max (harmonic 0 and any gaps of the solution's set added).
+  const HarmonicSet& solved = system.unknown_harmonics();
+  const HarmonicSet S = HarmonicSet::up_to(solved.max_harmonic(), true);
+  const bool wider = S.harmonics() != solved.harmonics();
   const int nm = static_cast<int>(model.omega2.size());
   const int nu = system.contact_rows();
   const int nc = S.coefficient_count();
@@ -62,7 +65,15 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   summary.quasi_static_modes = static_cast<int>(quasi_static.size());
 
   // J_eff = (I + J G_s)⁻¹ J, G_s = kron(Ψ_s diag(1/ω_s²) Ψ_sᵀ, I_nc) in the unknown layout.
-  Eigen::MatrixXd J = system.force_jacobian(x);
+  Eigen::MatrixXd J;
+  if (wider) {
+    const Aft aft(FourierBasis(S, std::max(system.aft().basis().time_samples(),
+                                           S.min_time_samples())),
+                  system.aft().method());
+    J = system.force_jacobian(x, &aft);
+  } else {
+    J = system.force_jacobian(x);
+  }
   if (!quasi_static.empty() && n > 0) {
     Eigen::MatrixXd Gs = Eigen::MatrixXd::Zero(nu, nu);
     for (int r : quasi_static) Gs.noalias() += Psi.col(r) * Psi.col(r).transpose() / model.omega2[r];

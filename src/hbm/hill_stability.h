@@ -3,9 +3,15 @@
 //
 // The structure's modal equations (harmonic_balance.h) q̈ + C_m q̇ + diag(ω²) q = Φᵀ F(t) − Ψᵀ f(u),
 // u = Ψ q, linearised about the periodic solution, are solved for perturbations of Floquet form
-//   δq(t) = e^{μt} p(t),  p T-periodic (T = 2π/Ω), expanded in the solution's harmonics S,
+//   δq(t) = e^{μt} p(t),  p T-periodic (T = 2π/Ω), expanded in the harmonics S = 0..H_max,
 // with the element forces' perturbation δF = J δU, J = ∂F/∂U the AFT's exact Jacobian of the
-// force coefficients at the solution (block-diagonal per pair: the Jacobian Newton already has).
+// force coefficients at the solution (block-diagonal per pair: the Jacobian Newton already has
+// when the solution's harmonics are 0..H_max; otherwise — static: uncoupled has no harmonic 0, a
+// harmonic list may have gaps — the same motion's Jacobian from an AFT over 0..H_max). Harmonic 0
+// is needed: the perturbation of a mode at ω_r is e^{iω_r t} times a p(t) centred on harmonic 0
+// with side bands at ±Ω, ±2Ω... from the time-varying contact stiffness; without it every mode is
+// represented off-centre, and the exponents of modes far from Ω came out wrong (measured on the
+// reference joint: growth rates of 10²–10⁴ 1/s, all spurious).
 // With d/dt → μ + Ω D (D the coefficients' derivative, fourier.h) this is the quadratic
 // eigenvalue problem
 //   [μ² I + μ (2Ω D + C_m) + (Ω² D² + Ω C_m D + diag(ω²) + Ψ_Sᵀ J_eff Ψ_S)] p = 0
@@ -26,10 +32,9 @@
 // k̄ = Σ k |p_k|² / Σ |p_k|² (over k = ±S) is computed, and the 2 n_d eigenvalues with the smallest
 // |k̄| are taken (ties within 0.25: the smaller |Im μ|). The imaginary-part criterion alone (the
 // 2 n_d smallest |Im μ|) fails when a mode lies above H Ω: its family's members within the strip
-// are cut off by the truncation and another mode's outer members take their place. Without
-// harmonic 0 in S (uncoupled statics) the centre is not representable and the members with
-// |k̄| ≈ 1 are taken: their imaginary parts are ambiguous by Ω, their real parts are not. The
-// real part — all stability needs — is common to a family. The multiplier of largest modulus is
+// are cut off by the truncation and another mode's outer members take their place. The real
+// part — all stability needs — is common to a family; the centred member's imaginary part is
+// near the mode's own frequency (not folded into the strip). The multiplier of largest modulus is
 // ρ = exp(max Re μ · T); the solution is stable when max Re μ ≤ stability_tolerance · Ω.
 //
 // Non-smooth laws. J is the derivative of the converged periodic force cycle with respect to the
@@ -40,8 +45,8 @@
 // the law is not differentiable; the exponents are then those of the harmonic-balance model as
 // solved (docs/conventions.md gives the tests that bound it).
 //
-// Uncoupled statics (S without harmonic 0): the perturbation keeps the frozen static state; its
-// mean part is not represented.
+// Uncoupled statics: the static state is frozen in the solution (u0 the offset of the cycle); the
+// perturbation's harmonic 0 moves the mean about it.
 #pragma once
 
 #include <Eigen/Core>

@@ -1485,6 +1485,7 @@ void parse_analysis(Parser& p, const MapView& top) {
   a.aft_given = m.has("aft");
   m.choice("aft", &a.aft);
   m.choice("static", &a.static_coupling);
+  m.boolean("stability", &a.stability);
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
     p.check(a.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
@@ -2289,6 +2290,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
   if (a.aft_given) e << YAML::Key << "aft" << YAML::Value << case_name(a.aft);
   e << YAML::Key << "static" << YAML::Value << case_name(a.static_coupling);
+  e << YAML::Key << "stability" << YAML::Value << a.stability;
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
   if (a.method == SweepMethod::kContinuation) e << YAML::Key << "max_points" << YAML::Value << a.max_points;

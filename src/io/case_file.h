@@ -315,6 +315,7 @@ struct AnalysisDefinition {
   InitialGuessChoice initial_guess = InitialGuessChoice::kStuck;  // stuck | free
   PredictorChoice predictor = PredictorChoice::kSecant;  // stepped: secant | previous (guess
                                                          // per point)
+  bool stability = false;  // Hill's method on every converged point (hbm/hill_stability.h)
   int max_harmonic() const { return harmonics.empty() ? 0 : harmonics.back(); }
 };
 

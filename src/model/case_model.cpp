@@ -1233,6 +1233,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   if (progress) progress(describe_window(solved.window));
   const AnalysisDefinition& an = def.analysis;
   FrequencyResponseOptions o;
+  o.stability = an.stability;
   o.initial_guess =
       an.initial_guess == InitialGuessChoice::kFree ? InitialGuess::kLinearFree
                                                     : InitialGuess::kLinearStuck;
