@@ -64,7 +64,7 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   summary.dynamic_modes = nd;
   summary.quasi_static_modes = static_cast<int>(quasi_static.size());
 
-  // J_eff = (I + J G_s)⁻¹ J, G_s = kron(Ψ_s diag(1/ω_s²) Ψ_sᵀ, I_nc) in the unknown layout.
+  // J = ∂F/∂U over the perturbation's harmonics.
   Eigen::MatrixXd J;
   if (wider) {
     const Aft aft(FourierBasis(S, std::max(system.aft().basis().time_samples(),
@@ -73,19 +73,6 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
     J = system.force_jacobian(x, &aft);
   } else {
     J = system.force_jacobian(x);
-  }
-  if (!quasi_static.empty() && n > 0) {
-    Eigen::MatrixXd Gs = Eigen::MatrixXd::Zero(nu, nu);
-    for (int r : quasi_static) Gs.noalias() += Psi.col(r) * Psi.col(r).transpose() / model.omega2[r];
-    Eigen::MatrixXd Gbig = Eigen::MatrixXd::Zero(n, n);
-    for (int a = 0; a < nu; ++a) {
-      for (int b = 0; b < nu; ++b) {
-        if (Gs(a, b) == 0) continue;
-        for (int c = 0; c < nc; ++c) Gbig(a * nc + c, b * nc + c) = Gs(a, b);
-      }
-    }
-    const Eigen::MatrixXd IJG = Eigen::MatrixXd::Identity(n, n) + J * Gbig;
-    J = Eigen::PartialPivLU<Eigen::MatrixXd>(IJG).solve(J);
   }
   if (nd == 0) return summary;
 
@@ -99,10 +86,38 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
       for (int c = 0; c < nc; ++c) PsiS(a * nc + c, j * nc + c) = v;
     }
   }
+  // J is block-diagonal per pair: products with it block by block.
+  const auto times_J = [&](const Eigen::MatrixXd& X) {
+    Eigen::MatrixXd Y(n, X.cols());
+    for (size_t p = 0; p < system.pairs().size(); ++p) {
+      const int w = system.pairs()[p].element->dimension() * nc;
+      const int c = system.pair_row(static_cast<int>(p)) * nc;
+      Y.middleRows(c, w).noalias() = J.block(c, c, w, w) * X.middleRows(c, w);
+    }
+    return Y;
+  };
+  // Ψ_Sᵀ J_eff Ψ_S with J_eff = (I + J G_s)⁻¹ J, G_s = kron(Ψ_s diag(1/ω_s²) Ψ_sᵀ, I_nc).
+  Eigen::MatrixXd JPsi = times_J(PsiS);
+  if (!quasi_static.empty()) {
+    Eigen::MatrixXd Ps(nu, quasi_static.size());
+    for (size_t i = 0; i < quasi_static.size(); ++i) {
+      Ps.col(i) = Psi.col(quasi_static[i]) / std::sqrt(model.omega2[quasi_static[i]]);
+    }
+    const Eigen::MatrixXd Gs = Ps * Ps.transpose();
+    Eigen::MatrixXd Gbig = Eigen::MatrixXd::Zero(n, n);
+    for (int a = 0; a < nu; ++a) {
+      for (int b = 0; b < nu; ++b) {
+        for (int c = 0; c < nc; ++c) Gbig(a * nc + c, b * nc + c) = Gs(a, b);
+      }
+    }
+    Eigen::MatrixXd IJG = times_J(Gbig);
+    IJG.diagonal().array() += 1.0;
+    JPsi = Eigen::PartialPivLU<Eigen::MatrixXd>(IJG).solve(JPsi);
+  }
   const Eigen::MatrixXd D = FourierBasis(S, S.min_time_samples()).derivative() * omega;  // d/dt
   const Eigen::MatrixXd D2 = D * D;
   const bool dense_damping = model.modal_damping_matrix.size() > 0;
-  Eigen::MatrixXd M1 = Eigen::MatrixXd::Zero(m, m), M0 = PsiS.transpose() * J * PsiS;
+  Eigen::MatrixXd M1 = Eigen::MatrixXd::Zero(m, m), M0 = PsiS.transpose() * JPsi;
   for (int i = 0; i < nd; ++i) {
     const int r = dynamic[i];
     M1.block(i * nc, i * nc, nc, nc) += 2 * D;
@@ -121,44 +136,47 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   A.topRightCorner(m, m).setIdentity();
   A.bottomLeftCorner(m, m) = -M0;
   A.bottomRightCorner(m, m) = -M1;
-  const Eigen::EigenSolver<Eigen::MatrixXd> solver(A, /*computeEigenvectors=*/true);
-  STICKSLIP_VERIFY(solver.info() == Eigen::Success, "hill_stability: the eigen-solver failed");
-  const Eigen::VectorXcd& all = solver.eigenvalues();
-  const Eigen::MatrixXcd& vectors = solver.eigenvectors();
-
-  // Mean harmonic index of each eigenvector's periodic part p(t) in complex exponentials: a
-  // harmonic k ≥ 1 with (complex) coefficients a, b is (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
-  const int ns = static_cast<int>(all.size());
-  std::vector<double> mean_index(ns);
-  for (int e = 0; e < ns; ++e) {
+  // Mean harmonic index of an eigenvector's periodic part p(t) (its first m entries) in complex
+  // exponentials: a harmonic k ≥ 1 with (complex) coefficients a, b is
+  // (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
+  const auto mean_index = [&](const Eigen::Ref<const Eigen::VectorXcd>& v) {
     double weight = 0, moment = 0;
     for (int j = 0; j < nd; ++j) {
       for (int h = 0; h < S.size(); ++h) {
         const int k = S.harmonics()[h], o = j * nc + S.offset(h);
         if (k == 0) {
-          weight += std::norm(vectors(o, e));
+          weight += std::norm(v[o]);
           continue;
         }
-        const std::complex<double> a = vectors(o, e), b = vectors(o + 1, e), i(0, 1);
+        const std::complex<double> a = v[o], b = v[o + 1], i(0, 1);
         const double plus = std::norm(a - i * b), minus = std::norm(a + i * b);
         weight += plus + minus;
         moment += k * (plus - minus);
       }
     }
-    mean_index[e] = weight > 0 ? moment / weight : 0.0;
+    return weight > 0 ? moment / weight : 0.0;
+  };
+
+  {
+    const Eigen::EigenSolver<Eigen::MatrixXd> solver(A, /*computeEigenvectors=*/true);
+    STICKSLIP_VERIFY(solver.info() == Eigen::Success, "hill_stability: the eigen-solver failed");
+    const Eigen::VectorXcd& all = solver.eigenvalues();
+    const int ns = static_cast<int>(all.size());
+    std::vector<double> index(ns);
+    for (int e = 0; e < ns; ++e) index[e] = mean_index(solver.eigenvectors().col(e).head(m));
+    std::vector<int> order(ns);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      const double da = std::abs(index[a]), db = std::abs(index[b]);
+      if (std::abs(da - db) > kSameIndex) return da < db;
+      return std::abs(all[a].imag()) < std::abs(all[b].imag());
+    });
+    order.resize(2 * nd);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return all[a].real() > all[b].real(); });
+    summary.exponents.resize(2 * nd);
+    for (int i = 0; i < 2 * nd; ++i) summary.exponents[i] = all[order[i]];
   }
-  std::vector<int> order(ns);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const double da = std::abs(mean_index[a]), db = std::abs(mean_index[b]);
-    if (std::abs(da - db) > kSameIndex) return da < db;
-    return std::abs(all[a].imag()) < std::abs(all[b].imag());
-  });
-  order.resize(2 * nd);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return all[a].real() > all[b].real(); });
-  summary.exponents.resize(2 * nd);
-  for (int i = 0; i < 2 * nd; ++i) summary.exponents[i] = all[order[i]];
   summary.max_real_part = summary.exponents[0].real();
   summary.max_multiplier = std::exp(summary.max_real_part * 2 * std::numbers::pi / omega);
   summary.stable = summary.max_real_part <= options.stability_tolerance * omega;

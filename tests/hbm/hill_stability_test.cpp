@@ -62,7 +62,8 @@ TEST(HillStability, LinearSystemHasItsDampedEigenvaluesAsExponents) {
     A.bottomRightCorner(2, 2) = -C;
     const Eigen::VectorXcd s = Eigen::EigenSolver<MatrixXd>(A, false).eigenvalues();
 
-    const FloquetSummary f = hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
+    const FloquetSummary f =
+        hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
     ASSERT_EQ(f.exponents.size(), 4);
     EXPECT_EQ(f.dynamic_modes, 2);
     EXPECT_TRUE(f.stable);
@@ -260,7 +261,8 @@ TEST(HillStability, QuasiStaticHighModesChangeTheExponentsLittle) {
   newton.tolerance = 1e-12;
   VectorXd x = sys.linear_guess(w, false);
   ASSERT_TRUE(solve_newton(sys, w, x, newton).converged());
-  const FloquetSummary all = hill_stability(sys, x, w, {.dynamic_mode_factor = 0});
+  const FloquetSummary all =
+      hill_stability(sys, x, w, {.dynamic_mode_factor = 0});
   const FloquetSummary split = hill_stability(sys, x, w);
   EXPECT_EQ(all.dynamic_modes, 2);
   EXPECT_EQ(split.dynamic_modes, 1);
