@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "fe_test_util.h"
+#include "mesh/surface_area.h"
 
 namespace stickslip {
 namespace {
@@ -212,6 +213,28 @@ TEST(ElementKernels, ReducedBrickOnABoxIsOnePointPlusCalculixHourglassStiffness)
       EXPECT_NEAR(M(3 * m + 1, 3 * n + 1), kSteel.density * V / 64, kRoundOff * kSteel.density * V);
       EXPECT_EQ(M(3 * m, 3 * n + 2), 0.0);
     }
+  }
+}
+
+// The faces of the new types as contact surfaces see them (mesh/surface_area.h): on a box of
+// pyramids (bases on the box faces) and of C3D8R bricks, the faces within the x = 0 plane are
+// the bases (8 nodes for C3D13: corners and base mid-edge nodes) and cover it: Σ area = ly lz.
+TEST(ElementFaces, PyramidAndReducedBrickFacesCoverABoxSide) {
+  const Eigen::Vector3d size(0.4, 0.3, 0.2);
+  for (ElementType type : {ElementType::kC3D5, ElementType::kC3D13, ElementType::kC3D8R}) {
+    const Mesh mesh = testing::box_mesh(type, 2, 2, 2, size);
+    std::vector<int> side;
+    for (int n = 0; n < mesh.num_nodes(); ++n) {
+      if (std::abs(mesh.coordinates(0, n)) < 1e-12) side.push_back(n);
+    }
+    const std::vector<ElementFace> faces = faces_within(mesh, side);
+    ASSERT_EQ(faces.size(), 4u) << element_type_name(type);
+    double area = 0.0;
+    for (const ElementFace& f : faces) {
+      EXPECT_EQ(f.nodes.size(), type == ElementType::kC3D13 ? 8u : 4u) << element_type_name(type);
+      area += face_area(mesh, f);
+    }
+    EXPECT_NEAR(area, size(1) * size(2), kRoundOff * size(1) * size(2)) << element_type_name(type);
   }
 }
 
