@@ -51,8 +51,9 @@
 // (conforming with C3D20 faces); on a triangular face the trace is the collapsed 8-node
 // serendipity quadrilateral, not the 6-node triangle of a C3D10 face (the two agree at the six
 // nodes and along the edges, not inside: the pair is not conforming, as in CalculiX and ANSYS
-// meshes that mix them). Linear fields are reproduced exactly; quadratic ones are not (the
-// collapsed map is not affine).
+// meshes that mix them). Linear fields are reproduced exactly; of the quadratic ones (axis z
+// from the base to the apex of a right pyramid) z², xz, yz and xy are, x² and y² are not (the
+// collapsed map is not affine: x² needs ξ²ζ², outside the brick's space).
 //
 // C3D8R (CalculiX 2.20's reduced-integration brick, after Flanagan and Belytschko 1981): the
 // uniform-strain part V B̄ᵀ D B̄, B̄ the strain operator of the mean gradients

@@ -165,6 +165,48 @@ TEST(ElementKernels, QuadraticPyramidIsTheCollapsedQuadraticBrick) {
   }
 }
 
+// Which quadratic fields C3D13 reproduces: on a right pyramid (base [-a, a]² at z = 0, apex
+// (0, 0, h)) the collapsed map is x = aξ(1 − ζ)/2, y = aη(1 − ζ)/2, z = h(1 + ζ)/2, so z², xz,
+// yz and xy are polynomials of the 20-node brick's space (ξηζ² is one of its 20 monomials)
+// constant on the collapsed face (exact), while x² and y² need ξ²ζ² and η²ζ² (not in it). The
+// interpolant Σ N_a f(x_a) equals f inside the element for the first kind (and for linear
+// fields) and not for the second.
+TEST(ElementKernels, QuadraticPyramidReproducesTheQuadraticFieldsOfItsCollapsedBrick) {
+  const double a = 0.3, h = 0.5;
+  Eigen::Matrix3Xd X = natural_node_coordinates(ElementType::kC3D13);
+  for (int n = 0; n < X.cols(); ++n) {
+    const Eigen::Vector3d p = X.col(n);
+    X.col(n) = n == 4 ? Eigen::Vector3d(0, 0, h)
+                      : Eigen::Vector3d(a * p(0) * (1 - p(2)) / 2, a * p(1) * (1 - p(2)) / 2,
+                                        h * (1 + p(2)) / 2);
+  }
+  using Field = double (*)(const Eigen::Vector3d&);
+  const Field exact[] = {[](const Eigen::Vector3d& x) { return 1.0 + x(0) - 2 * x(1) + 3 * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(2) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(0) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(1) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(0) * x(1); }};
+  const Field inexact[] = {[](const Eigen::Vector3d& x) { return x(0) * x(0); },
+                           [](const Eigen::Vector3d& x) { return x(1) * x(1); }};
+  const auto worst_error = [&](Field f) {
+    Eigen::VectorXd nodal(13);
+    for (int n = 0; n < 13; ++n) nodal(n) = f(X.col(n));
+    double worst = 0.0;
+    for (const Eigen::Vector3d& xi :
+         {Eigen::Vector3d(0.3, -0.2, -0.5), Eigen::Vector3d(-0.7, 0.6, 0.1),
+          Eigen::Vector3d(0.5, 0.5, 0.6)}) {
+      Eigen::VectorXd N;
+      Eigen::Matrix3Xd dN;
+      shape_functions(ElementType::kC3D13, xi, N, dN);
+      worst = std::max(worst, std::abs(N.dot(nodal) - f(X * N)));
+    }
+    return worst;
+  };
+  const double scale = a * a;  // the fields' size
+  for (Field f : exact) EXPECT_LT(worst_error(f), kRoundOff * scale);
+  for (Field f : inexact) EXPECT_GT(worst_error(f), 1e-3 * scale);
+}
+
 // C3D8R on a box a x b x c, built here from the closed forms: the uniform gradients of node n
 // (natural corner (ξ_n, η_n, ζ_n)) are b̄ = (ξ_n / 4a, η_n / 4b, ζ_n / 4c), the one-point part is
 // V B̄ᵀ D B̄, and CalculiX's hourglass stiffness is c Σ_k h_k h_kᵀ on each direction with the
