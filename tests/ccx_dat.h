@@ -1,8 +1,10 @@
 // Reading CalculiX's own output in tests: the eigenvalue table of a *FREQUENCY step in ccx's .dat
 // file (rows "mode, eigenvalue, ω, f, Im ω" after "E I G E N V A L U E   O U T P U T", up to the
-// participation factors). Header-only: shared by the fe, cli and validation tests.
+// participation factors) and the displacements of a *STATIC step. Header-only: shared by the fe,
+// cli and validation tests.
 #pragma once
 
+#include <array>
 #include <map>
 #include <sstream>
 #include <string>
@@ -50,6 +52,28 @@ inline std::map<int, std::vector<double>> cyclic_eigenvalues(const std::string& 
       if (row >> diameter >> mode >> eigenvalue >> omega >> frequency >> imaginary) {
         values[diameter].push_back(eigenvalue);
       }
+    }
+  }
+  return values;
+}
+
+// The nodal displacements of the first "displacements" block of `text` (a *NODE PRINT ... U of a
+// *STATIC step): rows "node ux uy uz", by node id.
+inline std::map<int, std::array<double, 3>> displacements(const std::string& text) {
+  std::map<int, std::array<double, 3>> values;
+  const size_t header = text.find(" displacements ");
+  if (header == std::string::npos) return values;
+  std::istringstream in(text.substr(header));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    int node = 0;
+    std::array<double, 3> u{};
+    if (row >> node >> u[0] >> u[1] >> u[2]) {
+      values[node] = u;
+    } else if (!values.empty()) {
+      break;
     }
   }
   return values;

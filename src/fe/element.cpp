@@ -28,10 +28,14 @@ struct Rule {
 Rule gauss_hex_rule(int n) {
   const double a = 1.0 / std::sqrt(3.0);
   const double b = std::sqrt(0.6);
+  const double c = std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(1.2));
+  const double d = std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(1.2));
+  const double wc = (18.0 + std::sqrt(30.0)) / 36.0, wd = (18.0 - std::sqrt(30.0)) / 36.0;
   const double p2[] = {-a, a}, w2[] = {1.0, 1.0};
   const double p3[] = {-b, 0.0, b}, w3[] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  const double* p = n == 2 ? p2 : p3;
-  const double* w = n == 2 ? w2 : w3;
+  const double p4[] = {-d, -c, c, d}, w4[] = {wd, wc, wc, wd};
+  const double* p = n == 2 ? p2 : (n == 3 ? p3 : p4);
+  const double* w = n == 2 ? w2 : (n == 3 ? w3 : w4);
   Rule r;
   for (int k = 0; k < n; ++k) {
     for (int j = 0; j < n; ++j) {
@@ -288,6 +292,26 @@ void shape_pyr5(const Vector3d& p, Matrix<double, 5, 1>& N, Matrix<double, 3, 5>
   dN(2, 4) = 0.5;
 }
 
+// Pyramid C3D13: the 20-node brick with its top face collapsed onto the apex (CalculiX's C3D20
+// with nodes 5-8 and 13-16 on one node; ANSYS's SOLID186 pyramid shape M = N = O = P = U = V =
+// W = X). Each node's function is the sum of the brick functions of the brick nodes it stands
+// for: base corners 0-3 and base mid-edge nodes 5-8 are the brick's 0-3 and 8-11, the apex 4 is
+// brick nodes 4-7 and 12-15, the mid-edge nodes 9-12 of the lateral edges 0-4 ... 3-4 are the
+// brick's vertical mid-edge nodes 16-19.
+void shape_pyr13(const Vector3d& p, Matrix<double, 13, 1>& N, Matrix<double, 3, 13>& dN) {
+  Matrix<double, 20, 1> n;
+  Matrix<double, 3, 20> d;
+  shape_hex20(p, n, d);
+  N.head<4>() = n.head<4>();
+  dN.leftCols<4>() = d.leftCols<4>();
+  N(4) = n.segment<4>(4).sum() + n.segment<4>(12).sum();
+  dN.col(4) = d.middleCols<4>(4).rowwise().sum() + d.middleCols<4>(12).rowwise().sum();
+  N.segment<4>(5) = n.segment<4>(8);
+  dN.middleCols<4>(5) = d.middleCols<4>(8);
+  N.segment<4>(9) = n.segment<4>(16);
+  dN.middleCols<4>(9) = d.middleCols<4>(16);
+}
+
 // ---------------------------------------------------------------- reference data (cached)
 
 template <int NEN>
@@ -345,6 +369,23 @@ const RefData<5>& pyr5_2() {
 }
 const RefData<5>& pyr5_3() {
   static const RefData<5> r = make_ref<5>(gauss_hex_rule(3), shape_pyr5);
+  return r;
+}
+// 13-node pyramid: the collapsed 20-node brick's 3x3x3 rule for stiffness (CalculiX's C3D20) and
+// 4x4x4 for the exact mass (straight edges: det J has degree <= 2 in each natural coordinate,
+// N_a N_b det J up to 6; 4 Gauss points are exact to 7, 3 to 5).
+const RefData<13>& pyr13_3() {
+  static const RefData<13> r = make_ref<13>(gauss_hex_rule(3), shape_pyr13);
+  return r;
+}
+const RefData<13>& pyr13_4() {
+  static const RefData<13> r = make_ref<13>(gauss_hex_rule(4), shape_pyr13);
+  return r;
+}
+// C3D8R: one point at the centre, weight 8 (its stiffness and one-point mass are not integrated
+// from it, see stiffness_hex8r and element_mass; the point locates its stresses).
+const RefData<8>& hex8_1() {
+  static const RefData<8> r = make_ref<8>(Rule{{Vector3d::Zero()}, {8.0}}, shape_hex8);
   return r;
 }
 // Wedges. Stiffness rules as CalculiX 2.20 (its frequencies to 1e-11, tests/validation):
@@ -606,6 +647,58 @@ void strain_operators_hex8b(const Matrix<double, 3, 8>& X, std::vector<Eigen::Ma
   }
 }
 
+// C3D8R: CalculiX 2.20's reduced-integration brick (its hourglass stiffness after Flanagan and
+// Belytschko 1981; formulation read from ccx's shape8hr.f and hgstiffness.f, written anew here).
+// With b̄ (Gbar) the uniform gradients b̄_ja = (1/V) ∂V/∂x_ja = (1/V) ∫ ∂N_a/∂x_j dV
+// (mean_gradients_hex8: the 2x2x2 rule integrates them exactly) the one-point part is
+// V B̄ᵀ D B̄. The hourglass part acts on each direction alike:
+//   K_hg(3a+d, 3b+d) = c Σ_k γ_ka γ_kb,   c = kHourglassFactor · E · Σ_ja (∂V/∂x_ja)² / V,
+// γ_k = h_k − Σ_j b̄_j (x_jᵀ h_k) for the base vectors h_k (ηζ, ξζ, ξη, ξηζ at the nodes):
+// orthogonal to every linear field (b̄_iᵀ x_j = δ_ij), so rigid motions and the patch test's
+// fields carry no hourglass energy. (ccx 2.20 subtracts the z term only, see element.h.)
+constexpr double kHourglassFactor = 0.0005;  // CalculiX 2.20's fixed value (shape8hr.f)
+
+void hourglass_vectors_hex8r(const Matrix<double, 3, 8>& X, const Matrix<double, 3, 8>& Gbar,
+                             Matrix<double, 8, 4>& gamma) {
+  for (int a = 0; a < 8; ++a) {
+    const double* c = kHexNodes[a];
+    gamma(a, 0) = c[1] * c[2];
+    gamma(a, 1) = c[0] * c[2];
+    gamma(a, 2) = c[0] * c[1];
+    gamma(a, 3) = c[0] * c[1] * c[2];
+  }
+  const Matrix<double, 3, 4> xh = X * gamma;
+  gamma.noalias() -= Gbar.transpose() * xh;
+}
+
+void stiffness_hex8r(const Matrix<double, 3, 8>& X, double youngs_modulus, double lambda, double mu,
+                     Matrix<double, 24, 24>& K) {
+  Matrix<double, 3, 8> Gbar;
+  const double volume = mean_gradients_hex8(X, Gbar);
+  GradientRows<8> R(1, 24);
+  set_gradient_row<8>(Gbar, volume, 0, R);
+  isotropic_stiffness<8>(R, lambda, mu, K);
+  Matrix<double, 8, 4> gamma;
+  hourglass_vectors_hex8r(X, Gbar, gamma);
+  // Σ (∂V/∂x)² / V = V Σ b̄².
+  const double c = kHourglassFactor * youngs_modulus * volume * Gbar.squaredNorm();
+  const Matrix<double, 8, 8> h = c * (gamma * gamma.transpose());
+  for (int b = 0; b < 8; ++b) {
+    for (int a = 0; a < 8; ++a) {
+      for (int d = 0; d < 3; ++d) K(3 * a + d, 3 * b + d) += h(a, b);
+    }
+  }
+}
+
+// The one point's strain operator: the uniform gradients (the hourglass modes carry no strain).
+void strain_operators_hex8r(const Matrix<double, 3, 8>& X, std::vector<Eigen::MatrixXd>& B) {
+  Matrix<double, 3, 8> Gbar;
+  mean_gradients_hex8(X, Gbar);
+  B.resize(1);
+  B[0].resize(6, 24);
+  strain_operator<8>(Gbar, B[0]);
+}
+
 template <int NEN>
 Matrix<double, 3, NEN> fixed_coordinates(ElementType type, const Eigen::Matrix3Xd& X) {
   if (X.cols() != NEN) {
@@ -644,6 +737,18 @@ void element_stiffness(ElementType type, const Eigen::Matrix3Xd& X,
       Matrix<double, 24, 24> k;
       stiffness_hex8b(fixed_coordinates<8>(type, X), l, m, k);
       copy_out<8>(k, K);
+      return;
+    }
+    case ElementType::kC3D8R: {
+      Matrix<double, 24, 24> k;
+      stiffness_hex8r(fixed_coordinates<8>(type, X), material.youngs_modulus, l, m, k);
+      copy_out<8>(k, K);
+      return;
+    }
+    case ElementType::kC3D13: {
+      Matrix<double, 39, 39> k;
+      stiffness_standard<13>(fixed_coordinates<13>(type, X), pyr13_3(), l, m, k);
+      copy_out<13>(k, K);
       return;
     }
     case ElementType::kC3D20:
@@ -699,6 +804,30 @@ void element_mass(ElementType type, const Eigen::Matrix3Xd& X, double density, E
       copy_out<8>(m, M);
       return;
     }
+    case ElementType::kC3D8R: {
+      Matrix<double, 24, 24> m;
+      const Matrix<double, 3, 8> x = fixed_coordinates<8>(type, X);
+      if (exact) {
+        mass_standard<8>(x, hex8_2(), density, m);
+      } else {
+        // CalculiX's one point with det J = V / 8 (its exact volume): ρV/64 for every pair.
+        m.setZero();
+        const double mab = density * volume_standard<8>(x, hex8_2()) / 64.0;
+        for (int b = 0; b < 8; ++b) {
+          for (int a = 0; a < 8; ++a) {
+            for (int d = 0; d < 3; ++d) m(3 * a + d, 3 * b + d) = mab;
+          }
+        }
+      }
+      copy_out<8>(m, M);
+      return;
+    }
+    case ElementType::kC3D13: {
+      Matrix<double, 39, 39> m;
+      mass_standard<13>(fixed_coordinates<13>(type, X), exact ? pyr13_4() : pyr13_3(), density, m);
+      copy_out<13>(m, M);
+      return;
+    }
     case ElementType::kC3D20:
     case ElementType::kC3D20R: {
       Matrix<double, 60, 60> m;
@@ -746,7 +875,10 @@ double element_volume(ElementType type, const Eigen::Matrix3Xd& X) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
     case ElementType::kC3D8B:
+    case ElementType::kC3D8R:
       return volume_standard<8>(fixed_coordinates<8>(type, X), hex8_2());
+    case ElementType::kC3D13:
+      return volume_standard<13>(fixed_coordinates<13>(type, X), pyr13_4());
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
       return volume_standard<20>(fixed_coordinates<20>(type, X), hex20_3());
@@ -801,7 +933,8 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
   switch (type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
-    case ElementType::kC3D8B: {
+    case ElementType::kC3D8B:
+    case ElementType::kC3D8R: {
       const Matrix<double, 3, 8> x = X;
       det_range<8>(x, hex8_2(), &r);
       static const RefData<8> centre = make_ref<8>(Rule{{Vector3d::Zero()}, {8.0}}, shape_hex8);
@@ -831,6 +964,12 @@ std::string element_shape_problem(ElementType type, const Eigen::Matrix3Xd& X) {
       const Matrix<double, 3, 5> x = X;
       det_range<5>(x, pyr5_2(), &r);
       det_range<5>(x, pyr5_3(), &r);
+      break;
+    }
+    case ElementType::kC3D13: {
+      const Matrix<double, 3, 13> x = X;
+      det_range<13>(x, pyr13_3(), &r);
+      det_range<13>(x, pyr13_4(), &r);
       break;
     }
     case ElementType::kC3D6: {
@@ -868,14 +1007,20 @@ Eigen::Matrix3Xd natural_node_coordinates(ElementType type) {
   const bool hex = n == 8 || n == 20;
   const bool wedge = n == 6 || n == 15;
   Eigen::Matrix3Xd P(3, n);
-  for (int a = 0; a < n; ++a) {
+  for (int a = 0; a < n && n != 13; ++a) {
     for (int i = 0; i < 3; ++i) {
       P(i, a) = hex ? kHexNodes[a][i] : (wedge ? kWedgeNodes[a][i] : kTetNodes[a][i]);
     }
   }
-  if (n == 5) {  // pyramid: the brick's base, the apex at (0, 0, 1)
+  if (n == 5 || n == 13) {  // pyramid: the brick's base, the apex at (0, 0, 1)
     for (int a = 0; a < 4; ++a) P.col(a) = Vector3d(kHexNodes[a][0], kHexNodes[a][1], -1.0);
     P.col(4) = Vector3d(0.0, 0.0, 1.0);
+  }
+  if (n == 13) {  // base mid-edge nodes as the brick's 9-12, lateral ones as its 17-20
+    for (int a = 0; a < 4; ++a) {
+      P.col(5 + a) = Vector3d(kHexNodes[8 + a][0], kHexNodes[8 + a][1], kHexNodes[8 + a][2]);
+      P.col(9 + a) = Vector3d(kHexNodes[16 + a][0], kHexNodes[16 + a][1], kHexNodes[16 + a][2]);
+    }
   }
   return P;
 }
@@ -898,6 +1043,10 @@ void stiffness_rule(ElementType type, Eigen::Matrix3Xd* P, Eigen::VectorXd* w) {
     case ElementType::kC3D8I:
     case ElementType::kC3D8B:
       return rule_out<8>(hex8_2(), P, w);
+    case ElementType::kC3D8R:
+      return rule_out<8>(hex8_1(), P, w);
+    case ElementType::kC3D13:
+      return rule_out<13>(pyr13_3(), P, w);
     case ElementType::kC3D20:
       return rule_out<20>(hex20_3(), P, w);
     case ElementType::kC3D20R:
@@ -948,7 +1097,10 @@ void shape_functions(ElementType type, const Eigen::Vector3d& xi, Eigen::VectorX
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
     case ElementType::kC3D8B:
+    case ElementType::kC3D8R:
       return evaluate_shape<8>(shape_hex8, xi, N, dN);
+    case ElementType::kC3D13:
+      return evaluate_shape<13>(shape_pyr13, xi, N, dN);
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
       return evaluate_shape<20>(shape_hex20, xi, N, dN);
@@ -975,6 +1127,10 @@ void element_strain_operators(ElementType type, const Eigen::Matrix3Xd& X,
                                     shear_modulus(material), B);
     case ElementType::kC3D8B:
       return strain_operators_hex8b(fixed_coordinates<8>(type, X), B);
+    case ElementType::kC3D8R:
+      return strain_operators_hex8r(fixed_coordinates<8>(type, X), B);
+    case ElementType::kC3D13:
+      return strain_operators_standard<13>(fixed_coordinates<13>(type, X), pyr13_3(), B);
     case ElementType::kC3D20:
       return strain_operators_standard<20>(fixed_coordinates<20>(type, X), hex20_3(), B);
     case ElementType::kC3D20R:

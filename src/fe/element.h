@@ -23,8 +23,11 @@
 //   C3D15    9 points: 3 triangle points (1/6, 1/6), (2/3, 1/6), (1/6, 2/3) x 3 Gauss
 //                                      7-point triangle (deg. 5) x 4 Gauss
 //   C3D5     2x2x2 Gauss               3x3x3 Gauss
+//   C3D13    3x3x3 Gauss               4x4x4 Gauss
+//   C3D8R    1 point + hourglass stiffness (below)               2x2x2 Gauss
 // MassIntegration::kStiffnessRule integrates the mass with the stiffness rule, as CalculiX does
-// (identical for C3D8, C3D8I, C3D8B, C3D20; rank-deficient for C3D20R, C3D4 and C3D6).
+// (identical for C3D8, C3D8I, C3D8B, C3D20, C3D13; rank-deficient for C3D20R, C3D4, C3D6 and
+// C3D8R).
 // The wedge rules are CalculiX 2.20's (its frequencies of wedge meshes reproduced to 1e-11,
 // tests/validation/calculix_modal_test.cpp). C3D6's two points on the centroid leave one spurious
 // zero-energy mode on a single free element, constrained in a mesh.
@@ -37,6 +40,34 @@
 // N_5 = (1 + zeta)/2. Linear on each triangular face (conforming with C3D4 and C3D6 triangles),
 // bilinear on the base (conforming with C3D8 faces); det J = 0 at the apex, which no integration
 // point reaches. Exact mass rule 3x3x3, so the mass is ρV exactly for a planar base.
+//
+// C3D13 (13-node pyramid) is the 20-node brick with its top face collapsed onto the apex, as
+// CalculiX computes a C3D20 whose nodes 5-8 and 13-16 are one node and as ANSYS stores SOLID186's
+// pyramid shape (M = N = O = P = U = V = W = X): base corners 1-4 and apex 5 as C3D5's, mid-edge
+// nodes 6-9 on the base edges 1-2, 2-3, 3-4, 4-1 (the brick's 9-12) and 10-13 on the lateral
+// edges 1-5, 2-5, 3-5, 4-5 (the brick's 17-20, natural coordinates (±1, ±1, 0)); VTK's
+// quadratic pyramid order. Each function is the sum of the brick functions it stands for, so
+// K and M are exactly those of the collapsed C3D20 under the same rule. Quadratic on the base
+// (conforming with C3D20 faces); on a triangular face the trace is the collapsed 8-node
+// serendipity quadrilateral, not the 6-node triangle of a C3D10 face (the two agree at the six
+// nodes and along the edges, not inside: the pair is not conforming, as in CalculiX and ANSYS
+// meshes that mix them). Linear fields are reproduced exactly; of the quadratic ones (axis z
+// from the base to the apex of a right pyramid) z², xz, yz and xy are, x² and y² are not (the
+// collapsed map is not affine: x² needs ξ²ζ², outside the brick's space).
+//
+// C3D8R (CalculiX 2.20's reduced-integration brick, after Flanagan and Belytschko 1981): the
+// uniform-strain part V B̄ᵀ D B̄, B̄ the strain operator of the mean gradients
+// b̄_ja = (1/V) ∫ ∂N_a/∂x_j dV, plus CalculiX's hourglass stiffness on each direction alike,
+//   K_hg(3a+d, 3b+d) = c Σ_k γ_ka γ_kb,  c = 0.0005 E Σ_ja (∂V/∂x_ja)² / V  (N/m),
+// γ_k = h_k − Σ_j b̄_j (x_jᵀ h_k) for the four hourglass base vectors h_k = ηζ, ξζ, ξη, ξηζ at the
+// nodes (x_j: the nodes' coordinates in direction j): orthogonal to every linear field, so rigid
+// motions and linear fields cost no hourglass energy. ccx 2.20 subtracts the z term only
+// (γ_k = h_k − b̄_z (zᵀ h_k)): identical on parallelepipeds (x_jᵀ h_k = 0 there), but on a
+// distorted brick its hourglass stiffness resists rigid rotations (‖K r‖ = 6e-3 ‖K‖ on the
+// distorted brick of tests/validation/c3d8r_calculix_test.cpp), which stickslip does not copy.
+// The factor 0.0005 is CalculiX's, fixed. Strains and stresses: B̄, at the centre. Exact mass:
+// the C3D8 consistent mass; MassIntegration::kStiffnessRule: CalculiX's one-point mass,
+// M_e(3a+d, 3b+d) = ρV/64 for every a, b (V exact).
 //
 // C3D8I (Wilson-Taylor incompatible modes): displacement u = sum N_a u_a + sum_k P_k alpha_k with
 // P = (1 - xi^2, 1 - eta^2, 1 - zeta^2) times three internal 3-vectors alpha. Following Taylor,

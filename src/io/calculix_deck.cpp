@@ -96,19 +96,32 @@ void validate(const CalculixDeckOptions& options) {
 }
 
 namespace {
-// ccx has no pyramid element: C3D5 is the 8-node brick with nodes 5-8 collapsed onto the apex
-// (fe/element.h), so the deck writes it as exactly that C3D8 (same shape functions and rule).
+// ccx has no pyramid element: C3D5 and C3D13 are the 8- and 20-node bricks with their top face
+// collapsed onto the apex (fe/element.h), so the deck writes them as exactly those C3D8 (nodes
+// 5-8 the apex) and C3D20 (nodes 5-8 and 13-16 the apex, 17-20 the lateral mid-edge nodes): the
+// same shape functions and rules.
 void write_pyramids_as_collapsed_bricks(Mesh& mesh) {
-  if (std::count(mesh.element_types.begin(), mesh.element_types.end(), ElementType::kC3D5) == 0) {
-    return;
-  }
+  const auto pyramid = [](ElementType t) {
+    return t == ElementType::kC3D5 || t == ElementType::kC3D13;
+  };
+  if (std::none_of(mesh.element_types.begin(), mesh.element_types.end(), pyramid)) return;
   std::vector<int> offsets{0}, connectivity;
   for (int e = 0; e < mesh.num_elements(); ++e) {
     const std::span<const int> nodes = mesh.element_nodes(e);
-    connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
-    if (mesh.element_types[static_cast<size_t>(e)] == ElementType::kC3D5) {
+    ElementType& type = mesh.element_types[static_cast<size_t>(e)];
+    if (type == ElementType::kC3D5) {
+      connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
       connectivity.insert(connectivity.end(), 3, nodes[4]);
-      mesh.element_types[static_cast<size_t>(e)] = ElementType::kC3D8;
+      type = ElementType::kC3D8;
+    } else if (type == ElementType::kC3D13) {
+      connectivity.insert(connectivity.end(), nodes.begin(), nodes.begin() + 5);
+      connectivity.insert(connectivity.end(), 3, nodes[4]);
+      connectivity.insert(connectivity.end(), nodes.begin() + 5, nodes.begin() + 9);
+      connectivity.insert(connectivity.end(), 4, nodes[4]);
+      connectivity.insert(connectivity.end(), nodes.begin() + 9, nodes.end());
+      type = ElementType::kC3D20;
+    } else {
+      connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
     }
     offsets.push_back(static_cast<int>(connectivity.size()));
   }

@@ -34,7 +34,8 @@
 // the mesh's external ids. Element types are those of the mesh (C3D8 for stickslip's
 // kFull hex8 formulation; stickslip's MassIntegration::kStiffnessRule reproduces ccx's mass),
 // except C3D8B (B-bar), which ccx lacks: written as C3D8, with a comment line saying so, and
-// C3D5 (pyramid), which ccx lacks too: written as the C3D8 it is (nodes 5-8 = the apex).
+// the pyramids C3D5 and C3D13, which ccx lacks too: written as the C3D8 and C3D20 they are
+// (nodes 5-8, and for C3D20 also 13-16, = the apex; C3D13's nodes 10-13 as the C3D20's 17-20).
 // Inputs: loads 3 num_nodes x nh, column j = harmonics[j], harmonic 0 real. Bad input throws
 // InvalidInput naming the field and rule (also if the mesh already has a set named SS_*).
 #pragma once

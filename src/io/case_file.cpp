@@ -806,7 +806,8 @@ void parse_meshes(Parser& p, const MapView& top) {
               m.forbid(key, std::string("for a .") + case_name(d.format) +
                                 " file (its element types are in the file)");
           }
-          element_choice(p, m, "hexahedron8", {ElementType::kC3D8, ElementType::kC3D8I},
+          element_choice(p, m, "hexahedron8",
+                         {ElementType::kC3D8, ElementType::kC3D8I, ElementType::kC3D8R},
                          &d.hexahedron8);
           element_choice(p, m, "hexahedron20", {ElementType::kC3D20, ElementType::kC3D20R},
                          &d.hexahedron20);

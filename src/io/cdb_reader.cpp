@@ -713,7 +713,7 @@ class CdbParser {
     std::set<int> skipped_elements;
     std::vector<int> element_numbers;  // material number of each element kept
     int mesh200 = 0, mesh200_line = -1, wedges = 0, wedge_line = -1;
-    int pyramids = 0, pyramid_line = -1;
+    int pyramids = 0, pyramid_line = -1, pyramids13 = 0, pyramid13_line = -1;
     for (const RawElement& e : elements_) {
       std::vector<int> nodes;
       const std::optional<ElementType> type = map_element(e, &nodes);
@@ -742,6 +742,7 @@ class CdbParser {
         if (wedges++ == 0) wedge_line = e.line;
       }
       if (*type == ElementType::kC3D5 && pyramids++ == 0) pyramid_line = e.line;
+      if (*type == ElementType::kC3D13 && pyramids13++ == 0) pyramid13_line = e.line;
       element_index[e.id] = mesh.add_element(e.id, *type, local);
       Eigen::Matrix3Xd X(3, static_cast<Eigen::Index>(local.size()));
       for (size_t a = 0; a < local.size(); ++a) {
@@ -787,6 +788,15 @@ class CdbParser {
                        std::to_string(pyramid_line + 1) +
                        ") read as C3D5, ANSYS's collapsed hexahedron with 2x2x2 Gauss points, "
                        "without B-bar");
+    }
+    if (pyramids13 > 0) {
+      notes_.push_back(file_ + ": " + std::to_string(pyramids13) +
+                       " degenerate SOLID186 element(s) of pyramid shape (first on line " +
+                       std::to_string(pyramid13_line + 1) +
+                       ") read as C3D13, the collapsed 20-node hexahedron with 3x3x3 Gauss points "
+                       "(CalculiX's C3D20 with a collapsed face); ANSYS integrates its pyramid "
+                       "with 2x2x2 points and its own 13-node pyramid functions, so ANSYS's "
+                       "results may differ");
     }
     for (const RawSet& s : sets_) {
       auto& target = s.node ? mesh.node_sets : mesh.element_sets;
@@ -953,18 +963,15 @@ class CdbParser {
       return refuse("its corner nodes repeat in a way that is no ANSYS shape");
     }
     const int k2 = keyopt(2);
-    if (shape == "pyramid" && t.number == 186) {
-      return refuse("the pyramid shape of SOLID186 is not supported (stickslip has no 13-node "
-                    "pyramid; mesh with SOLID185 pyramids or SOLID187 tetrahedra)");
-    }
     if (t.number == 185) {
       if (shape == "tetrahedron") {
         return refuse("the tetrahedral shape of SOLID185 is not supported (mesh with SOLID187)");
       }
       if (k2 == 1) {
         return refuse(
-            "KEYOPT(2) = 1, uniform reduced integration with hourglass control: "
-            "stickslip has no hourglass control");
+            "KEYOPT(2) = 1, uniform reduced integration with hourglass control: ANSYS's "
+            "hourglass stiffness is not published, and stickslip's C3D8R (CalculiX's) is a "
+            "different one");
       }
       if (k2 == 2) {
         return refuse(
@@ -1006,6 +1013,19 @@ class CdbParser {
       // Corners I J K M; mid-side Q (IJ), R (JK), T (LI = KI), Y (IM), Z (JM), A (KM).
       *nodes = {n[0], n[1], n[2], n[4], n[8], n[9], n[11], n[16], n[17], n[18]};
       return ElementType::kC3D10;
+    }
+    if (shape == "pyramid") {
+      // Pyramid I J K L M M M M Q R S T M M M M Y Z A B: corners I J K L M; mid-side Q R S T
+      // (base), Y Z A B (lateral edges IM, JM, KM, LM): C3D13's order, the collapsed C3D20.
+      for (int a = 12; a < 16; ++a) {
+        if (n[static_cast<size_t>(a)] != n[4]) {
+          return refuse(
+              "a pyramid shape (M = N = O = P) whose top mid-side nodes U V W X are not "
+              "all its apex M");
+        }
+      }
+      *nodes = {n[0], n[1], n[2], n[3], n[4], n[8], n[9], n[10], n[11], n[16], n[17], n[18], n[19]};
+      return ElementType::kC3D13;
     }
     if (shape == "wedge") {
       // Prism: K = L, O = P (and S = K, W = O, A = B). Corners I J K M N O; mid-side Q (IJ),

@@ -36,7 +36,10 @@
 //             brick, 2x2x2 Gauss, no B-bar)
 //   SOLID186  hexahedron, KEYOPT(2)=0 (reduced 2x2x2) -> C3D20R, KEYOPT(2)=1 (full 3x3x3) -> C3D20;
 //             tetrahedral shape (K=L, M=N=O=P)         -> C3D10 (ANSYS uses the 10-node
-//             tetrahedron's shape functions for it); wedge shape (K=L, O=P) -> C3D15
+//             tetrahedron's shape functions for it); wedge shape (K=L, O=P) -> C3D15;
+//             pyramid shape (M=N=O=P=U=V=W=X)          -> C3D13 (corners I J K L M, mid-side
+//             Q R S T Y Z A B: the collapsed C3D20, 3x3x3 Gauss; ANSYS's own 13-node pyramid
+//             functions and 2x2x2 rule are not reproduced: a note says so)
 //   SOLID187  10-node tetrahedron                      -> C3D10
 //   MESH200   mesh-only element, no stiffness: skipped with a warning.
 //   CP,NSET,Lab,NODE1,...,NODE17  coupled sets (NSET a number, HIGH or NEXT; Lab UX, UY, UZ or
@@ -44,10 +47,11 @@
 //                           one): u(node) = u(NODE1) for every other node, as the equations
 //                           "node, d, 1, NODE1, d, -1" (the node's DOF dependent).
 // Refused with the element id, its SOLID type, its line and why: SOLID185 KEYOPT(2)=1 (uniform
-// reduced integration with hourglass control: stickslip has none), =2 (enhanced strain with 4
+// reduced integration with ANSYS's hourglass control, unpublished; stickslip's C3D8R is
+// CalculiX's), =2 (enhanced strain with 4
 // volumetric modes ANSYS does not publish), =3 on a wedge or pyramid shape, mixed u-P
-// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, the
-// pyramid shape of SOLID186 (no 13-node pyramid), the tetrahedral shape of SOLID185, mid-side
+// (KEYOPT(6) != 0), layered (KEYOPT(3) != 0), any other non-zero KEYOPT of these types, a
+// SOLID186 pyramid with U V W X not on its apex, the tetrahedral shape of SOLID185, mid-side
 // nodes left out (0 or a short list), other element types. Also refused, at their line: a D or
 // CE with a non-zero value, CE or CP on rotations, CP's blocked form or NODE1 = ALL, rigid
 // regions (they tie DOFs), temperature-dependent or anisotropic material data, rotated nodal

@@ -23,6 +23,7 @@ constexpr int kGmshHex20 = 17;
 constexpr int kGmshPrism6 = 6;
 constexpr int kGmshPrism15 = 18;
 constexpr int kGmshPyramid5 = 7;
+constexpr int kGmshPyramid13 = 19;
 
 constexpr int kIdentity8[8] = {0, 1, 2, 3, 4, 5, 6, 7};
 // Gmsh 20-node hexahedron: corners 0-7 as CalculiX, then edges (0,1) (0,3) (0,4) (1,2) (1,5)
@@ -36,6 +37,9 @@ constexpr int kTet10[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
 // (3,5) (4,5). CalculiX C3D15: corners, then (0,1) (1,2) (2,0), (3,4) (4,5) (5,3), (0,3) (1,4)
 // (2,5).
 constexpr int kPrism15[15] = {0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11};
+// Gmsh 13-node pyramid: corners as C3D13, then edges (0,1) (0,3) (0,4) (1,2) (1,4) (2,3) (2,4)
+// (3,4). C3D13: corners, then (0,1) (1,2) (2,3) (3,0), (0,4) (1,4) (2,4) (3,4).
+constexpr int kPyramid13[13] = {0, 1, 2, 3, 4, 5, 8, 10, 6, 7, 9, 11, 12};
 
 std::mutex g_session_mutex;
 int g_session_count = 0;
@@ -158,6 +162,8 @@ const int* gmsh_to_calculix_order(int gmsh_type) {
       return kTet10;
     case kGmshHex20:
       return kHex20;
+    case kGmshPyramid13:
+      return kPyramid13;
     default:
       return nullptr;
   }
@@ -227,11 +233,14 @@ Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& option
       case kGmshPyramid5:
         type = ElementType::kC3D5;
         break;
+      case kGmshPyramid13:
+        type = ElementType::kC3D13;
+        break;
       default:
         throw InvalidInput({source, 0, ""},
                            "unsupported element type " + gmsh_element_name(types[t]) +
                                " (supported: 4- and 10-node tetrahedra, 6- and 15-node "
-                               "prisms, 5-node pyramids, 8- and 20-node hexahedra)");
+                               "prisms, 5- and 13-node pyramids, 8- and 20-node hexahedra)");
     }
     const size_t n = static_cast<size_t>(nodes_per_element(type));
     STICKSLIP_VERIFY(element_nodes[t].size() == n * element_tags[t].size(),

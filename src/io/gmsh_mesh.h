@@ -5,10 +5,12 @@
 //  - All 3D elements of the model become elements (lower-dimensional elements are ignored):
 //    Gmsh 4-node tetrahedron -> C3D4, 10-node -> C3D10, 8-node hexahedron -> options.hexahedron8
 //    (C3D8I by default), 20-node -> options.hexahedron20 (C3D20 by default), 6- and 15-node
-//    prisms -> C3D6, C3D15, 5-node pyramid -> C3D5 (same node order). Any other 3D type (13- and
-//    14-node pyramids, 18-node prism, 27-node hexahedron, ...) is rejected with its Gmsh name.
+//    prisms -> C3D6, C3D15, 5-node pyramid -> C3D5 (same node order), 13-node pyramid -> C3D13.
+//    Any other 3D type (14-node pyramid, 18-node prism, 27-node hexahedron, ...) is rejected
+//    with its Gmsh name.
 //  - Node order is converted from Gmsh's to CalculiX's (they differ in the mid-edge nodes of the
-//    20-node hexahedron and of the 10-node tetrahedron; see gmsh_mesh.cpp). Only nodes used by a
+//    20-node hexahedron, the 10-node tetrahedron, the 15-node prism and the 13-node pyramid; see
+//    gmsh_mesh.cpp). Only nodes used by a
 //    3D element are kept. External ids = Gmsh node/element tags; nodes and elements sorted by tag.
 //  - Every physical group (any dimension) becomes a node set of the nodes of its elements;
 //    physical volumes also become element sets. Set name = the physical name, or
@@ -54,7 +56,7 @@ Mesh mesh_from_gmsh_model(const std::string& source_name, const GmshReadOptions&
                           std::vector<std::string>* warnings = nullptr);
 
 // Gmsh-to-CalculiX local node order: calculix_node[i] = gmsh_node[permutation[i]].
-// Exposed for tests; `gmsh_type` is the MSH element type (4, 5, 11 or 17).
+// Exposed for tests; `gmsh_type` is the MSH element type (4, 5, 6, 7, 11, 17, 18 or 19).
 const int* gmsh_to_calculix_order(int gmsh_type);
 
 }  // namespace stickslip

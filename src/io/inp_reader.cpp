@@ -419,14 +419,9 @@ class InpParser {
                          "(SPRING1, SPRING2, SPRINGA, MASS) may join instances at assembly level");
       }
       if (!parse_element_type(*type, &element_type_)) {
-        const std::string why =
-            upper(*type) == "C3D8R"
-                ? " (one-point integration with hourglass control: stickslip has no hourglass "
-                  "control; mesh with C3D8I, C3D8 or C3D20R)"
-                : "";
-        fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) + why +
-                         " (supported: C3D8, C3D8I, C3D8B, C3D20, C3D20R, C3D4, C3D10, C3D6, "
-                         "C3D15, C3D5)");
+        fail(k.line, "*ELEMENT: unsupported element type " + upper(*type) +
+                         " (supported: C3D8, C3D8I, C3D8R, C3D8B, C3D20, C3D20R, C3D4, C3D10, "
+                         "C3D6, C3D15, C3D5, C3D13)");
       }
       mode_ = Mode::kElement;
       if (auto n = param(k, "ELSET")) current_set_ = new_set(false, *n, k.line);

@@ -37,8 +37,9 @@
 //   (reference points), solid elements outside the parts, *BOUNDARY/*MATERIAL/*STEP inside a
 //   part or instance, instances of libraries, and a deck mixing a flat mesh and parts are
 //   errors at their line; a part that no instance uses is a warning.
-// Supported TYPE: C3D8, C3D8I, C3D8B (B-bar), C3D20, C3D20R, C3D4, C3D10, C3D6, C3D15, C3D5 (node
-// order as in the .inp, which is Mesh's), and the discrete SPRING1, SPRING2, SPRINGA and MASS
+// Supported TYPE: C3D8, C3D8I, C3D8R (CalculiX's hourglass control), C3D8B (B-bar), C3D20,
+// C3D20R, C3D4, C3D10, C3D6, C3D15, C3D5 and C3D13 (pyramids: stickslip's names; node order as
+// in the .inp, which is Mesh's), and the discrete SPRING1, SPRING2, SPRINGA and MASS
 // (ELSET= required):
 //   *SPRING, ELSET=name                  for SPRING1/SPRING2 a line of DOFs (1-3; integers), then
 //                                        the spring constant (N/m, a real); SPRINGA no DOF line

@@ -54,8 +54,8 @@ void write_inp(std::ostream& out, const Mesh& mesh) {
   }
   constexpr std::array kTypes = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
                                  ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10,
-                                 ElementType::kC3D8B, ElementType::kC3D6,   ElementType::kC3D15,
-                                 ElementType::kC3D5};
+                                 ElementType::kC3D8B,  ElementType::kC3D6,  ElementType::kC3D15,
+                                 ElementType::kC3D5,   ElementType::kC3D13, ElementType::kC3D8R};
   for (ElementType type : kTypes) {
     bool header = false;
     for (int e = 0; e < mesh.num_elements(); ++e) {

@@ -206,6 +206,7 @@ int vtk_cell_type(ElementType type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
     case ElementType::kC3D8B:
+    case ElementType::kC3D8R:
       return 12;
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
@@ -220,6 +221,8 @@ int vtk_cell_type(ElementType type) {
       return 26;
     case ElementType::kC3D5:  // VTK_PYRAMID: base 0-3 with its normal towards the apex 4, as ours
       return 14;
+    case ElementType::kC3D13:  // VTK_QUADRATIC_PYRAMID: corners as C3D5, then mid-edge nodes on
+      return 27;               // (0,1) (1,2) (2,3) (3,0) (0,4) (1,4) (2,4) (3,4), as ours
   }
   return 0;
 }

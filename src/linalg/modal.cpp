@@ -456,7 +456,7 @@ ModalResult dense_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M) {
   const Eigen::VectorXd d = diagonal.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd Ks = d.asDiagonal() * (0.5 * (K + K.transpose())) * d.asDiagonal();
   const Eigen::MatrixXd Ms = d.asDiagonal() * (0.5 * (M + M.transpose())) * d.asDiagonal();
-  // A singular M (a rank-deficient mass rule: C3D20R or C3D4 integrated with CalculiX's
+  // A singular M (a rank-deficient mass rule: C3D20R, C3D4 or C3D8R integrated with CalculiX's
   // stiffness rule) has massless modes, of infinite frequency: the generalised solve would return
   // garbage for them. Ms has a unit diagonal, so its Cholesky pivots are <= 1; one below
   // kSingularMassPivot is a singular M to round-off.
@@ -468,8 +468,8 @@ ModalResult dense_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M) {
       summary.termination = ModalTermination::kFactorizationFailed;
       summary.message =
           "the mass matrix is singular or not positive definite (massless modes: a "
-          "rank-deficient mass rule such as mass_rule: calculix with C3D20R or C3D4 elements "
-          "needs fewer modes than DOFs)";
+          "rank-deficient mass rule such as mass_rule: calculix with C3D20R, C3D4 or C3D8R "
+          "elements needs fewer modes than DOFs)";
       return result;
     }
   }

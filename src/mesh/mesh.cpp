@@ -20,6 +20,7 @@ int nodes_per_element(ElementType type) {
     case ElementType::kC3D8:
     case ElementType::kC3D8I:
     case ElementType::kC3D8B:
+    case ElementType::kC3D8R:
       return 8;
     case ElementType::kC3D20:
     case ElementType::kC3D20R:
@@ -30,6 +31,8 @@ int nodes_per_element(ElementType type) {
       return 10;
     case ElementType::kC3D5:
       return 5;
+    case ElementType::kC3D13:
+      return 13;
     case ElementType::kC3D6:
       return 6;
     case ElementType::kC3D15:
@@ -51,6 +54,10 @@ const char* element_type_name(ElementType type) {
     case ElementType::kC3D5: return "C3D5";
     case ElementType::kC3D6: return "C3D6";
     case ElementType::kC3D15: return "C3D15";
+    case ElementType::kC3D13:
+      return "C3D13";
+    case ElementType::kC3D8R:
+      return "C3D8R";
   }
   return "?";
 }
@@ -63,7 +70,8 @@ bool parse_element_type(const std::string& name, ElementType* type) {
       {"C3D20", ElementType::kC3D20}, {"C3D20R", ElementType::kC3D20R},
       {"C3D4", ElementType::kC3D4},   {"C3D10", ElementType::kC3D10},
       {"C3D8B", ElementType::kC3D8B}, {"C3D6", ElementType::kC3D6},
-      {"C3D15", ElementType::kC3D15}, {"C3D5", ElementType::kC3D5}};
+      {"C3D15", ElementType::kC3D15}, {"C3D5", ElementType::kC3D5},
+      {"C3D13", ElementType::kC3D13}, {"C3D8R", ElementType::kC3D8R}};
   for (const auto& [n, t] : kTable) {
     if (u == n) {
       *type = t;

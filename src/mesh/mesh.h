@@ -33,6 +33,9 @@ enum class ElementType {
   kC3D6,    // 6-node wedge (pentahedron)
   kC3D15,   // 15-node wedge
   kC3D5,    // 5-node pyramid: the collapsed 8-node brick (ANSYS SOLID185's pyramid), 2x2x2
+  kC3D13,   // 13-node pyramid: the collapsed 20-node brick (CalculiX's C3D20 with a collapsed
+            // face; ANSYS SOLID186's pyramid shape), 3x3x3; not a CalculiX type name
+  kC3D8R,   // 8-node hexahedron, 1 point (uniform strain) + CalculiX's hourglass stiffness
 };
 
 int nodes_per_element(ElementType type);

@@ -30,6 +30,9 @@ constexpr int kWedgeQuads[3][4] = {{0, 3, 4, 1}, {1, 4, 5, 2}, {2, 5, 3, 0}};
 // Pyramid (C3D5): the base and four triangles, the brick's faces with nodes 5-8 collapsed to 4.
 constexpr int kPyramidQuad[4] = {0, 1, 2, 3};
 constexpr int kPyramidTriangles[4][3] = {{0, 4, 1}, {1, 4, 2}, {2, 4, 3}, {3, 4, 0}};
+// C3D13's mid-edge nodes: base edges 5-8, lateral edges 9-12.
+constexpr int kPyramidEdges[8][3] = {{0, 1, 5}, {1, 2, 6},  {2, 3, 7},  {0, 3, 8},
+                                     {0, 4, 9}, {1, 4, 10}, {2, 4, 11}, {3, 4, 12}};
 constexpr int kWedgeEdges[9][3] = {{0, 1, 6},  {1, 2, 7},  {0, 2, 8},  {3, 4, 9}, {4, 5, 10},
                                    {3, 5, 11}, {0, 3, 12}, {1, 4, 13}, {2, 5, 14}};
 
@@ -46,26 +49,29 @@ int midside(const int (&edges)[N][3], int a, int b) {
 std::vector<std::vector<int>> local_faces(ElementType type) {
   std::vector<std::vector<int>> faces;
   const bool quadratic = type == ElementType::kC3D20 || type == ElementType::kC3D20R ||
-                         type == ElementType::kC3D10 || type == ElementType::kC3D15;
+                         type == ElementType::kC3D10 || type == ElementType::kC3D15 ||
+                         type == ElementType::kC3D13;
   const bool wedge = type == ElementType::kC3D6 || type == ElementType::kC3D15;
+  const bool pyramid = type == ElementType::kC3D5 || type == ElementType::kC3D13;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
-                   type == ElementType::kC3D8B ||
+                   type == ElementType::kC3D8B || type == ElementType::kC3D8R ||
                    type == ElementType::kC3D20 || type == ElementType::kC3D20R;
   const auto add = [&](const int* corners, int n) {
     std::vector<int> f(corners, corners + n);
     if (quadratic) {
       for (int k = 0; k < n; ++k) {
         const int a = corners[k], b = corners[(k + 1) % n];
-        f.push_back(hex     ? midside(kHexEdges, a, b)
-                    : wedge ? midside(kWedgeEdges, a, b)
-                            : midside(kTetEdges, a, b));
+        f.push_back(hex       ? midside(kHexEdges, a, b)
+                    : wedge   ? midside(kWedgeEdges, a, b)
+                    : pyramid ? midside(kPyramidEdges, a, b)
+                              : midside(kTetEdges, a, b));
       }
     }
     faces.push_back(std::move(f));
   };
   if (hex) {
     for (const auto& c : kHexFaces) add(c, 4);
-  } else if (type == ElementType::kC3D5) {
+  } else if (pyramid) {
     add(kPyramidQuad, 4);
     for (const auto& c : kPyramidTriangles) add(c, 3);
   } else if (wedge) {

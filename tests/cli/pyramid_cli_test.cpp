@@ -1,4 +1,5 @@
-// End-to-end: pyramids (C3D5) in a mesh with hexahedra and tetrahedra.
+// End-to-end: pyramids (C3D5, and the quadratic C3D13 below) in a mesh with hexahedra and
+// tetrahedra.
 //  - Frequencies through `stickslip modes` against CalculiX *FREQUENCY run by the test on the same
 //    mesh. ccx has no pyramid element; C3D5 is by definition the 8-node brick with nodes 5-8
 //    collapsed onto the apex (ANSYS SOLID185's pyramid), so ccx gets each pyramid as exactly that
@@ -164,6 +165,126 @@ TEST(PyramidCli, VtkReadsPyramidsWithTheMeshsVolumesAndGeometry) {
   }
   EXPECT_EQ(static_cast<int>(vtk.cells.size()), mesh.num_elements());
   EXPECT_EQ(static_cast<int>(vtk.points.size()), 4 * count_type(mesh, ElementType::kC3D5));
+  EXPECT_GT(vtk.points.size(), 0u);
+  fs::remove_all(dir);
+}
+
+std::string quadratic_bar(int nx, int ny, int nz, bool pyramids_as_c3d20) {
+  return mixed_quadratic_pyramid_bar_inp(nx, ny, nz, kLx, kLy, kLz, kA, 2, nx - 3,
+                                         pyramids_as_c3d20);
+}
+
+// The quadratic bar (C3D20 + C3D13 + C3D10) through `stickslip modes` against ccx *FREQUENCY on
+// the same mesh with each pyramid written as the C3D20 it is (nodes 5-8 and 13-16 on the apex):
+// the same shape functions and 3x3x3 rule, ccx's own C3D20 code.
+TEST(PyramidCli, MixedQuadraticBarModesMatchCalculixWithPyramidsAsCollapsedC3D20) {
+  constexpr int kModes = 8;
+  const fs::path dir = fresh_dir("pyramid13_ccx");
+  std::ofstream(dir / "bar.inp") << quadratic_bar(6, 2, 2, false);
+  std::ofstream(dir / "job.inp")
+      << quadratic_bar(6, 2, 2, true)
+      << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2e11, 0.3\n*DENSITY\n7800\n"
+         "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n*STEP\n*FREQUENCY\n"
+      << kModes << "\n*BOUNDARY\nFIX, 1, 3\n*END STEP\n";
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  ASSERT_GT(count_type(mesh, ElementType::kC3D13), 10);
+  ASSERT_GT(count_type(mesh, ElementType::kC3D10), 5);
+  ASSERT_GT(count_type(mesh, ElementType::kC3D20), 10);
+  const std::string plain = tip_spring_bar_case((dir / "bar.inp").string());
+  const std::string body = "clamp: FIX,";
+  const size_t at = plain.find(body);
+  ASSERT_NE(at, std::string::npos);
+  const std::string yaml =
+      plain.substr(0, at) + "clamp: FIX, mass_rule: calculix," + plain.substr(at + body.size());
+  run_stage("modes", write_case(dir, "bar", yaml), dir / "out");
+  const auto rows = read_csv(dir / "out" / "modes" / "frequencies.csv");
+  ASSERT_GE(static_cast<int>(rows.size()), kModes);
+  const std::vector<double> lambda = ccx_job_eigenvalues(dir);
+  ASSERT_EQ(static_cast<int>(lambda.size()), kModes) << slurp(dir / "ccx.log");
+  // Same K and M; ccx prints 7 significant digits (eigenvalue to 5e-8, frequency half of it).
+  constexpr double kPrintedDigits = 1e-6;
+  const double worst = expect_frequencies_match(rows, lambda, kModes, kPrintedDigits);
+  std::printf(
+      "[ CalculiX ] quadratic brick/pyramid/tet bar 6x2x2 cells: max relative frequency "
+      "difference %.2e\n",
+      worst);
+  RecordProperty("max_relative_frequency_difference_to_ccx", std::to_string(worst));
+  fs::remove_all(dir);
+}
+
+TEST(PyramidCli, VolumesOfQuadraticBricksPyramidsAndTetrahedraAddUpToTheBar) {
+  const fs::path dir = fresh_dir("pyramid13_volume");
+  std::ofstream(dir / "bar.inp") << quadratic_bar(6, 2, 3, false);
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  ASSERT_GT(count_type(mesh, ElementType::kC3D13), 20);
+  double volume = 0.0;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    volume += stickslip::element_volume(mesh.element_types[e], element_coordinates(mesh, e));
+  }
+  Eigen::Matrix3d A;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) A(i, j) = kA[i][j];
+  const double exact = A.determinant() * kLx * kLy * kLz;
+  constexpr double kDeckDigits = 1e-10;  // the deck's coordinates carry 12 significant digits
+  EXPECT_NEAR(volume, exact, kDeckDigits * exact);
+  fs::remove_all(dir);
+}
+
+// VTK reads the 13-node pyramids as VTK_QUADRATIC_PYRAMID (27). VTK's quadratic pyramid has its
+// own interpolation (not the collapsed brick's), but on straight edges with mid-edge nodes at
+// their midpoints both reproduce the linear pyramid's map, so positions of parametric points
+// agree only if every node is where VTK expects it; volumes too.
+TEST(PyramidCli, VtkReadsQuadraticPyramidsWithTheMeshsVolumesAndGeometry) {
+  STICKSLIP_REQUIRE_TOOL(vtk_available(), "/usr/bin/python3 with VTK (python3-vtk9)");
+  const fs::path dir = fresh_dir("pyramid13_vtk");
+  std::ofstream(dir / "bar.inp") << quadratic_bar(6, 1, 1, false);
+  const std::string yaml = tip_spring_bar_case((dir / "bar.inp").string());
+  run_stage("modes", write_case(dir, "bar", yaml), dir / "out");
+  const fs::path vtu = dir / "out" / "modes" / "bar" / "shapes.vtu";
+  ASSERT_TRUE(fs::exists(vtu));
+  constexpr int kVtkQuadraticPyramid = 27;  // vtkCellType.h
+  const VtkCells vtk = read_with_vtk(vtu, dir, kParametric, kVtkQuadraticPyramid);
+
+  const stickslip::Mesh mesh = stickslip::read_inp((dir / "bar.inp").string());
+  std::map<int, int> element_of_id;
+  for (int e = 0; e < mesh.num_elements(); ++e) element_of_id[mesh.element_ids[e]] = e;
+  // VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_PYRAMID, VTK_QUADRATIC_TETRA (vtkCellType.h).
+  const std::map<ElementType, int> vtk_types = {{ElementType::kC3D20, 25},
+                                                {ElementType::kC3D13, kVtkQuadraticPyramid},
+                                                {ElementType::kC3D10, 24}};
+  constexpr double kRoundOff = 1e-12;
+  for (const VtkCell& cell : vtk.cells) {
+    ASSERT_TRUE(element_of_id.count(cell.element_id)) << cell.element_id;
+    const int e = element_of_id.at(cell.element_id);
+    const ElementType type = mesh.element_types[e];
+    const Eigen::Matrix3Xd X = element_coordinates(mesh, e);
+    const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    EXPECT_EQ(cell.type, vtk_types.at(type)) << "element " << cell.element_id;
+    const double ours = stickslip::element_volume(type, X);
+    EXPECT_GT(ours, 0.0);
+    EXPECT_NEAR(cell.volume, ours, kRoundOff * std::pow(size, 3)) << "element " << cell.element_id;
+  }
+  for (const VtkPoint& point : vtk.points) {
+    ASSERT_TRUE(element_of_id.count(point.element_id)) << point.element_id;
+    const int e = element_of_id.at(point.element_id);
+    ASSERT_EQ(mesh.element_types[e], ElementType::kC3D13) << "element " << point.element_id;
+    ASSERT_TRUE(point.k >= 0 && point.k < 4);
+    const Eigen::Matrix3Xd X = element_coordinates(mesh, e);
+    const double size = (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    const auto& r = kParametric[point.k];
+    const Eigen::Vector3d xi(2 * r[0] - 1, 2 * r[1] - 1, 2 * r[2] - 1);
+    Eigen::VectorXd N;
+    Eigen::Matrix3Xd dN;
+    stickslip::shape_functions(ElementType::kC3D13, xi, N, dN);
+    const Eigen::Vector3d ours = X * N;
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(point.x(d), ours(d), kRoundOff * size)
+          << "element " << point.element_id << " parametric point " << point.k << " direction "
+          << d;
+    }
+  }
+  EXPECT_EQ(static_cast<int>(vtk.cells.size()), mesh.num_elements());
+  EXPECT_EQ(static_cast<int>(vtk.points.size()), 4 * count_type(mesh, ElementType::kC3D13));
   EXPECT_GT(vtk.points.size(), 0u);
   fs::remove_all(dir);
 }

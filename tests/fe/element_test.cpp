@@ -14,6 +14,7 @@
 
 #include "core/errors.h"
 #include "fe_test_util.h"
+#include "mesh/surface_area.h"
 
 namespace stickslip {
 namespace {
@@ -113,7 +114,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{ElementType::kC3D20, 6}, Case{ElementType::kC3D20R, 12},
                       Case{ElementType::kC3D4, 6}, Case{ElementType::kC3D10, 6},
                       Case{ElementType::kC3D8B, 6}, Case{ElementType::kC3D6, 7},
-                      Case{ElementType::kC3D15, 6}, Case{ElementType::kC3D5, 6}),
+                      Case{ElementType::kC3D15, 6}, Case{ElementType::kC3D5, 6},
+                      Case{ElementType::kC3D13, 6}, Case{ElementType::kC3D8R, 6}),
     case_name);
 
 // C3D5 is by definition the 8-node brick with nodes 5-8 collapsed onto the apex: its stiffness
@@ -134,6 +136,147 @@ TEST(ElementKernels, PyramidIsTheCollapsedBrick) {
     element_mass(ElementType::kC3D5, X, kSteel.density, M5, MassIntegration::kStiffnessRule);
     element_mass(ElementType::kC3D8, X8, kSteel.density, M8, MassIntegration::kStiffnessRule);
     EXPECT_LT((M5 - P.transpose() * M8 * P).norm(), kRoundOff * M5.norm()) << "seed " << seed;
+  }
+}
+
+// C3D13 is by definition the 20-node brick with nodes 5-8 and 13-16 collapsed onto the apex:
+// K and M (both rules) equal Pᵀ K_C3D20 P and Pᵀ M_C3D20 P, P the 60 x 39 map that gives the
+// brick's nodes the displacements of the pyramid's nodes they stand for, on distorted pyramids
+// with curved edges.
+TEST(ElementKernels, QuadraticPyramidIsTheCollapsedQuadraticBrick) {
+  // Brick node -> pyramid node: 0-3 base corners, 4-7 and 12-15 the apex, 8-11 base mid-edge
+  // nodes (pyramid 5-8), 16-19 lateral mid-edge nodes (pyramid 9-12).
+  constexpr int kOf[20] = {0, 1, 2, 3, 4, 4, 4, 4, 5, 6, 7, 8, 4, 4, 4, 4, 9, 10, 11, 12};
+  for (unsigned seed : {7u, 8u, 9u}) {
+    const Eigen::Matrix3Xd X = distorted_element(ElementType::kC3D13, seed, 0.2, 0.05);
+    Eigen::Matrix3Xd X20(3, 20);
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(60, 39);
+    for (int a = 0; a < 20; ++a) {
+      X20.col(a) = X.col(kOf[a]);
+      P.block<3, 3>(3 * a, 3 * kOf[a]).setIdentity();
+    }
+    Eigen::MatrixXd K13, K20, M13, M20;
+    element_stiffness(ElementType::kC3D13, X, kSteel, K13);
+    element_stiffness(ElementType::kC3D20, X20, kSteel, K20);
+    EXPECT_LT((K13 - P.transpose() * K20 * P).norm(), kRoundOff * K13.norm()) << "seed " << seed;
+    element_mass(ElementType::kC3D13, X, kSteel.density, M13, MassIntegration::kStiffnessRule);
+    element_mass(ElementType::kC3D20, X20, kSteel.density, M20, MassIntegration::kStiffnessRule);
+    EXPECT_LT((M13 - P.transpose() * M20 * P).norm(), kRoundOff * M13.norm()) << "seed " << seed;
+  }
+}
+
+// Which quadratic fields C3D13 reproduces: on a right pyramid (base [-a, a]² at z = 0, apex
+// (0, 0, h)) the collapsed map is x = aξ(1 − ζ)/2, y = aη(1 − ζ)/2, z = h(1 + ζ)/2, so z², xz,
+// yz and xy are polynomials of the 20-node brick's space (ξηζ² is one of its 20 monomials)
+// constant on the collapsed face (exact), while x² and y² need ξ²ζ² and η²ζ² (not in it). The
+// interpolant Σ N_a f(x_a) equals f inside the element for the first kind (and for linear
+// fields) and not for the second.
+TEST(ElementKernels, QuadraticPyramidReproducesTheQuadraticFieldsOfItsCollapsedBrick) {
+  const double a = 0.3, h = 0.5;
+  Eigen::Matrix3Xd X = natural_node_coordinates(ElementType::kC3D13);
+  for (int n = 0; n < X.cols(); ++n) {
+    const Eigen::Vector3d p = X.col(n);
+    X.col(n) = n == 4 ? Eigen::Vector3d(0, 0, h)
+                      : Eigen::Vector3d(a * p(0) * (1 - p(2)) / 2, a * p(1) * (1 - p(2)) / 2,
+                                        h * (1 + p(2)) / 2);
+  }
+  using Field = double (*)(const Eigen::Vector3d&);
+  const Field exact[] = {[](const Eigen::Vector3d& x) { return 1.0 + x(0) - 2 * x(1) + 3 * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(2) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(0) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(1) * x(2); },
+                         [](const Eigen::Vector3d& x) { return x(0) * x(1); }};
+  const Field inexact[] = {[](const Eigen::Vector3d& x) { return x(0) * x(0); },
+                           [](const Eigen::Vector3d& x) { return x(1) * x(1); }};
+  const auto worst_error = [&](Field f) {
+    Eigen::VectorXd nodal(13);
+    for (int n = 0; n < 13; ++n) nodal(n) = f(X.col(n));
+    double worst = 0.0;
+    for (const Eigen::Vector3d& xi :
+         {Eigen::Vector3d(0.3, -0.2, -0.5), Eigen::Vector3d(-0.7, 0.6, 0.1),
+          Eigen::Vector3d(0.5, 0.5, 0.6)}) {
+      Eigen::VectorXd N;
+      Eigen::Matrix3Xd dN;
+      shape_functions(ElementType::kC3D13, xi, N, dN);
+      worst = std::max(worst, std::abs(N.dot(nodal) - f(X * N)));
+    }
+    return worst;
+  };
+  const double scale = a * a;  // the fields' size
+  for (Field f : exact) EXPECT_LT(worst_error(f), kRoundOff * scale);
+  for (Field f : inexact) EXPECT_GT(worst_error(f), 1e-3 * scale);
+}
+
+// C3D8R on a box a x b x c, built here from the closed forms: the uniform gradients of node n
+// (natural corner (ξ_n, η_n, ζ_n)) are b̄ = (ξ_n / 4a, η_n / 4b, ζ_n / 4c), the one-point part is
+// V B̄ᵀ D B̄, and CalculiX's hourglass stiffness is c Σ_k h_k h_kᵀ on each direction with the
+// base vectors h = ηζ, ξζ, ξη, ξηζ (orthogonal to linear fields on a box) and
+// c = 0.0005 E Σ (∂V/∂x)² / V = 0.0005 E (b²c² + c²a² + a²b²) / (2abc) (∂V/∂x_n = ξ_n bc / 4).
+// CalculiX's one-point mass is ρV/64 for every pair of nodes.
+TEST(ElementKernels, ReducedBrickOnABoxIsOnePointPlusCalculixHourglassStiffness) {
+  const double a = 0.3, b = 0.5, c = 0.2, V = a * b * c;
+  const Eigen::Matrix3Xd ref = natural_node_coordinates(ElementType::kC3D8R);
+  Eigen::Matrix3Xd X(3, 8);
+  for (int n = 0; n < 8; ++n) {
+    X.col(n) =
+        Eigen::Vector3d(a * (ref(0, n) + 1) / 2, b * (ref(1, n) + 1) / 2, c * (ref(2, n) + 1) / 2);
+  }
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, 24);
+  Eigen::MatrixXd H(8, 4);
+  for (int n = 0; n < 8; ++n) {
+    const double gx = ref(0, n) / (4 * a), gy = ref(1, n) / (4 * b), gz = ref(2, n) / (4 * c);
+    B(0, 3 * n) = gx;
+    B(1, 3 * n + 1) = gy;
+    B(2, 3 * n + 2) = gz;
+    B(3, 3 * n) = gy;
+    B(3, 3 * n + 1) = gx;
+    B(4, 3 * n) = gz;
+    B(4, 3 * n + 2) = gx;
+    B(5, 3 * n + 1) = gz;
+    B(5, 3 * n + 2) = gy;
+    H.row(n) << ref(1, n) * ref(2, n), ref(0, n) * ref(2, n), ref(0, n) * ref(1, n),
+        ref(0, n) * ref(1, n) * ref(2, n);
+  }
+  const double hg = 0.0005 * kSteel.youngs_modulus *
+                    (b * b * c * c + c * c * a * a + a * a * b * b) / (2 * a * b * c);
+  Eigen::MatrixXd Kref = V * B.transpose() * elasticity_matrix(kSteel) * B;
+  const Eigen::MatrixXd h = hg * H * H.transpose();
+  for (int m = 0; m < 8; ++m) {
+    for (int n = 0; n < 8; ++n) {
+      for (int d = 0; d < 3; ++d) Kref(3 * m + d, 3 * n + d) += h(m, n);
+    }
+  }
+  Eigen::MatrixXd K, M;
+  element_stiffness(ElementType::kC3D8R, X, kSteel, K);
+  EXPECT_LT((K - Kref).norm(), kRoundOff * Kref.norm());
+  element_mass(ElementType::kC3D8R, X, kSteel.density, M, MassIntegration::kStiffnessRule);
+  for (int m = 0; m < 8; ++m) {
+    for (int n = 0; n < 8; ++n) {
+      EXPECT_NEAR(M(3 * m + 1, 3 * n + 1), kSteel.density * V / 64, kRoundOff * kSteel.density * V);
+      EXPECT_EQ(M(3 * m, 3 * n + 2), 0.0);
+    }
+  }
+}
+
+// The faces of the new types as contact surfaces see them (mesh/surface_area.h): on a box of
+// pyramids (bases on the box faces) and of C3D8R bricks, the faces within the x = 0 plane are
+// the bases (8 nodes for C3D13: corners and base mid-edge nodes) and cover it: Σ area = ly lz.
+TEST(ElementFaces, PyramidAndReducedBrickFacesCoverABoxSide) {
+  const Eigen::Vector3d size(0.4, 0.3, 0.2);
+  for (ElementType type : {ElementType::kC3D5, ElementType::kC3D13, ElementType::kC3D8R}) {
+    const Mesh mesh = testing::box_mesh(type, 2, 2, 2, size);
+    std::vector<int> side;
+    for (int n = 0; n < mesh.num_nodes(); ++n) {
+      if (std::abs(mesh.coordinates(0, n)) < 1e-12) side.push_back(n);
+    }
+    const std::vector<ElementFace> faces = faces_within(mesh, side);
+    ASSERT_EQ(faces.size(), 4u) << element_type_name(type);
+    double area = 0.0;
+    for (const ElementFace& f : faces) {
+      EXPECT_EQ(f.nodes.size(), type == ElementType::kC3D13 ? 8u : 4u) << element_type_name(type);
+      area += face_area(mesh, f);
+    }
+    EXPECT_NEAR(area, size(1) * size(2), kRoundOff * size(1) * size(2)) << element_type_name(type);
   }
 }
 
@@ -217,7 +360,7 @@ TEST(ElementKernels, ShapeFunctionsInterpolateAndDerivativesMatchFiniteDifferenc
   constexpr double kFdTolerance = 1e-8;  // O(h^2) truncation + O(eps/h) round-off
   for (ElementType t :
        {ElementType::kC3D8, ElementType::kC3D20, ElementType::kC3D4, ElementType::kC3D10,
-        ElementType::kC3D6, ElementType::kC3D15, ElementType::kC3D5}) {
+        ElementType::kC3D6, ElementType::kC3D15, ElementType::kC3D5, ElementType::kC3D13}) {
     const Eigen::Matrix3Xd P = natural_node_coordinates(t);
     Eigen::VectorXd N, Np, Nm;
     Eigen::Matrix3Xd dN, tmp;

@@ -15,11 +15,11 @@ namespace {
 
 bool is_quadratic(ElementType t) {
   return t == ElementType::kC3D20 || t == ElementType::kC3D20R || t == ElementType::kC3D10 ||
-         t == ElementType::kC3D15;
+         t == ElementType::kC3D15 || t == ElementType::kC3D13;
 }
 bool is_hex(ElementType t) { return nodes_per_element(t) == 8 || nodes_per_element(t) == 20; }
 bool is_wedge(ElementType t) { return t == ElementType::kC3D6 || t == ElementType::kC3D15; }
-bool is_pyramid(ElementType t) { return t == ElementType::kC3D5; }
+bool is_pyramid(ElementType t) { return t == ElementType::kC3D5 || t == ElementType::kC3D13; }
 
 // (mid node, end a, end b) local indices of the edges of quadratic elements.
 std::vector<std::array<int, 3>> mid_edges(ElementType t) {
@@ -29,6 +29,10 @@ std::vector<std::array<int, 3>> mid_edges(ElementType t) {
   if (t == ElementType::kC3D15) {
     return {{6, 0, 1},  {7, 1, 2},   {8, 2, 0},   {9, 3, 4},  {10, 4, 5},
             {11, 5, 3}, {12, 0, 3}, {13, 1, 4}, {14, 2, 5}};
+  }
+  if (t == ElementType::kC3D13) {
+    return {{5, 0, 1}, {6, 1, 2},  {7, 2, 3},  {8, 3, 0},
+            {9, 0, 4}, {10, 1, 4}, {11, 2, 4}, {12, 3, 4}};
   }
   if (t == ElementType::kC3D20 || t == ElementType::kC3D20R) {
     return {{8, 0, 1},  {9, 1, 2},  {10, 2, 3}, {11, 3, 0}, {12, 4, 5}, {13, 5, 6},
@@ -42,7 +46,8 @@ std::vector<std::array<int, 3>> mid_edges(ElementType t) {
 Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& size) {
   Mesh mesh;
   const bool quad = is_quadratic(type);
-  const int r = quad || is_pyramid(type) ? 2 : 1;  // lattice points per cell edge
+  // Lattice points per cell edge: the C3D13's lateral mid-edge nodes lie a quarter cell in.
+  const int r = type == ElementType::kC3D13 ? 4 : (quad || is_pyramid(type) ? 2 : 1);
   const int Nx = r * nx + 1, Ny = r * ny + 1, Nz = r * nz + 1;
   std::vector<int> lattice(static_cast<size_t>(Nx) * Ny * Nz, -1);
   auto lid = [&](int i, int j, int k) { return (static_cast<size_t>(k) * Ny + j) * Nx + i; };
@@ -78,11 +83,19 @@ Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& s
               {{0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}},
               {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}}};
           for (const auto& base : kBases) {
-            std::vector<int> nodes;
-            for (const auto& c : base) {
-              nodes.push_back(node(r * (ci + c[0]), r * (cj + c[1]), r * (ck + c[2])));
+            std::vector<std::array<int, 3>> at;  // lattice points of the corners
+            for (const auto& c : base)
+              at.push_back({r * (ci + c[0]), r * (cj + c[1]), r * (ck + c[2])});
+            at.push_back({r * ci + r / 2, r * cj + r / 2, r * ck + r / 2});
+            if (quad) {
+              for (const auto& me : mid_edges(type)) {
+                const auto& p = at[static_cast<size_t>(me[1])];
+                const auto& q = at[static_cast<size_t>(me[2])];
+                at.push_back({(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2});
+              }
             }
-            nodes.push_back(node(r * ci + 1, r * cj + 1, r * ck + 1));
+            std::vector<int> nodes;
+            for (const auto& p : at) nodes.push_back(node(p[0], p[1], p[2]));
             mesh.add_element(eid++, type, nodes);
           }
         } else if (is_wedge(type)) {

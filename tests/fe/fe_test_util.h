@@ -11,8 +11,8 @@
 namespace stickslip::testing {
 
 // nx x ny x nz cells over [0,Lx]x[0,Ly]x[0,Lz]. Hexahedra: one element per cell; tetrahedra:
-// six per cell (Kuhn subdivision, conforming); wedges: two per cell; pyramids (C3D5): six per
-// cell, one on each face, apex at the cell's centre (a node of its own). Node ids = index + 1,
+// six per cell (Kuhn subdivision, conforming); wedges: two per cell; pyramids (C3D5, C3D13): six
+// per cell, one on each face, apex at the cell's centre (a node of its own). Node ids = index + 1,
 // element ids = index + 1.
 Mesh box_mesh(ElementType type, int nx, int ny, int nz, const Eigen::Vector3d& size);
 

@@ -52,7 +52,8 @@ TEST_P(PatchTest, DistortedMeshReproducesLinearFieldAndConstantStress) {
   Mesh mesh = box_mesh(type, n, n, n, size);
   // Interior nodes moved by up to 35% of the cell size: strongly non-rectangular elements.
   // (Pyramids: 15%, their apex is at half a cell from their base.)
-  const double distortion = type == ElementType::kC3D5 ? 0.15 : 0.35;
+  const bool pyramid = type == ElementType::kC3D5 || type == ElementType::kC3D13;
+  const double distortion = pyramid ? 0.15 : 0.35;
   perturb_nodes(mesh, size, distortion * size.minCoeff() / n, 21, true);
   SparseMatrix K;
   assemble_stiffness_mass(mesh, kSteel, {}, &K, nullptr);
@@ -92,7 +93,8 @@ INSTANTIATE_TEST_SUITE_P(AllTypes, PatchTest,
                                            ElementType::kC3D20, ElementType::kC3D20R,
                                            ElementType::kC3D4, ElementType::kC3D10,
                                            ElementType::kC3D8B, ElementType::kC3D6,
-                                           ElementType::kC3D15, ElementType::kC3D5),
+                                           ElementType::kC3D15, ElementType::kC3D5,
+                                           ElementType::kC3D13, ElementType::kC3D8R),
                          [](const auto& info) { return element_type_name(info.param); });
 
 // Independent B^T D B implementation of the Wilson incompatible-mode hexahedron, with

@@ -27,7 +27,8 @@ constexpr double kRoundOff = 1e-10;  // relative; small dense solves and sums in
 
 const ElementType kAllTypes[] = {ElementType::kC3D8,   ElementType::kC3D8I, ElementType::kC3D20,
                                  ElementType::kC3D20R, ElementType::kC3D4,  ElementType::kC3D10,
-                                 ElementType::kC3D6,   ElementType::kC3D15, ElementType::kC3D5};
+                                 ElementType::kC3D6,   ElementType::kC3D15, ElementType::kC3D5,
+                                 ElementType::kC3D13,  ElementType::kC3D8R};
 
 TEST(Stress, ExtrapolationIsExactForItsPolynomialBasis) {
   for (ElementType type : kAllTypes) {
@@ -87,10 +88,13 @@ TEST(Stress, LinearFieldGivesExactConstantNodalStressRealAndComplex) {
 }
 
 // The strain operators used for stresses are those of the stiffness: K_e = sum_g w_g det J_g
-// B_g^T D B_g (for C3D8I with B_g = B_u + B_a T this equals the condensed K_uu - K_ua K_aa^-1
-// K_au), so the internal forces of the recovered stresses balance K_e u_e.
+// B_g^T D B_g for every type but C3D8R (for C3D8I with B_g = B_u + B_a T this equals the
+// condensed K_uu - K_ua K_aa^-1 K_au), so the internal forces of the recovered stresses balance
+// K_e u_e.
 TEST(Stress, StrainOperatorsReproduceTheElementStiffness) {
   for (ElementType type : kAllTypes) {
+    // C3D8R adds a hourglass stiffness that carries no strain (element_test checks its K).
+    if (type == ElementType::kC3D8R) continue;
     const Eigen::Matrix3Xd X = testing::distorted_element(type, 51, 0.2, 0.0);
     std::vector<Eigen::MatrixXd> B;
     element_strain_operators(type, X, kSteel, B);

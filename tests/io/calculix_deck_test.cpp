@@ -132,6 +132,32 @@ TEST(CalculixDeck, BbarBricksAreWrittenAsC3D8WithAComment) {
       << deck;
 }
 
+// ccx has no pyramid: a C3D13 goes out as the C3D20 it is (fe/element.h), nodes 5-8 and 13-16
+// on the apex, its base mid-edge nodes as 9-12 and lateral ones as 17-20; C3D8R is ccx's own.
+TEST(CalculixDeck, QuadraticPyramidsAreWrittenAsCollapsedC3D20AndC3D8RAsItself) {
+  Mesh mesh = one_hex();
+  mesh.element_types[0] = ElementType::kC3D8R;
+  // A pyramid on the hexahedron's top face (nodes 104 105 107 106 in C3D8 order 5 6 7 8),
+  // apex 109 above it, mid-edge nodes 110-117.
+  for (int i = 0; i < 9; ++i) mesh.add_node(109 + i, Eigen::Vector3d(0.1 * i, 0.5, 2.0));
+  const std::vector<int> pyramid{4, 5, 7, 6, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+  mesh.add_element(8, ElementType::kC3D13, pyramid);
+  CalculixDeckOptions options = steel_options();
+  options.harmonics = {0};
+  options.frequency_hz = 0.0;
+  std::ostringstream out;
+  write_calculix_deck(out, mesh, Eigen::MatrixXcd::Zero(3 * mesh.num_nodes(), 1), options);
+  const std::string deck = out.str();
+  EXPECT_NE(deck.find("*ELEMENT, TYPE=C3D8R\n7, 101, 102, 104, 103, 105, 106, 108, 107\n"),
+            std::string::npos)
+      << deck;
+  EXPECT_NE(deck.find("*ELEMENT, TYPE=C3D20\n8, 105, 106, 108, 107, 109, 109, 109, 109, 110, 111, "
+                      "112, 113, 109, 109, 109,\n109, 114, 115, 116, 117\n"),
+            std::string::npos)
+      << deck;
+  EXPECT_EQ(deck.find("C3D13"), std::string::npos) << deck;
+}
+
 TEST(CalculixDeck, BadInputThrows) {
   Mesh mesh = one_hex();
   const Eigen::MatrixXcd loads = Eigen::MatrixXcd::Zero(24, 2);

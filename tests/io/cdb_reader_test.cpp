@@ -110,14 +110,45 @@ TEST(CdbReader, ReadsHexBeamNodesElementsComponentsAndMaterial) {
   EXPECT_TRUE(contains(all, "analyses come from the case file")) << all;
 }
 
-TEST(CdbReader, MapsTheTetrahedralAndWedgeSolid186AndRefusesPyramids) {
+TEST(CdbReader, MapsTheTetrahedralWedgeAndPyramidSolid186) {
   const std::string path = kDir + "all_solid_cells.cdb";
   // Records: hexahedron 2170 (lines 62-63), wedge 4488 (64-65), pyramid 4643 (66-67),
   // tetrahedron 4644 (68-69).
-  const InvalidInput pyramid = error_of([&] { read_cdb(path); });
-  EXPECT_EQ(pyramid.where().line, 66);
-  EXPECT_TRUE(contains(pyramid.message(), "element 4643")) << pyramid.message();
-  EXPECT_TRUE(contains(pyramid.message(), "pyramid")) << pyramid.message();
+  std::vector<std::string> warnings;
+  const Mesh all = read_cdb(path, &warnings);
+  ASSERT_EQ(all.num_elements(), 4);
+  ASSERT_EQ(all.element_types[2], ElementType::kC3D13);
+  // "941 939 919 921 13984 x4 | 940 934 920 935 13984 x4 14040 14003 14371 14038": corners
+  // I J K L M, base mid-side nodes Q R S T, lateral Y Z A B (U V W X = M).
+  const std::vector<int> pyramid_ids{941, 939, 919,   921,   13984, 940,  934,
+                                     920, 935, 14040, 14003, 14371, 14038};
+  const auto pyramid = all.element_nodes(2);
+  for (size_t a = 0; a < 13; ++a) EXPECT_EQ(all.node_ids[pyramid[a]], pyramid_ids[a]) << a;
+  // C3D13's mid-side nodes 6..13 near the midpoints of 1-2, 2-3, 3-4, 4-1, 1-5, 2-5, 3-5, 4-5 (the
+  // file's elements lie on a curved surface: within 2 % of the edge length, as the wedge's).
+  const int pyramid_edges[8][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {1, 4}, {2, 4}, {3, 4}};
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d p = all.coordinates.col(pyramid[pyramid_edges[k][0]]);
+    const Eigen::Vector3d q = all.coordinates.col(pyramid[pyramid_edges[k][1]]);
+    EXPECT_LT((all.coordinates.col(pyramid[5 + k]) - 0.5 * (p + q)).norm(), 0.02 * (p - q).norm())
+        << "mid-side node " << 6 + k;
+  }
+  std::string all_warnings;
+  for (const std::string& w : warnings) all_warnings += w + "\n";
+  EXPECT_TRUE(contains(all_warnings, "pyramid shape (first on line 66) read as C3D13"))
+      << all_warnings;
+  // A pyramid whose top mid-side nodes U V W X are not all its apex is no ANSYS shape.
+  std::vector<std::string> lines = file_lines(path);
+  const size_t at = lines[66].find("13984");
+  ASSERT_NE(at, std::string::npos);
+  lines[66].replace(at, 5, "13983");
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  std::istringstream bad(text);
+  const InvalidInput e = error_of([&] { read_cdb(bad, "cells.cdb"); });
+  EXPECT_EQ(e.where().line, 66);
+  EXPECT_TRUE(contains(e.message(), "element 4643")) << e.message();
+  EXPECT_TRUE(contains(e.message(), "U V W X")) << e.message();
 
   std::istringstream no_pyramid = without_lines(path, {{66, 67}});
   const Mesh w = read_cdb(no_pyramid, "cells.cdb");

@@ -261,7 +261,7 @@ TEST(GmshMesh, PermutationMapsGmshReferenceNodesOntoCalculixEdges) {
   }
 }
 
-TEST(GmshMesh, ReadsPrismsAsC3D6PyramidsAsC3D5AndRejectsQuadraticPyramidsNamingThem) {
+TEST(GmshMesh, ReadsPrismsAsC3D6PyramidsAsC3D5AndRejects14NodePyramidsNamingThem) {
   const std::string path = temp_path("prism.msh");
   {
     GmshSession session;
@@ -295,22 +295,22 @@ TEST(GmshMesh, ReadsPrismsAsC3D6PyramidsAsC3D5AndRejectsQuadraticPyramidsNamingT
   for (int a = 0; a < 5; ++a) EXPECT_EQ(pyramid.node_ids[pyramid_nodes[a]], a + 1);
   {
     GmshSession session;
-    gmsh::model::add("pyramid13");
+    gmsh::model::add("pyramid14");
     const int v = gmsh::model::addDiscreteEntity(3);
     std::vector<std::size_t> tags;
     std::vector<double> xyz;
-    for (int i = 0; i < 13; ++i) {
+    for (int i = 0; i < 14; ++i) {
       tags.push_back(static_cast<std::size_t>(i + 1));
       for (double c : {0.1 * i, 0.2 * (i % 3), 0.3 * (i % 5)}) xyz.push_back(c);
     }
     gmsh::model::mesh::addNodes(3, v, tags, xyz);
-    gmsh::model::mesh::addElementsByType(v, 19, {1}, tags);
+    gmsh::model::mesh::addElementsByType(v, 14, {1}, tags);
     gmsh::write(path);
     gmsh::model::remove();
   }
   try {
     read_gmsh(path);
-    FAIL() << "a 13-node pyramid was accepted";
+    FAIL() << "a 14-node pyramid was accepted";
   } catch (const InvalidInput& e) {
     EXPECT_EQ(e.where().file, path);
     EXPECT_NE(e.message().find("Pyramid"), std::string::npos) << e.message();
@@ -338,6 +338,56 @@ TEST(GmshMesh, GmshReferencePyramidHasC3D5sNodeOrder) {
     const Eigen::Vector3d mapped(gmsh(0), gmsh(1), a < 4 ? 2 * gmsh(2) - 1 : gmsh(2));
     EXPECT_EQ(mapped, Eigen::Vector3d(ours.col(a))) << "node " << a;
   }
+}
+
+// Gmsh's own reference 13-node pyramid (type 19): its nodes, permuted by the reader's order, sit
+// where C3D13's natural nodes do once Gmsh's pyramid (base corners (±1, ±1, 0), apex (0, 0, 1))
+// is mapped onto the collapsed brick: ξ = u / (1 − w), η = v / (1 − w), ζ = 2w − 1 (the apex
+// anywhere on ζ = 1; ours is at (0, 0, 1)). A mesh of one such pyramid reads as C3D13 with the
+// element's volume.
+TEST(GmshMesh, GmshReference13NodePyramidHasC3D13sNodeOrderAndReadsAsC3D13) {
+  const std::string path = temp_path("pyramid13.msh");
+  {
+    GmshSession session;
+    std::string name;
+    int dim = 0, order = 0, num_nodes = 0, primary = 0;
+    std::vector<double> local;
+    gmsh::model::mesh::getElementProperties(19, name, dim, order, num_nodes, local, primary);
+    ASSERT_EQ(num_nodes, 13);
+    const Eigen::Matrix3Xd ours = natural_node_coordinates(ElementType::kC3D13);
+    const int* perm = gmsh_to_calculix_order(19);
+    ASSERT_NE(perm, nullptr);
+    for (int a = 0; a < 13; ++a) {
+      const int g = perm[a];
+      const double u = local[3 * g], v = local[3 * g + 1], w = local[3 * g + 2];
+      const Eigen::Vector3d mapped = w == 1.0
+                                         ? Eigen::Vector3d(0, 0, 1)
+                                         : Eigen::Vector3d(u / (1 - w), v / (1 - w), 2 * w - 1);
+      EXPECT_LT((mapped - ours.col(a)).norm(), 1e-15) << "node " << a;
+    }
+    // The reference pyramid itself, scaled by 0.1 m, as a mesh in Gmsh's order.
+    gmsh::model::add("pyramid13");
+    const int e = gmsh::model::addDiscreteEntity(3);
+    std::vector<std::size_t> tags;
+    std::vector<double> xyz;
+    for (int i = 0; i < 13; ++i) {
+      tags.push_back(static_cast<std::size_t>(i + 1));
+      for (int d = 0; d < 3; ++d) xyz.push_back(0.1 * local[static_cast<size_t>(3 * i + d)]);
+    }
+    gmsh::model::mesh::addNodes(3, e, tags, xyz);
+    gmsh::model::mesh::addElementsByType(e, 19, {1}, tags);
+    gmsh::write(path);
+    gmsh::model::remove();
+  }
+  const Mesh pyramid = read_gmsh(path);
+  ASSERT_EQ(pyramid.num_elements(), 1);
+  EXPECT_EQ(pyramid.element_types[0], ElementType::kC3D13);
+  // Base 0.2 m x 0.2 m, height 0.1 m: V = 0.2² · 0.1 / 3.
+  Eigen::Matrix3Xd X(3, 13);
+  const auto nodes = pyramid.element_nodes(0);
+  for (int a = 0; a < 13; ++a) X.col(a) = pyramid.coordinates.col(nodes[a]);
+  EXPECT_NEAR(element_volume(ElementType::kC3D13, X), 0.04 * 0.1 / 3, 1e-15);
+  std::filesystem::remove(path);
 }
 
 TEST(GmshMesh, WarnsAboutElementsAndGroupNodesItDoesNotUse) {

@@ -63,7 +63,8 @@ Mesh make_box_mesh(const BoxOptions& o) {
   HalfGrid grid(o, &mesh);
   const ElementType type = o.type;
   const bool hex = type == ElementType::kC3D8 || type == ElementType::kC3D8I ||
-                   type == ElementType::kC3D20 || type == ElementType::kC3D20R;
+                   type == ElementType::kC3D8R || type == ElementType::kC3D20 ||
+                   type == ElementType::kC3D20R;
   const bool wedge = type == ElementType::kC3D6 || type == ElementType::kC3D15;
   const bool quadratic = type == ElementType::kC3D20 || type == ElementType::kC3D20R ||
                          type == ElementType::kC3D10 || type == ElementType::kC3D15;
@@ -216,6 +217,11 @@ std::string calculix_matrix_deck(const Mesh& mesh, const Steel& steel, const std
   return calculix_deck(mesh, steel, extra, "*FREQUENCY, SOLVER=MATRIXSTORAGE\n1\n");
 }
 
+std::string calculix_static_deck(const Mesh& mesh, const Steel& steel, const std::string& step,
+                                 const std::string& extra) {
+  return calculix_deck(mesh, steel, extra, "*STATIC\n" + step);
+}
+
 std::optional<std::string> find_ccx() {
   const char* path = std::getenv("PATH");
   if (path == nullptr) return std::nullopt;
@@ -321,6 +327,10 @@ CalculixEigenvalues run_calculix_frequency(const std::string& deck, const std::s
     throw std::runtime_error("ccx printed no eigenvalues:\n" + result.log);
   }
   return result;
+}
+
+std::string run_calculix_dat(const std::string& deck, const std::string& job) {
+  return run_calculix(deck, job, {"dat"})["dat"];
 }
 
 CalculixMatrices run_calculix_matrices(const std::string& deck, const std::string& job) {

@@ -47,6 +47,11 @@ std::string calculix_frequency_deck(const Mesh& mesh, const Steel& steel, int nu
 std::string calculix_matrix_deck(const Mesh& mesh, const Steel& steel,
                                  const std::string& extra = "");
 
+// The same model with a *STATIC step whose body (loads, *NODE PRINT, ...) is `step`; run by
+// run_calculix_dat.
+std::string calculix_static_deck(const Mesh& mesh, const Steel& steel, const std::string& step,
+                                 const std::string& extra = "");
+
 // Path of the ccx executable, or nothing if it is not installed.
 std::optional<std::string> find_ccx();
 
@@ -61,6 +66,10 @@ struct CalculixEigenvalues {
 // Writes `deck` as <dir>/<job>.inp in a fresh temporary directory, runs ccx there (one thread)
 // and parses the eigenvalues. Throws std::runtime_error if ccx fails or prints no eigenvalues.
 CalculixEigenvalues run_calculix_frequency(const std::string& deck, const std::string& job);
+
+// Runs ccx on `deck` (as run_calculix_frequency) and returns its .dat file. Throws
+// std::runtime_error if ccx fails.
+std::string run_calculix_dat(const std::string& deck, const std::string& job);
 
 // CalculiX's matrices from a MATRIXSTORAGE run, symmetric, both triangles stored; row/column i
 // is DOF dofs[i] = (node id, direction 0..2). Nodes that ccx generates internally (e.g. the
