@@ -42,8 +42,8 @@ constexpr double kPatchTolerance = 1e-10;
 // Two bars of kNx x n x n C3D8 (n = ns1, ns2), bar 1 on [0, L1] (its cross-section offset by
 // `shift` in y), bar 2 on [L1, L1 + L2]; node sets CLAMP1, CLAMP2, CONTACT1 (bar 1 at x = L1),
 // CONTACT2 (bar 2 at x = L1), LOAD (bar 2 at x_F), MID1 (a node of bar 1 at x = L1/2), INNER1
-// (bar 1's inner cross-section at x = L1 − dx).
-std::string two_bars_inp(int ns1, int ns2, double shift = 0.0) {
+// (bar 1's inner cross-section at x = L1 − dx). `gap`: bar 2 moved by it along x (an open joint).
+std::string two_bars_inp(int ns1, int ns2, double shift = 0.0, double gap = 0.0) {
   std::ostringstream s;
   s.precision(17);
   const int ns[2] = {ns1, ns2};
@@ -58,7 +58,7 @@ std::string two_bars_inp(int ns1, int ns2, double shift = 0.0) {
     for (int i = 0; i <= kNx; ++i)
       for (int j = 0; j <= ns[bar]; ++j)
         for (int k = 0; k <= ns[bar]; ++k)
-          s << id(bar, i, j, k) << ", " << bar * kL1 + i * dx << ", "
+          s << id(bar, i, j, k) << ", " << bar * (kL1 + gap) + i * dx << ", "
             << j * ds + (bar == 0 ? shift : 0.0) << ", " << k * ds << "\n";
   }
   int e = 1;
@@ -284,6 +284,48 @@ TEST(MortarContactCli, ComputedPreloadOfNonMatchingBarsIsTheUniformPressure) {
     EXPECT_LT(std::hypot(f.at("t1"), f.at("t2")), 1e-6 * f.at("n")) << pair;
   }
   EXPECT_NEAR(total, N, 1e-8 * N);
+}
+
+// Each point's own initial gap (issue 23): bar 2 meshed at a distance g from bar 1. Until the
+// load closes it the joint carries nothing: bar 2's end moves by δ0 = F / k_B with the joint
+// open, so for g > δ0 it stays open (N = 0); else N = k_A (δ − g) with the load point at δ, and
+// F = k_B δ + N gives N = k_A (F − k_B g) / (k_A + k_B) (g = 0: hand_joint_force). Every point
+// sees the gap g (the coupling file's gap column) and carries N a_i / A. With the geometry's gap
+// ignored (as before) the joint carried hand_joint_force() whatever g.
+TEST(MortarContactCli, EachPointStartsFromItsGeometricGap) {
+  const double A = kSide * kSide, dx = kL1 / kNx;
+  const double k1 = kE * A / kL1, k2a = kE * A / (kLoadSection * dx),
+               kB = kE * A / (kL2 - kLoadSection * dx);
+  const double kA = 1.0 / (1.0 / k1 + 1.0 / (kKnPerArea * A) + 1.0 / k2a);
+  const double open_travel = kForce / kB;  // δ0, 3.4 µm
+  for (const double gap : {0.3 * open_travel, 1.5 * open_travel}) {
+    const fs::path dir = fresh_dir(fmt::format("mortar_gap_{}", gap < open_travel ? "closed" : "open"));
+    std::ofstream(dir / "bars.inp") << two_bars_inp(2, 3, 0.0, gap);
+    const fs::path c = write_case(
+        dir, "gap",
+        pressed_bars_case(fmt::format(
+            "    law: friction\n    per_area: {{kt: {}, kn: {}, mu: 0.5, preload: computed}}\n",
+            kKtPerArea, kKnPerArea)));
+    ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+        << slurp(dir / "run.log");
+    const double N = std::max(0.0, kA * (kForce - kB * gap) / (kA + kB));
+    for (const auto& r : read_csv(dir / "out" / "contact_coupling.csv"))
+      EXPECT_NEAR(std::stod(r.at("gap_m")), gap, 1e-15) << r.at("pair");
+    const auto points = coupling(dir / "out");
+    const auto forces = static_pair_forces(dir / "out");
+    ASSERT_EQ(forces.size(), 9u);
+    double total = 0.0;
+    for (const auto& [pair, f] : forces) {
+      total += f.at("n");
+      EXPECT_NEAR(f.at("n"), N * points.at(pair).area / A, 1e-7 * kForce) << pair << " g " << gap;
+    }
+    EXPECT_NEAR(total, N, 1e-8 * kForce) << gap;
+    if (gap < open_travel) {
+      EXPECT_GT(N, 0.5 * hand_joint_force());
+    } else {
+      EXPECT_EQ(N, 0.0);
+    }
+  }
 }
 
 // Bad surfaces are input errors (exit 2) at the contact's line, naming the ids.
