@@ -738,6 +738,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
                                      : fmt::format("contacts.{}.between", cd.name);
       add_master(rc.body_a, rc.node_pairs[i].first, key);
       if (!rc.mortar.empty()) {
+        for (int a : rc.mortar[i].nodes_a) add_master(rc.body_a, a, key);
         for (int b : rc.mortar[i].nodes_b) add_master(rc.body_b, b, key);
       } else if (rc.body_b >= 0) {
         add_master(rc.body_b, rc.node_pairs[i].second, key);
@@ -1004,18 +1005,37 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         const int nb = static_cast<int>(point.nodes_b.size());
         const Eigen::MatrixXd frame =
             law.uses_frame ? mortar_point_frame(row_frame, point.normal) : row_frame;
-        pair.frame.resize(frame.rows(), 3 * (1 + nb));
-        pair.frame.leftCols(3) = frame;
+        // Quadratic faces: the point is Σ_j a_j x_Aj (mesh/mortar.h), node A's weight first.
+        std::vector<std::pair<int, double>> a_side{{a, 1.0}};
+        for (size_t j = 0; j < point.nodes_a.size(); ++j) {
+          if (point.nodes_a[j] == a) {
+            a_side[0].second = point.weights_a[j];
+          } else {
+            a_side.emplace_back(point.nodes_a[j], point.weights_a[j]);
+          }
+        }
+        const int na = static_cast<int>(a_side.size());
+        pair.frame.resize(frame.rows(), 3 * (na + nb));
         info.mortar = true;
         info.gap = point.gap;
-        // Σ_k Φ_k x_Bk − x_A: B's surface seen from the point (Σ_k Φ_k = 1 for a point wholly
-        // over B, the only ones kept).
-        Eigen::Vector3d offset = -A.mesh.coordinates.col(a);
+        info.weight_a = a_side[0].second;
+        // Σ_k Φ_k x_Bk − Σ_j a_j x_Aj: B's surface seen from the point (Σ_k Φ_k = 1 for a point
+        // wholly over B, the only ones kept).
+        Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+        for (int j = 0; j < na; ++j) {
+          const auto [node, w] = a_side[static_cast<size_t>(j)];
+          if (j > 0) {
+            for (int dir = 0; dir < 3; ++dir)
+              pair.dofs_a.push_back(A.global_dof(node_id_of(A, node), dir));
+          }
+          pair.frame.middleCols(3 * j, 3) = w * frame;
+          offset -= w * A.mesh.coordinates.col(node);
+        }
         for (int k = 0; k < nb; ++k) {
           const int id = node_id_of(B, point.nodes_b[static_cast<size_t>(k)]);
           const double w = point.weights_b[static_cast<size_t>(k)];
           for (int dir = 0; dir < 3; ++dir) pair.dofs_a.push_back(B.global_dof(id, dir));
-          pair.frame.middleCols(3 * (1 + k), 3) = -w * frame;
+          pair.frame.middleCols(3 * (na + k), 3) = -w * frame;
           info.partner_ids.push_back(id);
           info.weights.push_back(w);
           offset += w * B.mesh.coordinates.col(point.nodes_b[static_cast<size_t>(k)]);
