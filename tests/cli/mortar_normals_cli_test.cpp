@@ -31,6 +31,7 @@ using namespace stickslip::cli_test;
 constexpr double kWidth = 0.04, kDepth = 0.02, kHeight = 0.02;  // m: x in [−W/2, W/2]
 constexpr double kTheta = 20.0 * 3.14159265358979323846 / 180.0;
 constexpr double kPress = 4500.0;  // N
+constexpr double kMu = 0.5;
 // Newton's tolerance on the static problem (1e-8 of the linear static response) and its effect
 // on the forces.
 constexpr double kStaticTolerance = 1e-7;
@@ -227,6 +228,94 @@ TEST(MortarNormalsCli, AFrictionlessVeeCarriesThePressAlongEachFlanksNormal) {
   EXPECT_NEAR(left, right, kStaticTolerance * kPress);
   EXPECT_GT(left, 0.1 * kPress);
   EXPECT_NEAR((left + right) * std::cos(kTheta) + ridge, kPress, kStaticTolerance * kPress);
+}
+
+// The static friction state (issue 23 item 3) against Coulomb's law on the flat blocks (f = 0):
+// the block is pressed by P over its top and pushed sideways by Q (y) over its contact face (no
+// moment about the face), and held in y by soft springs to the ground on its middle layer
+// (28 x 1e6 N/m, against the joint's stuck 3.2e9 N/m). Below μP (Q = 0.4 μP) the joint sticks:
+// every point |τ_i| < μ N_i and the springs take only their share of Q, Σ τ + spring = Q. Above
+// μP (Q = 1.5 μP) every point slips, |τ_i| = μ N_i along y, so the joint carries exactly μP and
+// the springs Q − μP. The static problem is solved with the loads growing together from zero;
+// with no initial gap it is positively homogeneous (all loads × s: the solution × s), so that one
+// step is the incremental solution.
+std::string pushed_block_case(double push) {
+  return fmt::format(R"(stickslip: 1
+materials:
+  steel: {{youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}}
+meshes:
+  blocks: {{file: blocks.inp}}
+bodies:
+  base: {{mesh: blocks, element_set: BASE, material: steel, clamp: CLAMP, modes: 20}}
+  block: {{mesh: blocks, element_set: TOP, material: steel, modes: 20}}
+contacts:
+  - name: interface
+    law: friction
+    between: {{block: RIDGE, base: VALLEY}}
+    normal: [0, 0, -1]
+    per_area: {{kt: 4.0e12, kn: 5.0e12, mu: {}, preload: computed}}
+  - name: holder
+    law: linear
+    between: {{block: MID}}
+    direction: [0, 1, 0]
+    per_pair: {{k: 1.0e6}}
+excitation:
+  - {{body: block, node_set: TIP, direction: x, amplitude: 1.0e-3}}
+static_loads:
+  - {{body: block, node_set: PRESS, total_force: [0, 0, {}]}}
+  - {{body: block, node_set: RIDGE, total_force: [0, {}, 0]}}
+damping: {{alpha: 5.0}}
+analysis:
+  frequency: {{start_hz: 100, stop_hz: 110, step_hz: 10}}
+  harmonics: 1
+recovery: {{points: none}}
+output: {{plots: false}}
+)",
+                     kMu, -kPress, push);
+}
+
+TEST(StaticFrictionCli, APushedBlockSticksBelowMuNAndSlipsAbove) {
+  for (const double ratio : {0.4, 1.5}) {
+    SCOPED_TRACE("Q = " + std::to_string(ratio) + " mu P");
+    const double push = ratio * kMu * kPress;
+    const fs::path dir = fresh_dir(ratio < 1 ? "static_friction_stick" : "static_friction_slip");
+    std::ofstream(dir / "blocks.inp") << blocks_inp([](double) { return 0.0; });
+    const fs::path c = write_case(dir, "pushed", pushed_block_case(push));
+    ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+        << slurp(dir / "run.log");
+    double normal = 0, friction_y = 0, springs = 0;
+    int slipping = 0, points = 0;
+    std::map<std::pair<std::string, int>, PointForce> f;
+    for (const auto& r : read_csv(dir / "out" / "contact_forces.csv")) {
+      if (r.at("harmonic") != "0" || r.at("point") != "0") continue;
+      PointForce& p = f[{r.at("contact"), std::stoi(r.at("pair"))}];
+      (r.at("frame") == "local" ? p.local : p.global)[r.at("axis")] = std::stod(r.at("real_n"));
+    }
+    for (const auto& [key, p] : f) {
+      if (key.first == "holder") {
+        springs += p.local.at("u");
+        continue;
+      }
+      ++points;
+      const double N = p.local.at("n"), tau = std::hypot(p.local.at("t1"), p.local.at("t2"));
+      normal += N;
+      friction_y += p.global.at("y");
+      EXPECT_GT(N, 0.0) << key.second;
+      EXPECT_LE(tau, kMu * N * (1 + 1e-9)) << key.second;  // Coulomb
+      if (tau > kMu * N * (1 - 1e-9)) ++slipping;
+    }
+    EXPECT_EQ(points, (kTop.nx + 1) * (kTop.ny + 1));
+    EXPECT_NEAR(normal, kPress, kStaticTolerance * kPress);
+    EXPECT_NEAR(friction_y + springs, push, kStaticTolerance * kPress);  // the block's equilibrium
+    if (ratio < 1) {
+      EXPECT_EQ(slipping, 0);
+      EXPECT_LT(springs, 0.05 * push);  // the springs' share of a stuck joint: 3.4 % measured
+    } else {
+      EXPECT_EQ(slipping, points);
+      EXPECT_NEAR(friction_y, kMu * kPress, 1e-5 * kPress);
+      EXPECT_NEAR(springs, push - kMu * kPress, 1e-5 * kPress);
+    }
+  }
 }
 
 }  // namespace
