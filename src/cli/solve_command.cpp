@@ -345,9 +345,11 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
         };
         rows("local", r.force_local,
              [&](int row) { return local_axis(model, static_cast<int>(q), row); });
-        // A mortar point's force_global has a row per frame column; its first three are the
-        // point's force on B (case_model.h, PreparedPair).
-        rows("global", r.force_global.topRows(std::min<Eigen::Index>(3, r.force_global.rows())),
+        // A mortar point's force_global has a row per frame column; its first three over
+        // weight_a are the point's force on B (case_model.h, PreparedPair).
+        rows("global",
+             r.force_global.topRows(std::min<Eigen::Index>(3, r.force_global.rows())) /
+                 info.weight_a,
              [](int row) { return std::string(kGlobalAxes[row]); });
       }
     }

@@ -45,7 +45,7 @@ void validate(const FrictionContactParameters& p) {
   require_finite_at_least(p.kn, 0.0, true, "FrictionContactParameters.kn");
   require_finite_at_least(p.mu, 0.0, false, "FrictionContactParameters.mu");
   require_finite_at_least(p.normal_preload, 0.0, false, "FrictionContactParameters.normal_preload");
-  require_finite_at_least(p.gap, 0.0, false, "FrictionContactParameters.gap");
+  require(std::isfinite(p.gap), "FrictionContactParameters.gap", format_number(p.gap), "finite");
 }
 
 void validate(const JenkinsParameters& p) {

@@ -5,7 +5,8 @@
 // marching tends to).
 //
 // FrictionContact3D, m = 3, u = (u_t1, u_t2, w), f = (τ1, τ2, N):
-//   normal   N = max(0, N0 + kn (w − g0))        (preload N0 ≥ 0 and/or initial gap g0 ≥ 0)
+//   normal   N = max(0, N0 + kn (w − g0))        (preload N0 ≥ 0 and/or initial gap g0: > 0 open,
+//                                                 < 0 an initial interference)
 //   tangent  τ_pred = τ_prev + kt (u_t − u_t,prev)                 (2D elastic predictor)
 //            |τ_pred| ≤ μN: stick, τ = τ_pred; else slip, τ = μN τ_pred/|τ_pred|
 //            (circular Coulomb limit, the radial return); N = 0: separation, τ = 0.
@@ -22,7 +23,7 @@ struct FrictionContactParameters {
   double kn = 0.0;              // normal contact stiffness, N/m (> 0)
   double mu = 0.0;              // friction coefficient (≥ 0)
   double normal_preload = 0.0;  // N0, N (≥ 0; compression positive)
-  double gap = 0.0;             // g0, m (≥ 0)
+  double gap = 0.0;             // g0, m (any finite value; < 0: initial interference)
 };
 void validate(const FrictionContactParameters& parameters);
 

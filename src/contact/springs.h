@@ -1,5 +1,5 @@
 // Memoryless one-component springs (m = 1), u = R (x_A − x_B) along the element direction:
-//   UnilateralSpring  f = max(0, N0 + k (u − g0))   (gap g0 ≥ 0 and/or preload N0 ≥ 0;
+//   UnilateralSpring  f = max(0, N0 + k (u − g0))   (gap g0, < 0 an interference, and/or N0 ≥ 0;
 //                     u is the approach, so f > 0 pushes B away from A)
 //   CubicSpring       f = k1 u + k3 u³              (Duffing; k3 < 0 softening)
 #pragma once
@@ -10,7 +10,7 @@ namespace stickslip {
 
 struct UnilateralSpringParameters {
   double k = 0.0;        // N/m (> 0)
-  double gap = 0.0;      // g0, m (≥ 0)
+  double gap = 0.0;      // g0, m (finite; < 0: initial interference)
   double preload = 0.0;  // N0, N (≥ 0)
 };
 void validate(const UnilateralSpringParameters& parameters);

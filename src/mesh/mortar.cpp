@@ -25,33 +25,42 @@ constexpr double kInverseMapTolerance = 1e-15;
 // corner, not a shared surface: no coupling from it.
 constexpr double kSliverOverlap = 1e-12;
 
+// Quadratic faces (6-node triangles, 8-node quadrilaterals): their corner integrals ∫ N_c dA are
+// zero or negative, so the dual basis is built on the transformed basis Ñ_c = N_c + α Σ N_m (the
+// mid-edge functions of the corner's two edges), Ñ_m = (1 − 2α) N_m, which keeps Σ Ñ = 1 and
+// makes every ∫ Ñ_i dA positive for α > 1/8 (8-node) or α > 0 (6-node); α = 1/5 is the value of
+// Popp, Wohlmuth, Gee and Wall (SIAM J. Sci. Comput. 34, 2012): corners A/20, mid-edges A/5 on an
+// 8-node rectangle of area A, corners A/15 and mid-edges 4A/15 on a 6-node triangle.
+constexpr double kQuadraticBasisShift = 0.2;
+
 using Vec2 = Eigen::Vector2d;
 using Polygon = std::vector<Vec2>;
 
-// A linear face seen from its own plane.
+// A face seen from its own plane.
 struct Face {
-  int n = 0;                   // 3 or 4 corners
-  Eigen::Matrix3Xd X;          // corners, 3 x n
+  int n = 0;                   // nodes: 3, 4 (linear), 6, 8 (quadratic)
+  int corners = 0;             // 3 or 4
+  Eigen::Matrix3Xd X;          // nodes, 3 x n (corners first, ElementFace order)
   Eigen::Vector3d centroid, normal;  // normal: unit, out of the face's element
   Eigen::AlignedBox3d box;
 };
 
 Face make_face(const Mesh& mesh, const ElementFace& f, const char* side, int index) {
   const int n = static_cast<int>(f.nodes.size());
-  if (n != 3 && n != 4) {
+  if (n != 3 && n != 4 && n != 6 && n != 8) {
     throw InvalidInput(
         "mortar coupling: face " + std::to_string(index) + " of surface " + side + " (element " +
         std::to_string(mesh.element_ids[static_cast<size_t>(f.element)]) + ") has " +
         std::to_string(n) +
-        " nodes: only linear faces (3-node triangles, 4-node quadrilaterals) can be coupled; "
-        "quadratic faces are not supported yet");
+        " nodes: only 3- and 6-node triangles and 4- and 8-node quadrilaterals can be coupled");
   }
   Face face;
   face.n = n;
+  face.corners = n == 3 || n == 6 ? 3 : 4;
   face.X.resize(3, n);
   for (int a = 0; a < n; ++a) face.X.col(a) = mesh.coordinates.col(f.nodes[a]);
-  face.centroid = face.X.rowwise().mean();
-  Eigen::Vector3d normal = n == 4 ? Eigen::Vector3d((face.X.col(2) - face.X.col(0))
+  face.centroid = face.X.leftCols(face.corners).rowwise().mean();
+  Eigen::Vector3d normal = face.corners == 4 ? Eigen::Vector3d((face.X.col(2) - face.X.col(0))
                                                         .cross(face.X.col(3) - face.X.col(1)))
                                   : Eigen::Vector3d((face.X.col(1) - face.X.col(0))
                                                         .cross(face.X.col(2) - face.X.col(0)));
@@ -105,21 +114,23 @@ Polygon clip_polygon(const Polygon& subject, const Polygon& clip) {
   return out;
 }
 
-// Natural coordinates of the 2D point p in the face whose corners (in the plane) are `P` (2 x n):
-// exact for triangles, Newton on the bilinear map for quadrilaterals.
+// Natural coordinates of the 2D point p in the face whose nodes (in the plane) are `P` (2 x n):
+// exact for 3-node triangles, Newton on the isoparametric map otherwise (from the corners' affine
+// map for 6-node triangles: one step when their edges are straight).
 Vec2 natural_coordinates(const Eigen::Matrix2Xd& P, const Vec2& p) {
   const int n = static_cast<int>(P.cols());
-  if (n == 3) {
+  if (n == 3 || n == 6) {
     Eigen::Matrix2d J;
     J << P(0, 1) - P(0, 0), P(0, 2) - P(0, 0), P(1, 1) - P(1, 0), P(1, 2) - P(1, 0);
-    return J.inverse() * (p - P.col(0));
+    const Vec2 linear = J.inverse() * (p - P.col(0));
+    if (n == 3) return linear;
   }
-  Vec2 xi(0, 0);
+  Vec2 xi = n == 6 ? Vec2(1.0 / 3, 1.0 / 3) : Vec2(0, 0);
   Eigen::VectorXd N;
   Eigen::Matrix2Xd dN;
   const double scale = (P.colwise() - P.rowwise().mean()).norm();
   for (int it = 0; it < 50; ++it) {
-    face_shape(4, xi.x(), xi.y(), N, dN);
+    face_shape(n, xi.x(), xi.y(), N, dN);
     const Vec2 r = P * N - p;
     if (r.norm() <= kInverseMapTolerance * scale) break;
     const Eigen::Matrix2d J = P * dN.transpose();
@@ -144,6 +155,29 @@ const std::array<TrianglePoint, 7>& triangle_rule() {
                                          {b, b, 1 - 2 * b, wb},
                                          {b, 1 - 2 * b, b, wb},
                                          {1 - 2 * b, b, b, wb}}};
+  }();
+  return rule;
+}
+
+// The collapsed (Duffy) 4 x 4 Gauss–Legendre rule on a triangle: (u, v) in [0, 1]² to
+// barycentric (1 − u, u (1 − v), u v), weight w_u w_v u (the map's Jacobian over the area 1/2).
+// Exact for polynomials of total degree 6 (x^a y^b becomes degree a + b + 1 ≤ 7 in u and b ≤ 6 in
+// v, and 4 Gauss points integrate degree 7): the products of quadratic faces' shape functions
+// (degree ≤ 3 each on parallelograms: 8-node serendipity) with one another.
+const std::array<TrianglePoint, 16>& collapsed_triangle_rule() {
+  static const std::array<TrianglePoint, 16> rule = [] {
+    const double a = std::sqrt(3.0 / 7 - 2.0 / 7 * std::sqrt(6.0 / 5));
+    const double b = std::sqrt(3.0 / 7 + 2.0 / 7 * std::sqrt(6.0 / 5));
+    const double wa = (18 + std::sqrt(30.0)) / 36, wb = (18 - std::sqrt(30.0)) / 36;
+    const double x[4] = {-b, -a, a, b}, w[4] = {wb, wa, wa, wb};  // on [−1, 1]
+    std::array<TrianglePoint, 16> r{};
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        const double u = 0.5 * (1 + x[i]), v = 0.5 * (1 + x[j]);
+        // ∫_T f dA / |T| = 2 ∫∫ f u du dv; the Gauss weights on [0, 1] are w/2 each.
+        r[static_cast<size_t>(4 * i + j)] = {1 - u, u * (1 - v), u * v, 2 * u * 0.25 * w[i] * w[j]};
+      }
+    return r;
   }();
   return rule;
 }
@@ -231,12 +265,13 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
   out.search_distance = search;
   const FaceGrid grid(B, search);
 
-  // Per A node: D_i, the D-weighted normal, M_ik, and the B faces it meets.
+  // Per A node: D_i, the D-weighted normal, M_ik, the B faces it meets, and (quadratic faces)
+  // ∫ ψ_i N_j dA over A's own faces.
   std::map<int, double> D;
   std::map<int, Eigen::Vector3d> normal;
-  std::map<int, std::map<int, double>> M;
+  std::map<int, std::map<int, double>> M, MA;
   std::map<int, std::set<int>> met;
-  std::map<int, double> covered;  // ∫_{A∩B} N_i dA
+  std::map<int, double> covered;  // ∫_{A∩B} Ñ_i dA
 
   Eigen::VectorXd N, NB;
   Eigen::Matrix2Xd dN;
@@ -253,23 +288,43 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
     Eigen::Matrix2Xd PA(2, a.n);
     for (int k = 0; k < a.n; ++k) PA.col(k) = to_plane(a.X.col(k));
 
-    // Dual basis of this face: A_e = D_e M_e⁻¹ from its own integrals (in its plane).
+    // The basis the dual functions are built on, Ñ = T N (T = I on linear faces; quadratic
+    // faces: kQuadraticBasisShift), and the dual basis ψ = A_e Ñ, A_e = D_e M_e⁻¹ from its own
+    // integrals (in its plane), D_e = diag(∫ Ñ), M_e = ∫ Ñ Ñᵀ.
+    const bool quadratic = a.n > a.corners;
+    Eigen::MatrixXd T = Eigen::MatrixXd::Identity(a.n, a.n);
+    if (quadratic) {
+      for (int k = 0; k < a.corners; ++k) {
+        const int m = a.corners + k;  // on the edge from corner k to corner k + 1
+        T(k, m) += kQuadraticBasisShift;
+        T((k + 1) % a.corners, m) += kQuadraticBasisShift;
+        T(m, m) = 1 - 2 * kQuadraticBasisShift;
+      }
+    }
     Eigen::MatrixXd Me = Eigen::MatrixXd::Zero(a.n, a.n);
     Eigen::VectorXd De = Eigen::VectorXd::Zero(a.n);
     for (const FacePoint& q : face_rule(a.n)) {
       face_shape(a.n, q.xi, q.eta, N, dN);
       const double dA = std::abs((PA * dN.transpose()).determinant()) * q.w;
-      Me += N * N.transpose() * dA;
-      De += N * dA;
+      const Eigen::VectorXd Nt = T * N;
+      Me += Nt * Nt.transpose() * dA;
+      De += Nt * dA;
     }
-    const Eigen::MatrixXd Ae = De.asDiagonal() * Me.inverse();
+    const Eigen::MatrixXd Ae = De.asDiagonal() * Me.inverse() * T;  // ψ = Ae N
     for (int k = 0; k < a.n; ++k) {
       D[a_nodes[k]] += De(k);
       normal.try_emplace(a_nodes[k], Eigen::Vector3d::Zero()).first->second += De(k) * a.normal;
     }
+    if (quadratic) {
+      // ∫_e ψ_i N_j dA = (T⁻¹)_ji D_e,i (biorthogonality: ∫_e ψ_i Ñ_l = δ_il D_e,i, N = T⁻¹ Ñ).
+      const Eigen::MatrixXd Tinv = T.inverse();
+      for (int i = 0; i < a.n; ++i)
+        for (int j = 0; j < a.n; ++j)
+          if (Tinv(j, i) != 0.0) MA[a_nodes[i]][a_nodes[j]] += Tinv(j, i) * De(i);
+    }
 
-    Polygon clip(PA.cols());
-    for (int k = 0; k < a.n; ++k) clip[k] = PA.col(k);
+    Polygon clip(static_cast<size_t>(a.corners));
+    for (int k = 0; k < a.corners; ++k) clip[k] = PA.col(k);
     if (signed_area(clip) < 0) std::reverse(clip.begin(), clip.end());
 
     Eigen::AlignedBox3d box = a.box;
@@ -284,8 +339,8 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
       if (!close) continue;
       Eigen::Matrix2Xd PB(2, b.n);
       for (int k = 0; k < b.n; ++k) PB.col(k) = to_plane(b.X.col(k));
-      Polygon subject(PB.cols());
-      for (int k = 0; k < b.n; ++k) subject[k] = PB.col(k);
+      Polygon subject(static_cast<size_t>(b.corners));
+      for (int k = 0; k < b.corners; ++k) subject[k] = PB.col(k);
       if (signed_area(subject) < 0) std::reverse(subject.begin(), subject.end());
       const Polygon overlap = clip_polygon(subject, clip);
       if (overlap.size() < 3) continue;
@@ -293,19 +348,23 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
       if (!(area > kSliverOverlap * std::abs(signed_area(clip)))) continue;
       const std::vector<int>& b_nodes = faces_b[static_cast<size_t>(fb)].nodes;
       for (int k = 0; k < a.n; ++k) met[a_nodes[k]].insert(fb);
-      // Fan triangulation of the convex overlap, 7 points per triangle.
+      // Fan triangulation of the convex overlap; 7 points per triangle between linear faces,
+      // 16 where a face is quadratic (the integrands' degrees: 4 and 6 on parallelograms).
+      const std::span<const TrianglePoint> rule =
+          quadratic || b.n > b.corners ? std::span<const TrianglePoint>(collapsed_triangle_rule())
+                                       : std::span<const TrianglePoint>(triangle_rule());
       for (size_t t = 1; t + 1 < overlap.size(); ++t) {
         const Vec2 &p0 = overlap[0], &p1 = overlap[t], &p2 = overlap[t + 1];
         const double tri = 0.5 * std::abs((p1 - p0).x() * (p2 - p0).y() - (p2 - p0).x() * (p1 - p0).y());
-        for (const TrianglePoint& q : triangle_rule()) {
+        for (const TrianglePoint& q : rule) {
           const Vec2 p = q.l0 * p0 + q.l1 * p1 + q.l2 * p2;
           const Vec2 xa = natural_coordinates(PA, p), xb = natural_coordinates(PB, p);
           face_shape(a.n, xa.x(), xa.y(), N, dN);
-          const Eigen::VectorXd psi = Ae * N;
+          const Eigen::VectorXd psi = Ae * N, Nt = T * N;
           face_shape(b.n, xb.x(), xb.y(), NB, dN);
           const double w = q.w * tri;
           for (int i = 0; i < a.n; ++i) {
-            covered[a_nodes[i]] += w * N(i);
+            covered[a_nodes[i]] += w * Nt(i);
             std::map<int, double>& row = M[a_nodes[i]];
             for (int k = 0; k < b.n; ++k) row[b_nodes[k]] += w * psi(i) * NB(k);
           }
@@ -319,6 +378,15 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
     p.node_a = node;
     p.area = d;
     p.normal = normal[node].normalized();
+    Eigen::Vector3d xa = mesh_a.coordinates.col(node);
+    if (const auto it = MA.find(node); it != MA.end()) {
+      xa.setZero();
+      for (const auto& [j, m] : it->second) {
+        p.nodes_a.push_back(j);
+        p.weights_a.push_back(m / d);
+        xa += (m / d) * mesh_a.coordinates.col(j);
+      }
+    }
     Eigen::Vector3d xb = Eigen::Vector3d::Zero();
     double sum = 0;  // Σ_k Φ_ik
     if (const auto it = M.find(node); it != M.end()) {
@@ -331,9 +399,8 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
       }
     }
     p.coverage = covered.count(node) ? covered[node] / d : 0.0;
-    p.gap = std::abs(sum) > 1e-3
-                ? p.normal.dot(xb / sum - Eigen::Vector3d(mesh_a.coordinates.col(node)))
-                : std::numeric_limits<double>::quiet_NaN();
+    p.gap = std::abs(sum) > 1e-3 ? p.normal.dot(xb / sum - xa)
+                                 : std::numeric_limits<double>::quiet_NaN();
     if (const auto it = met.find(node); it != met.end()) p.faces_b.assign(it->second.begin(), it->second.end());
     if (!(p.coverage >= options.full_coverage)) out.partial.push_back(node);
     out.points.push_back(std::move(p));

@@ -2,19 +2,28 @@
 //
 // One contact point per node i of surface A (the "slave" side, whose faces carry the points). Its
 // relative displacement is a linear map of both bodies' nodal displacements,
-//   u_i = x_A(i) − Σ_k Φ_ik x_B(k),          Φ_ik = M_ik / D_i,
-//   D_i  = ∫_A N_i dA                     (the point's area, > 0 for linear faces),
+//   u_i = Σ_j a_ij x_A(j) − Σ_k Φ_ik x_B(k),   a_ij = ∫_A ψ_i N_j^A dA / D_i,  Φ_ik = M_ik / D_i,
+//   D_i  = ∫_A ψ_i dA = ∫_A Ñ_i dA        (the point's area, > 0),
 //   M_ik = ∫_{A∩B} ψ_i N_k^B dA           (A's dual shape functions against B's shape functions),
-// and its force f_i goes back through the transposed map: f_i on node i of A, −Φ_ik f_i on node k
-// of B. ψ_i are the dual shape functions of A's faces (Wohlmuth, SIAM J. Numer. Anal. 38, 2000):
-// per face e, ψ = A_e N with A_e = D_e M_e⁻¹, D_e = diag(∫_e N_i), M_e = [∫_e N_i N_j], so that
-// ∫_e ψ_i N_j = δ_ij ∫_e N_j. Then
+// and its force f_i goes back through the transposed map: a_ij f_i on node j of A, −Φ_ik f_i on
+// node k of B. ψ_i are the dual shape functions of A's faces (Wohlmuth, SIAM J. Numer. Anal. 38,
+// 2000) built on a basis Ñ = T N of A's: per face e, ψ = A_e Ñ with A_e = D_e M_e⁻¹,
+// D_e = diag(∫_e Ñ_i), M_e = [∫_e Ñ_i Ñ_j], so that ∫_e ψ_i Ñ_j = δ_ij ∫_e Ñ_j.
+//   - Linear faces (3, 4 nodes): Ñ = N, so a_ij = δ_ij: the point is node i.
+//   - Quadratic faces (6, 8 nodes): ∫ N_i dA is 0 or negative at the corners, so Ñ_c = N_c +
+//     α Σ N_m over the mid-edge nodes m of the corner's edges, Ñ_m = (1 − 2α) N_m, α = 1/5 (Popp,
+//     Wohlmuth, Gee, Wall, SIAM J. Sci. Comput. 34, 2012): every ∫ Ñ_i > 0 and Σ Ñ = 1. Then
+//     a_ij = (T⁻¹)_ji: a corner's point is its node, a mid-edge node m's point is
+//     (x_m − α (x_c1 + x_c2)) / (1 − 2α) with c1, c2 the corners of its edge (= x_m where the
+//     displacement is linear along the edge).
+// Then
 //   - Σ_i ψ_i = 1: a uniform pressure p on A gives nodal forces p D_i that reach B as p ∫_B N_k
 //     over the overlap, the consistent nodal forces of that pressure (the patch test, exact);
 //   - where node i's faces lie wholly over B, Σ_k Φ_ik = 1 (rigid translations give u = 0) and
-//     Σ_k Φ_ik f(x_Bk) = f(x_Ai) for every field f linear in space on flat coplanar surfaces
-//     (rigid rotations too);
-//   - on conforming meshes (coincident nodes, the same faces) Φ is the identity: node-to-node.
+//     Σ_k Φ_ik f(x_Bk) = Σ_j a_ij f(x_Aj) for every field f linear in space on flat coplanar
+//     surfaces (rigid rotations too);
+//   - on conforming meshes (coincident nodes, the same faces) Φ_ik = a_ik: linear faces are
+//     node-to-node.
 //
 // Geometry: each A face defines a plane (its centroid, its outward normal). B faces that face it
 // (normals opposed) within `search_distance` along that normal are projected onto the plane and
@@ -22,9 +31,11 @@
 // cut into triangles and integrated with a 7-point degree-5 rule, the natural coordinates of each
 // quadrature point in A and in B found by inverting their (projected) isoparametric maps. The
 // integrals are exact where both faces are parallelograms (the integrand is then a polynomial of
-// degree 4), and of quadrature accuracy on distorted quadrilaterals. Linear faces only (3- and
-// 4-node: C3D4, C3D8, C3D8I); quadratic faces (C3D10, C3D20) are refused: their corner integrals
-// ∫ N_i dA are negative or zero, so the dual basis above does not exist as such.
+// degree 4 between linear faces; where a face is quadratic, 16 points per triangle, degree 6),
+// and of quadrature accuracy on distorted quadrilaterals. Faces of 3, 4, 6 and 8 nodes (C3D4,
+// C3D8, C3D8I, C3D6; C3D10, C3D20, C3D15 and the 13-node pyramid). Quadratic faces are clipped by
+// their corners' polygon: exact for straight edges (mid-edge nodes at mid-edge), an O(h²)
+// approximation of the overlap where the edges are curved.
 //
 // Candidates are found through a uniform grid of B faces' bounding boxes (cell = the largest B face
 // extent plus the search distance): cost O(n_A · faces per cell).
@@ -54,13 +65,18 @@ struct MortarPoint {
   int node_a = -1;               // node index in the A mesh
   double area = 0.0;             // D_i = ∫_A N_i dA, m²
   Eigen::Vector3d normal{0, 0, 0};  // unit, out of A: the D-weighted mean of its faces' normals
+  // Quadratic faces: the A nodes of the point, increasing (node_a among them), and a_ij; empty
+  // on linear faces (the point is node_a, a = 1).
+  std::vector<int> nodes_a;
+  std::vector<double> weights_a;
   std::vector<int> nodes_b;         // node indices in the B mesh, increasing
   std::vector<double> weights_b;    // Φ_ik for nodes_b
-  // ∫_{A∩B} N_i dA / D_i in [0, 1]: the part of the node's area that lies over B (1: wholly, and
+  // ∫_{A∩B} Ñ_i dA / D_i in [0, 1]: the part of the node's area that lies over B (1: wholly, and
   // then Σ_k Φ_ik = 1). Not Σ_k Φ_ik itself: ψ_i changes sign, so a partly covered node can have
   // Σ_k Φ_ik above 1.
   double coverage = 0.0;
-  // n · (Σ_k Φ_ik x_B / Σ_k Φ_ik − x_A), m: > 0 open, < 0 penetrating; NaN when |Σ_k Φ_ik| < 1e-3.
+  // n · (Σ_k Φ_ik x_B / Σ_k Φ_ik − Σ_j a_ij x_Aj), m: > 0 open, < 0 penetrating; NaN when
+  // |Σ_k Φ_ik| < 1e-3.
   double gap = 0.0;
   std::vector<int> faces_b;  // indices into faces_b overlapping the node's A faces, increasing
 };
@@ -72,8 +88,8 @@ struct MortarCoupling {
   std::vector<int> partial;
 };
 
-// InvalidInput if faces_a or faces_b is empty, a face is not linear (3 or 4 nodes), or a face is
-// degenerate (zero area). Partial coverage is not an error here: the caller decides.
+// InvalidInput if faces_a or faces_b is empty, a face has other than 3, 4, 6 or 8 nodes, or a
+// face is degenerate (zero area). Partial coverage is not an error here: the caller decides.
 MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> faces_a,
                                const Mesh& mesh_b, std::span<const ElementFace> faces_b,
                                const MortarOptions& options = {});

@@ -274,11 +274,29 @@ std::string listed_ids(const CaseBody& body, const std::vector<int>& nodes) {
   return text;
 }
 
-// A mortar point's normal (out of A) may differ from the contact's `normal` by at most this
-// angle: the contact law acts in the contact's one frame, so a point whose own surface turns away
-// from it would be pressed along a direction its faces do not have (a normal given the wrong way
-// round makes every point's angle 180°). 30° admits gently curved interfaces.
-constexpr double kMaxNormalAngleDeg = 30.0;
+// Each mortar point acts in its own frame, whose normal is its surface's (mesh/mortar.h: out of
+// A); the contact's `normal` says which side B is on. A point whose surface faces away from it
+// (the angle is 90° or more: a normal given the wrong way round makes every point's angle 180°, a
+// surface that wraps round more than a half-space has no one side) is refused.
+constexpr double kMaxNormalAngleDeg = 90.0;
+
+// A mortar point's geometric gap within this much of its coordinates' size (the norm of its
+// position plus the square root of its area) is round-off of coincident surfaces, not a gap: a
+// few hundred ulps; 1e-12 of a 0.3 m coordinate is 0.3 pm.
+constexpr double kRoundOffGap = 1e-12;
+
+// The frame of a mortar point of a contact whose frame is `contact_frame` (rows t1, t2, n): n its
+// own surface normal, t1 the contact's t1 projected on its tangent plane (t2's where t1 is
+// normal to it), so a point on a flat surface normal to the contact's `normal` has the contact's
+// frame.
+Eigen::MatrixXd mortar_point_frame(const Eigen::MatrixXd& contact_frame,
+                                   const Eigen::Vector3d& normal) {
+  try {
+    return frame_from_normal(normal, contact_frame.row(0).transpose());
+  } catch (const InvalidInput&) {
+    return frame_from_normal(normal, contact_frame.row(1).transpose());
+  }
+}
 
 // coupling: mortar: the surfaces of the two node selections (the faces of each body whose nodes
 // all lie in its selection), one point per node of A's faces (mesh/mortar.h). Refused, naming
@@ -368,7 +386,7 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
       rc.skipped.push_back(point.node_a);
       continue;
     }
-    if (law_uses_frame && !(point.normal.dot(normal) >= min_cos)) turned.push_back(point.node_a);
+    if (law_uses_frame && !(point.normal.dot(normal) > min_cos)) turned.push_back(point.node_a);
     int best = 0;
     for (size_t k = 1; k < point.weights_b.size(); ++k)
       if (point.weights_b[k] > point.weights_b[static_cast<size_t>(best)])
@@ -379,7 +397,7 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
   if (!turned.empty()) {
     throw InvalidInput(
         def.where("contacts." + cd.name + ".normal"),
-        lead + fmt::format("the surface of body {} at node(s) {} faces more than {}° "
+        lead + fmt::format("the surface of body {} at node(s) {} faces {}° or more "
                     "away from the contact's normal (out of {} into {})",
                     A.name, listed_ids(A, turned), format_number(kMaxNormalAngleDeg), A.name,
                     B.name));
@@ -720,6 +738,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
                                      : fmt::format("contacts.{}.between", cd.name);
       add_master(rc.body_a, rc.node_pairs[i].first, key);
       if (!rc.mortar.empty()) {
+        for (int a : rc.mortar[i].nodes_a) add_master(rc.body_a, a, key);
         for (int b : rc.mortar[i].nodes_b) add_master(rc.body_b, b, key);
       } else if (rc.body_b >= 0) {
         add_master(rc.body_b, rc.node_pairs[i].second, key);
@@ -928,6 +947,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   say(fmt::format("reduced-model modes: done in {:.1f} s", seconds_since(t_modes)));
 
   // Contact elements on the reduced DOFs.
+  std::vector<bool> balance_rest_force;  // per pair: its force at rest is a typed preload
   for (size_t c = 0; c < def.contacts.size(); ++c) {
     const ContactDefinition& cd = def.contacts[c];
     const CaseContact& rc = resolved.contacts[c];
@@ -975,21 +995,61 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         }
       }
       pair.frame = row_frame;
+      // The initial gap of the law: the contact's, plus a mortar point's geometric gap where the
+      // law has a gap and no typed preload says the surfaces are closed at rest.
+      double gap = cd.gap;
+      bool geometric_gap = false;
       if (!rc.mortar.empty()) {  // u = R (x_A − Σ_k Φ_k x_Bk): B's nodes as more columns
         const MortarPoint& point = rc.mortar[static_cast<size_t>(i)];
         const PreparedBody& B = model.bodies[rc.body_b];
         const int nb = static_cast<int>(point.nodes_b.size());
-        pair.frame.resize(row_frame.rows(), 3 * (1 + nb));
-        pair.frame.leftCols(3) = row_frame;
+        const Eigen::MatrixXd frame =
+            law.uses_frame ? mortar_point_frame(row_frame, point.normal) : row_frame;
+        // Quadratic faces: the point is Σ_j a_j x_Aj (mesh/mortar.h), node A's weight first.
+        std::vector<std::pair<int, double>> a_side{{a, 1.0}};
+        for (size_t j = 0; j < point.nodes_a.size(); ++j) {
+          if (point.nodes_a[j] == a) {
+            a_side[0].second = point.weights_a[j];
+          } else {
+            a_side.emplace_back(point.nodes_a[j], point.weights_a[j]);
+          }
+        }
+        const int na = static_cast<int>(a_side.size());
+        pair.frame.resize(frame.rows(), 3 * (na + nb));
         info.mortar = true;
         info.gap = point.gap;
+        info.weight_a = a_side[0].second;
+        // Σ_k Φ_k x_Bk − Σ_j a_j x_Aj: B's surface seen from the point (Σ_k Φ_k = 1 for a point
+        // wholly over B, the only ones kept).
+        Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+        for (int j = 0; j < na; ++j) {
+          const auto [node, w] = a_side[static_cast<size_t>(j)];
+          if (j > 0) {
+            for (int dir = 0; dir < 3; ++dir)
+              pair.dofs_a.push_back(A.global_dof(node_id_of(A, node), dir));
+          }
+          pair.frame.middleCols(3 * j, 3) = w * frame;
+          offset -= w * A.mesh.coordinates.col(node);
+        }
         for (int k = 0; k < nb; ++k) {
           const int id = node_id_of(B, point.nodes_b[static_cast<size_t>(k)]);
           const double w = point.weights_b[static_cast<size_t>(k)];
           for (int dir = 0; dir < 3; ++dir) pair.dofs_a.push_back(B.global_dof(id, dir));
-          pair.frame.middleCols(3 * (1 + k), 3) = -w * row_frame;
+          pair.frame.middleCols(3 * (na + k), 3) = -w * frame;
           info.partner_ids.push_back(id);
           info.weights.push_back(w);
+          offset += w * B.mesh.coordinates.col(point.nodes_b[static_cast<size_t>(k)]);
+        }
+        const bool typed_preload = cd.parameters.preload > 0.0 || !preload_by_node.empty();
+        if (law.has_gap && !typed_preload) {
+          // Along the law's normal row (friction: n; 1D laws: their direction); a gap within
+          // round-off of the coordinates is none (it would press coincident surfaces at rest).
+          double g = frame.row(frame.rows() - 1).dot(offset);
+          const double round_off =
+              kRoundOffGap * (A.mesh.coordinates.col(a).norm() + std::sqrt(point.area));
+          if (std::abs(g) <= round_off) g = 0.0;
+          gap += g;
+          geometric_gap = g != 0.0;
         }
         for (int f : point.faces_b) {
           info.partner_elements.push_back(
@@ -1006,9 +1066,12 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         }
         preload = it->second;
       }
-      const LawValues values = law_values(law, p, preload, cd.gap);
+      const LawValues values = law_values(law, p, preload, gap);
       info.stuck_stiffness = law.stuck_stiffness(values);
       pair.element = law.make_element(values);
+      // A force at rest that comes from the geometry (an interference) strains the bodies: it is
+      // not balanced like a typed preload (below).
+      balance_rest_force.push_back(!geometric_gap);
       model.pairs.push_back(std::move(pair));
       model.pair_info.push_back(info);
     }
@@ -1065,7 +1128,9 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     Eigen::VectorXcd preload = Eigen::VectorXcd::Zero(model.num_dofs);
     bool any = false;
     const int samples = 4;
-    for (const ContactPair& pair : model.pairs) {
+    for (size_t q = 0; q < model.pairs.size(); ++q) {
+      const ContactPair& pair = model.pairs[q];
+      if (!balance_rest_force[q]) continue;
       const int m = pair.element->dimension();
       Eigen::MatrixXd u0 = Eigen::MatrixXd::Zero(m, samples), f0;
       pair.element->march(u0, nullptr, f0, nullptr);

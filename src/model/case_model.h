@@ -170,11 +170,13 @@ struct ModelCache {
 };
 
 // A contact point. Node-to-node: ContactPair dofs_a = node A's DOFs, dofs_b = node B's, frame R
-// (m x 3). Mortar (coupling: mortar): dofs_a = node A's DOFs then those of each partner node of
-// B, dofs_b empty, frame R [I, −Φ_1 I, −Φ_2 I, ...] (m x 3(1 + partners)), so that
-// u = R (x_A − Σ_k Φ_k x_Bk): the first three columns are R, and the first three rows of
-// PairResponse::force_global are the point's force on B (global axes), which reaches B's nodes
-// as Φ_k times it.
+// (m x 3). Mortar (coupling: mortar): dofs_a = node A's DOFs, then (quadratic faces) those of the
+// point's other A nodes, then those of each partner node of B; dofs_b empty; frame
+// R [a_1 I, a_2 I, ..., −Φ_1 I, −Φ_2 I, ...] (a_1 node A's weight, 1 on linear faces), so that
+// u = R (Σ_j a_j x_Aj − Σ_k Φ_k x_Bk), R the point's own frame (its surface normal; 1D laws: the
+// contact's direction): the first three columns are a_1 R, and the first three rows of
+// PairResponse::force_global divided by weight_a are the point's force on B (global axes), which
+// reaches B's nodes as Φ_k times it and A's as −a_j times it.
 struct PreparedPair {
   int contact = 0;    // index in CaseDefinition::contacts
   int node_a_id = 0;  // external ids (0 = ground)
@@ -184,10 +186,12 @@ struct PreparedPair {
   // mortar point's area ∫ N_i dA over A's surface (always).
   double area = 0.0;
   bool mortar = false;
+  double weight_a = 1.0;          // mortar: a_1, node A's weight in the point (1: linear faces)
   std::vector<int> partner_ids;   // mortar: B's node ids, increasing
   std::vector<double> weights;    // mortar: Φ_k of each partner
   std::vector<int> partner_elements;  // mortar: element ids of the B faces it overlaps
-  double gap = 0.0;                   // mortar: the point's geometric gap, m (> 0 open)
+  double gap = 0.0;  // mortar: the point's geometric gap, m (> 0 open; the law's initial gap
+                     // with the contact's `gap` unless a preload is typed)
   ContactParametersDefinition parameters;  // this pair's parameters (totals already split)
   Eigen::VectorXd stuck_stiffness;         // stiffness of its local rows when stuck, N/m
 };

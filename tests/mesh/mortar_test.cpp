@@ -217,15 +217,150 @@ TEST(Mortar, TriangleFacesAgainstQuadrilateralsPassTheSameChecks) {
   for (size_t k = 0; k < s.nodes_b.size(); ++k) EXPECT_NEAR(delivered[s.nodes_b[k]], area_b[k], 1e-14);
 }
 
-TEST(Mortar, QuadraticFacesAreRefusedByName) {
+TEST(Mortar, FacesOfOtherNodeCountsAreRefusedByName) {
   const Blocks s = blocks(2, 2, 2, 2);
-  std::vector<ElementFace> eight = {s.faces_a.front()};
-  for (int extra : {0, 1, 2, 3}) eight.front().nodes.push_back(extra);  // 8 nodes: quadratic
+  std::vector<ElementFace> five = {s.faces_a.front()};
+  five.front().nodes.push_back(0);  // 5 nodes: no such face
   try {
-    mortar_coupling(s.a, eight, s.b, s.faces_b);
-    FAIL() << "an 8-node face was accepted";
+    mortar_coupling(s.a, five, s.b, s.faces_b);
+    FAIL() << "a 5-node face was accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("8 nodes"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("5 nodes"), std::string::npos) << e.what();
+  }
+}
+
+// The quadratic version of a mesh of C3D8 or C3D4: a node at the middle of every edge (shared
+// between the elements of the edge), C3D20 or C3D10 in CalculiX's node order.
+Mesh quadratic(const Mesh& linear) {
+  Mesh out;
+  out.coordinates = linear.coordinates;
+  out.node_ids = linear.node_ids;
+  std::map<std::pair<int, int>, int> middle;
+  const auto mid = [&](int p, int q) {
+    const std::pair<int, int> key{std::min(p, q), std::max(p, q)};
+    const auto it = middle.find(key);
+    if (it != middle.end()) return it->second;
+    const Eigen::Vector3d x = 0.5 * (out.coordinates.col(p) + out.coordinates.col(q));
+    const int index = out.add_node(out.num_nodes() + 1, x);
+    middle.emplace(key, index);
+    return index;
+  };
+  constexpr int kHexEdges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                    {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  constexpr int kTetEdges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+  for (int e = 0; e < linear.num_elements(); ++e) {
+    const std::span<const int> v = linear.element_nodes(e);
+    std::vector<int> nodes(v.begin(), v.end());
+    const bool hex = v.size() == 8;
+    if (hex) {
+      for (const auto& edge : kHexEdges) nodes.push_back(mid(v[edge[0]], v[edge[1]]));
+    } else {
+      for (const auto& edge : kTetEdges) nodes.push_back(mid(v[edge[0]], v[edge[1]]));
+    }
+    out.add_element(linear.element_ids[static_cast<size_t>(e)],
+                    hex ? ElementType::kC3D20 : ElementType::kC3D10, nodes);
+  }
+  return out;
+}
+
+// Blocks of quadratic elements: A of C3D20 (or, `tets_a`, C3D10), B of C3D20; the surfaces are
+// every node on the contact plane (corners and mid-edge nodes).
+Blocks quadratic_blocks(int ax, int ay, int bx, int by, bool tets_a = false) {
+  Blocks s = blocks(ax, ay, bx, by);
+  s.a = quadratic(tets_a ? tet_box(ax, ay, {1.0, 1.0, 0.2}) : s.a);
+  s.b = quadratic(s.b);
+  s.nodes_a = nodes_on_plane(s.a, {0, 0, 0.2}, {0, 0, 1}, 1e-9);
+  s.nodes_b = nodes_on_plane(s.b, {0, 0, 0.2}, {0, 0, 1}, 1e-9);
+  s.faces_a = faces_within(s.a, s.nodes_a);
+  s.faces_b = faces_within(s.b, s.nodes_b);
+  return s;
+}
+
+// Σ_j a_ij f(x_Aj): the point's own position in the field f.
+double point_value(const MortarPoint& p, const Mesh& a,
+                   const std::function<double(const Eigen::Vector3d&)>& f) {
+  if (p.nodes_a.empty()) return f(a.coordinates.col(p.node_a));
+  double s = 0;
+  for (size_t j = 0; j < p.nodes_a.size(); ++j) s += p.weights_a[j] * f(a.coordinates.col(p.nodes_a[j]));
+  return s;
+}
+
+// Quadratic faces (8-node quadrilaterals, 6-node triangles) pass the checks of linear ones: every
+// area positive, the areas summing to the surface's; Σ_k Φ_ik = Σ_j a_ij = 1; every linear field
+// f: Σ_k Φ_ik f(x_Bk) = Σ_j a_ij f(x_Aj) = f(x_Ai) (flat faces, straight edges); a uniform
+// pressure on A reaches B as B's consistent nodal forces ∫ N_k dA (negative at the 8-node
+// corners: −A/12) and A's as A's, Σ_i a_ij D_i = ∫ N_j dA (surface_area.h's own quadrature).
+TEST(Mortar, QuadraticFacesPassThePatchTest) {
+  struct Case {
+    int ax, ay, bx, by;
+    bool tets_a;
+  };
+  for (const Case m : {Case{2, 2, 3, 3, false}, Case{3, 2, 2, 5, false}, Case{2, 2, 3, 2, true}}) {
+    SCOPED_TRACE(std::to_string(m.ax) + " x " + std::to_string(m.ay) +
+                 (m.tets_a ? " (C3D10)" : "") + " against " + std::to_string(m.bx) + " x " +
+                 std::to_string(m.by));
+    const Blocks s = quadratic_blocks(m.ax, m.ay, m.bx, m.by, m.tets_a);
+    ASSERT_EQ(s.faces_a.front().nodes.size(), m.tets_a ? 6u : 8u);
+    ASSERT_EQ(s.faces_b.front().nodes.size(), 8u);
+    const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+    ASSERT_TRUE(c.partial.empty());
+    ASSERT_EQ(c.points.size(), s.nodes_a.size());
+    const std::vector<std::pair<double, Eigen::Vector3d>> fields = {
+        {1.0, {0, 0, 0}}, {0.0, {1, 0, 0}}, {0.0, {0, 1, 0}}, {0.3, {-0.7, 2.1, 0.4}}};
+    double total = 0;
+    std::map<int, double> to_a, to_b;
+    for (const MortarPoint& p : c.points) {
+      EXPECT_GT(p.area, 0.0) << p.node_a;
+      total += p.area;
+      EXPECT_NEAR(p.coverage, 1.0, 1e-12);
+      double sum_b = 0, sum_a = 0;
+      for (double w : p.weights_b) sum_b += w;
+      for (double w : p.weights_a) sum_a += w;
+      EXPECT_NEAR(sum_b, 1.0, 1e-12) << p.node_a;
+      if (!p.weights_a.empty()) {
+        EXPECT_NEAR(sum_a, 1.0, 1e-12) << p.node_a;
+      }
+      EXPECT_NEAR(p.gap, 0.0, 1e-14) << p.node_a;
+      for (const auto& [f0, g] : fields) {
+        auto f = [&](const Eigen::Vector3d& x) { return f0 + g.dot(x); };
+        EXPECT_NEAR(weighted(p, s.b, f), f(s.a.coordinates.col(p.node_a)), 1e-12) << p.node_a;
+        EXPECT_NEAR(point_value(p, s.a, f), f(s.a.coordinates.col(p.node_a)), 1e-12) << p.node_a;
+      }
+      for (size_t k = 0; k < p.nodes_b.size(); ++k) to_b[p.nodes_b[k]] += p.weights_b[k] * p.area;
+      if (p.nodes_a.empty()) to_a[p.node_a] += p.area;
+      for (size_t j = 0; j < p.nodes_a.size(); ++j) to_a[p.nodes_a[j]] += p.weights_a[j] * p.area;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-14);
+    const std::vector<double> area_a = nodal_areas(s.a, s.nodes_a, NodalAreaRule::kConsistent);
+    const std::vector<double> area_b = nodal_areas(s.b, s.nodes_b, NodalAreaRule::kConsistent);
+    for (size_t k = 0; k < s.nodes_a.size(); ++k) EXPECT_NEAR(to_a[s.nodes_a[k]], area_a[k], 1e-14);
+    for (size_t k = 0; k < s.nodes_b.size(); ++k) EXPECT_NEAR(to_b[s.nodes_b[k]], area_b[k], 1e-14);
+  }
+}
+
+// On an 8-node rectangle of area A the transformed basis gives corners A/20 and mid-edge nodes
+// A/5 (mesh/mortar.h); on conforming quadratic meshes Φ_ik = a_ik.
+TEST(Mortar, ConformingQuadraticFacesTieEachPointToItsOwnCombination) {
+  const Blocks s = quadratic_blocks(2, 2, 2, 2);
+  const MortarCoupling c = mortar_coupling(s.a, s.faces_a, s.b, s.faces_b);
+  const double A = 0.25;  // each face
+  std::map<int, int> coincident;  // A node -> B node
+  for (int i : s.nodes_a)
+    for (int k : s.nodes_b)
+      if ((s.a.coordinates.col(i) - s.b.coordinates.col(k)).norm() < 1e-12) coincident[i] = k;
+  for (const MortarPoint& p : c.points) {
+    // Faces around the node: 4 inside, 2 on an edge, 1 at a corner of the surface (corners);
+    // 2 or 1 (mid-edge nodes).
+    ASSERT_FALSE(p.nodes_a.empty());
+    std::map<int, double> b;
+    for (size_t k = 0; k < p.nodes_b.size(); ++k) b[p.nodes_b[k]] = p.weights_b[k];
+    for (size_t j = 0; j < p.nodes_a.size(); ++j) {
+      EXPECT_NEAR(b[coincident.at(p.nodes_a[j])], p.weights_a[j], 1e-12) << p.node_a;
+      b.erase(coincident.at(p.nodes_a[j]));
+    }
+    for (const auto& [k, w] : b) EXPECT_NEAR(w, 0.0, 1e-14) << p.node_a << " " << k;  // round-off
+    const double face_share = p.area / (p.nodes_a.size() == 1 ? A / 20 : A / 5);
+    EXPECT_NEAR(face_share, std::round(face_share), 1e-12) << p.node_a;
   }
 }
 
