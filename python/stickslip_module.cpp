@@ -496,6 +496,18 @@ class ProgressRelay {
   std::exception_ptr error_;
 };
 
+// The model of a case (prepare_model): bodies given by arrays through GivenReduction, the others
+// reduced by Craig–Bampton with the shared cache (serialised: ModelCache is not thread-safe).
+// Called without the GIL.
+std::shared_ptr<const PreparedModel> build_model(
+    const CaseDefinition& def, const std::map<std::string, std::shared_ptr<const ReducedBody>>& given,
+    SharedCache& cache, const ProgressFn& stage) {
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  if (given.empty()) return std::make_shared<PreparedModel>(prepare_model(def, stage, &cache.cache));
+  return std::make_shared<PreparedModel>(prepare_model(
+      def, resolve_case_bodies(def, stage, &cache.cache), GivenReduction(given), stage));
+}
+
 // ------------------------------------------------------------------------------------------
 // The solution.
 
@@ -658,7 +670,9 @@ harmonics in `harmonics`, harmonic 0 first):
   contact_forces (P, Q, 3, H complex, N: force on node B, global x, y, z; A gets the negative),
   contact_forces_local (P, Q, 3, H complex: rows t1, t2, n of each pair's frame; a 1D law
   fills row 0, NaN elsewhere), stick, slip, separation (P, Q: fractions of the cycle),
-  pair_energy (P, Q, J per cycle).
+  pair_energy (P, Q, J per cycle; raw: a stuck pair's round-off of about 1e-21 J is kept,
+  which the program's CSV files write as 0), static_mismatch, static_warning and
+  aft_fallback_pairs (P: as points.csv).
 pairs lists each pair's contact, pair (index within its contact), node_a, node_b.
 to_dict() gives the per-point columns as a dict of 1-D arrays (pandas.DataFrame(s.to_dict())).)";
 
@@ -1058,6 +1072,25 @@ total=True (mu and gap are not split). docs/case-file.md `contacts` has the laws
 A harmonic force amplitude*cos(k Omega t + phase) (N) along direction ('x', '-z' or 3 numbers)
 on one node; harmonic k = 0 is a static force. It becomes excitation[i] in key paths.)")
       .def(
+          "stuck_frequencies_hz",
+          [](const PyCase& c) {
+            const CaseDefinition def = c.definition;
+            if (def.bodies.empty())
+              throw InvalidInput(def.where("bodies"), "the case has no bodies (add_body)");
+            const auto given = c.given;
+            Eigen::VectorXd f;
+            {
+              py::gil_scoped_release release;
+              const auto model = build_model(def, given, *c.cache, nullptr);
+              f = stuck_frequencies_hz(*model, def);
+            }
+            return array1(std::vector<double>(f.data(), f.data() + f.size()));
+          },
+          "stuck_frequencies_hz() -> array\n\nNatural frequencies (Hz, ascending) of the "
+          "assembled reduced model with every contact stuck (friction pairs as springs kt, kt, kn), "
+          "as `stickslip modes` lists them and around_mode counts them. Builds the model (cached); "
+          "the GIL is released.")
+      .def(
           "solve",
           [](const PyCase& c, const py::object& progress) {
             if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
@@ -1072,16 +1105,7 @@ on one node; harmonic k = 0 is a static force. It becomes excitation[i] in key p
             {
               py::gil_scoped_release release;
               const ProgressFn stage = relay.stage();
-              {
-                std::lock_guard<std::mutex> lock(cache->mutex);
-                if (given.empty()) {
-                  model = std::make_shared<PreparedModel>(prepare_model(*def, stage, &cache->cache));
-                } else {
-                  model = std::make_shared<PreparedModel>(prepare_model(
-                      *def, resolve_case_bodies(*def, stage, &cache->cache), GivenReduction(given),
-                      stage));
-                }
-              }
+              model = build_model(*def, given, *cache, stage);
               SweepProgress sweep;
               sweep.start = [&relay](const std::string& label, int points) {
                 relay(label + (points > 0 ? ": " + std::to_string(points) + " points" : ""), 0.0);
@@ -1143,6 +1167,30 @@ Solution.converged); bad input raises InvalidInput.)");
         return per_point(s, &point_energy);
       },
           "Friction energy per cycle summed over the pairs, J (P).")
+      .def_property_readonly("static_mismatch", [](const PySolution& s) {
+        return per_point(s, [](const FrequencyPoint& p) { return p.static_mismatch; });
+      },
+          "static: uncoupled: the largest pair mismatch ||mean f - f0|| / scale of each point "
+          "(P; 0 with static: coupled; docs/output-files.md points.csv).")
+      .def_property_readonly("static_warning", [](const PySolution& s) {
+        std::vector<bool> v;
+        for (const FrequencyPoint& p : s.points()) v.push_back(p.static_warning);
+        py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
+        std::copy(v.begin(), v.end(), a.mutable_data());
+        return a;
+      },
+          "Whether the frozen static state is flagged wrong at each point (P, bool; static: "
+          "uncoupled; use static: coupled then).")
+      .def_property_readonly("aft_fallback_pairs", [](const PySolution& s) {
+        std::vector<int> v;
+        for (const FrequencyPoint& p : s.points()) {
+          int n = 0;
+          for (const PairResponse& r : p.pairs) n += r.cycle.aft_fallback ? 1 : 0;
+          v.push_back(n);
+        }
+        return array1(v);
+      },
+          "Pairs whose cycle the event AFT left to the sampled AFT at each point (P, int).")
       .def_property_readonly("harmonics", [](const PySolution& s) {
         return array1(s.solved->response.harmonics);
       },

@@ -89,3 +89,12 @@ def test_arrays_have_the_documented_shapes():
     frame = pandas.DataFrame(s.to_dict())
     assert len(frame) == p
     assert {"frequencies_hz", "converged", "dissipated_energy", "mean_slip"} <= set(frame.columns)
+
+
+def test_stuck_frequencies_are_the_spring_mass_ones():
+    # Stuck, the Jenkins element is a spring kt along x: sqrt((k + kt)/m) along x, sqrt(k/m)
+    # along y and z.
+    f = jenkins_case().stuck_frequencies_hz()
+    free = math.sqrt(STIFFNESS / MASS) / (2 * math.pi)
+    stuck = math.sqrt((STIFFNESS + KT) / MASS) / (2 * math.pi)
+    np.testing.assert_allclose(f, [free, free, stuck], rtol=1e-12)

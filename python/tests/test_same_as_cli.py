@@ -75,6 +75,9 @@ def test_points_are_identical(both):
     np.testing.assert_array_equal(points.iterations, s.iterations)
     np.testing.assert_array_equal(points.residual_m, s.residual)
     np.testing.assert_array_equal(points.residual_relative, s.residual_relative)
+    np.testing.assert_array_equal(points.static_mismatch, s.static_mismatch)
+    np.testing.assert_array_equal(points.static_warning.astype(bool), s.static_warning)
+    np.testing.assert_array_equal(points.aft_fallback_pairs, s.aft_fallback_pairs)
     # The program writes a pair's round-off energy (|E| <= 1e-12 of the sweep's largest) as 0.
     scale = s.pair_energy.max()
     np.testing.assert_allclose(points.dissipated_energy_j, s.dissipated_energy, rtol=0,
