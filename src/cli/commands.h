@@ -24,6 +24,7 @@
 #include "cli/pipeline.h"
 #include "cli/results_files.h"
 #include "io/case_file.h"
+#include "model/frf_peaks.h"
 
 namespace stickslip {
 
@@ -183,16 +184,6 @@ void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
 // The log line about files write_solve_results removed ("" when none).
 std::string describe_removed(const std::vector<std::string>& removed);
 
-// Per output.frf DOF of the case, the largest amplitude of its first dynamic harmonic over the
-// converged points (as the FRF plot shows it), m, and where it is; at_edge when that point is the
-// first or the last converged point of the sweep (the peak may lie outside the window).
-struct FrfPeak {
-  ResponseDofDefinition dof;
-  int point = -1;  // -1: no converged point, or not a master DOF
-  double frequency_hz = 0.0, amplitude_m = 0.0;
-  bool at_edge = false;
-};
-std::vector<FrfPeak> frf_peaks(const CaseDefinition& definition, const PreparedModel& model,
-                               const FrequencyResponse& response);
+// FrfPeak, frf_peaks: model/frf_peaks.h.
 
 }  // namespace stickslip

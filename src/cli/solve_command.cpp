@@ -99,37 +99,6 @@ double milliseconds(double seconds) { return std::round(seconds * 1000) / 1000; 
 
 }  // namespace
 
-std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& model,
-                               const FrequencyResponse& fr) {
-  std::vector<FrfPeak> peaks;
-  int first = -1, last = -1;
-  for (size_t i = 0; i < fr.points.size(); ++i) {
-    if (!fr.points[i].converged) continue;
-    if (first < 0) first = static_cast<int>(i);
-    last = static_cast<int>(i);
-  }
-  for (const ResponseDofDefinition& r : def.output.frf) {
-    FrfPeak peak;
-    peak.dof = r;
-    const int b = model.body_index(r.body);
-    const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
-    for (size_t i = 0; i < fr.points.size() && g >= 0; ++i) {
-      const FrequencyPoint& p = fr.points[i];
-      if (!p.converged) continue;
-      const int h = p.master.cols() > 1 ? 1 : 0;  // harmonic 1 (column 0 is the mean)
-      const double a = std::abs(p.master(g, h));
-      if (peak.point < 0 || a > peak.amplitude_m) {
-        peak.point = static_cast<int>(i);
-        peak.amplitude_m = a;
-        peak.frequency_hz = rad_s_to_hz(p.omega);
-      }
-    }
-    peak.at_edge = peak.point >= 0 && (peak.point == first || peak.point == last);
-    peaks.push_back(peak);
-  }
-  return peaks;
-}
-
 void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
                               const SolvedCase& solved) {
   const SweepWindow& w = solved.window;
