@@ -47,10 +47,11 @@ AftWorkspace& workspace() {
 
 CycleStatistics Aft::evaluate(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                               const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                              Eigen::MatrixXd* jacobian, AftSamples* samples) const {
+                              Eigen::MatrixXd* jacobian, AftSamples* samples,
+                              AftWarmStart* warm) const {
   if (method_ != AftMethod::kSampled) {
     CycleStatistics stats;
-    if (evaluate_events(element, coefficients, offset, forces, jacobian, samples, stats))
+    if (evaluate_events(element, coefficients, offset, forces, jacobian, samples, warm, stats))
       return stats;
     stats = evaluate_sampled(element, coefficients, offset, forces, jacobian, samples);
     stats.aft_fallback = true;

@@ -24,18 +24,20 @@
 //    degree that they are exact to round-off (0.75 H_max L + 10 nodes on a segment of length L).
 //    Tangential motion that is not collinear, and a stuck cycle holding a tangential force off e:
 //    the sampled method (fallback, below). ∂F_⊥/∂c_⊥ of a collinear cycle: the sampled method's.
-//  - kEventPlanar: kEvent, and general planar motion (event_aft_planar.cpp; opt-in because it
-//    costs 0.2–0.8 ms per slipping cycle at H = 1, 20–50 times the sampled AFT at N = 64 on the
-//    reference sweep: docs/performance.md). In slip τ = μN e(φ) and the direction obeys
+//  - kEventPlanar: kEvent, and general planar motion (event_aft_planar.cpp; opt-in because on the
+//    reference sweep it costs 9–18 times the sampled AFT at N = 64, though half the time of N =
+//    4096, which is still 1e-6 off: docs/performance.md). In slip τ = μN e(φ) and the direction obeys
 //    φ' = kt e⊥·u_t'/(μN) (from τ' = kt (u_t' − λe), |τ| = μN; slip rate λ = e·u_t' − μN'/kt),
 //    integrated by 8-stage Gauss collocation (order 16, A-stable) with error control; slip → stick
 //    (λ = 0) is located on the integrated solution by Newton on the last step's length; stick →
 //    slip ((μN)² − |τ|² = 0, degree 2 H_max) and lift-off/touchdown are bracketed on a grid refined
 //    to π/(4 H_max). The periodic cycle: from the virgin state two periods, then Newton on the slip
 //    angle at a point mid-way in a slip segment (a cycle with an open segment closes at once:
-//    touchdown forgets the history). The cycle is the periodic one of the continuous law (the
-//    sampled law's limit N → ∞). N sets only the bracketing grid, the largest step, and the samples
-//    returned in AftSamples. Jacobian: the force is continuous at every transition, so the boundary
+//    touchdown forgets the history). With an AftWarmStart from the element's previous call, the
+//    march starts where that cycle started (Newton on the angle from its angle; with the same
+//    arguments, the final period at once), the virgin march only when that start does not apply.
+//    The cycle is the periodic one of the continuous law (the sampled law's limit N → ∞). N sets
+//    only the bracketing grid, the largest step, and the samples returned in AftSamples. Jacobian: the force is continuous at every transition, so the boundary
 //    terms of the Leibniz rule cancel. Event-time terms: slip → stick: none (the anchor μN e − kt
 //    u_t has derivative −kt λ e = 0 there); stick → slip: none (the stick force's angle turns at kt
 //    e⊥·u_t'/|τ|, the slip ODE's rate); touchdown → stick (τ_a = 0): ∂θ_a = −∂N(θ_a)/N'(θ_a),
@@ -72,6 +74,20 @@ struct AftSamples {
 
 enum class AftMethod { kSampled, kEvent, kEventPlanar };
 
+// Where one element's last periodic cycle started, kept by the caller from one call of that element
+// to the next (HarmonicBalanceSystem keeps one per contact pair), so that the planar event method
+// starts the next cycle there instead of marching from the virgin state: a slipping cycle closes in
+// one or two periods instead of four or five, a cycle with a separation in one. The answer does not
+// depend on it beyond the closure tolerance (a start that does not close falls back to the virgin
+// march). Only kEventPlanar reads and writes it; an empty one (kind kNone) is the virgin start.
+struct AftWarmStart {
+  enum class Kind { kNone, kSlip, kOpen };
+  Kind kind = Kind::kNone;
+  double theta = 0.0;         // the phase θ = Ωt the cycle started from (in slip or separation)
+  double phi = 0.0;           // slip: the direction of the tangential force there
+  Eigen::VectorXd arguments;  // the coefficients and offset of that call
+};
+
 class Aft {
  public:
   explicit Aft(FourierBasis basis, AftMethod method = AftMethod::kSampled);
@@ -79,10 +95,12 @@ class Aft {
   AftMethod method() const { return method_; }
 
   // forces: resized to m·nc. jacobian: nullptr to skip, else resized to (m·nc) x (m·nc).
-  // offset: size m, or empty for zero. samples: nullptr, or receives the sampled cycle.
+  // offset: size m, or empty for zero. samples: nullptr, or receives the sampled cycle. warm:
+  // nullptr, or this element's AftWarmStart (read and updated).
   CycleStatistics evaluate(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                            const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                           Eigen::MatrixXd* jacobian, AftSamples* samples = nullptr) const;
+                           Eigen::MatrixXd* jacobian, AftSamples* samples = nullptr,
+                           AftWarmStart* warm = nullptr) const;
 
  private:
   CycleStatistics evaluate_sampled(const NonlinearElement& element,
@@ -92,12 +110,12 @@ class Aft {
   // The event method (event_aft.cpp); false when it does not apply (nothing written then).
   bool evaluate_events(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                        const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                       Eigen::MatrixXd* jacobian, AftSamples* samples,
+                       Eigen::MatrixXd* jacobian, AftSamples* samples, AftWarmStart* warm,
                        CycleStatistics& stats) const;
   // Its general tangential motion in the plane (event_aft_planar.cpp); false as above.
   bool evaluate_planar(const FrictionContact3D& contact, const Eigen::VectorXd& coefficients,
                        const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                       Eigen::MatrixXd* jacobian, AftSamples* samples,
+                       Eigen::MatrixXd* jacobian, AftSamples* samples, AftWarmStart* warm,
                        CycleStatistics& stats) const;
 
   // ∂u(t_j)/∂c, (m·N) x (m·nc), for element dimension m (constant: u is linear in c).

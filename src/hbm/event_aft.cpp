@@ -394,7 +394,7 @@ const Segment& segment_at(const std::vector<Segment>& segs, double& theta) {
 
 bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd& coefficients,
                           const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                          Eigen::MatrixXd* jacobian, AftSamples* samples,
+                          Eigen::MatrixXd* jacobian, AftSamples* samples, AftWarmStart* warm,
                           CycleStatistics& stats) const {
   const HarmonicSet& set = basis_.harmonics();
   const int nc = set.coefficient_count();
@@ -460,7 +460,7 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   const bool planar = method_ == AftMethod::kEventPlanar;
   if (off_line > kCollinearTolerance * amp) {
     if (!planar) return false;
-    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
+    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, warm, stats);
   }
   const bool perp_mean = std::abs(eperp.dot(mean)) > 1e-12 * (mean.norm() + amp);
 
@@ -480,7 +480,7 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   // not the scalar law's.
   if (stuck && perp_mean) {
     if (!planar) return false;
-    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, stats);
+    return evaluate_planar(*contact, coefficients, offset, forces, jacobian, samples, warm, stats);
   }
   CycleIntegrals ci;
   integrate(cy, set, segs, jacobian != nullptr, ci);
@@ -502,7 +502,8 @@ bool Aft::evaluate_events(const NonlinearElement& element, const Eigen::VectorXd
   if (jacobian && !virgin_stuck && planar) {
     Eigen::VectorXd Ftmp;
     CycleStatistics tmp;
-    planar_jacobian = evaluate_planar(*contact, coefficients, offset, Ftmp, jacobian, nullptr, tmp);
+    planar_jacobian =
+        evaluate_planar(*contact, coefficients, offset, Ftmp, jacobian, nullptr, warm, tmp);
   }
   if (jacobian && !planar_jacobian) {
     Eigen::MatrixXd Jpp;

@@ -13,7 +13,13 @@
 // A-stable: the ODE is stiff where N is small), with the Fourier integrals and the variational
 // equations carried by the same method (their quadrature are the collocation nodes), so the
 // forces and the Jacobian are the exact derivative pair of one discrete map. Events of φ
-// (λ = 0) are located by Newton on the length of the step that ends on them.
+// (λ = 0) are located by Newton on the length of the step that ends on them, started from the
+// zero along the step's collocation polynomial.
+// Cost (what was measured to matter, docs/performance.md): the signals at a phase are computed
+// once per phase (at() keeps the last; a step keeps its stage nodes' for the slip rate, the
+// acceptance and the integrals); the stage values start from the last step's polynomial; the
+// lift-off scans are skipped when a bound shows N > 0 throughout; a warm start (aft.h) replaces
+// the virgin march.
 // Jacobian (why the event-time terms vanish, and lift-off): see aft.h.
 #include <algorithm>
 #include <array>
@@ -56,12 +62,17 @@ constexpr double kClosureNoise = 1e-9;
 constexpr double kClosureStall = 0.5;
 constexpr int kMaxClosureIterations = 40;
 constexpr int kMaxStageIterations = 20;
+// The stage values' starting point extrapolates the last step's collocation polynomial by at most
+// this many of its lengths (further, a degree-s polynomial is no better than a constant).
+constexpr double kMaxExtrapolation = 1.5;
 
 enum class Mode { kStick, kSlip, kOpen };
 
 struct Collocation {
   std::array<double, kStages> c{}, b{}, bhat{};
   std::array<std::array<double, kStages>, kStages> A{};
+  std::array<double, kStages + 1> dense{};  // the collocation polynomial's nodes: 0, c_0..c_{s−1}
+  std::array<double, kStages + 1> bary{};   // their barycentric weights 1/Π_{m≠j}(x_j − x_m)
 };
 
 double lagrange(const double* nodes, int n, int j, double t) {
@@ -90,6 +101,15 @@ const Collocation& collocation() {
         }
         k.A[i][j] = k.c[i] * a;
       }
+    }
+    k.dense[0] = 0.0;
+    for (int j = 0; j < kStages; ++j) k.dense[j + 1] = k.c[j];
+    for (int j = 0; j <= kStages; ++j) {
+      double p = 1.0;
+      for (int m = 0; m <= kStages; ++m) {
+        if (m != j) p *= k.dense[j] - k.dense[m];
+      }
+      k.bary[j] = 1.0 / p;
     }
     for (int j = 0; j + 1 < kStages; ++j) {
       double a = 0;
@@ -125,9 +145,27 @@ struct Sig {  // the signals at one θ
 
 struct StepResult {
   std::array<double, kStages> th{}, Phi{}, f{}, fphi{};
+  double th0 = 0.0, phi = 0.0, h = 0.0;  // the step: from (θ0, φ) of length h
   double phi_end = 0.0, err = 0.0;
   int nonpositive = -1;  // a stage where N ≤ 0 (the step failed there), else −1
   Eigen::Matrix<double, kStages, kStages> Jm;
+  std::array<Sig, kStages> sig;  // the signals at the stage nodes
+  Eigen::MatrixXd B0, B1;        // the basis φ, φ' at the stage nodes (nc x kStages)
+
+  // The collocation polynomial (through (0, φ) and (c_j, Φ_j)) at x·h, x in units of the step
+  // (barycentric form).
+  double dense(double x) const {
+    const Collocation& k = collocation();
+    double num = 0, den = 0;
+    for (int m = 0; m <= kStages; ++m) {
+      const double v = m == 0 ? phi : Phi[m - 1], d = x - k.dense[m];
+      if (d == 0.0) return v;
+      const double w = k.bary[m] / d;
+      num += w * v;
+      den += w;
+    }
+    return num / den;
+  }
 };
 
 // Parameters p: the 3 nc coefficients (t1, t2, w) and, last, the start angle φ_s of the cycle
@@ -163,6 +201,14 @@ class PlanarCycle {
     max_k_ = std::max(1, set.max_harmonic());
     n_scale_ = std::abs(nc0_) + kn_ * cw_.lpNorm<1>() + std::numeric_limits<double>::min();
     u_scale_ = u0_.lpNorm<1>() + C_.cwiseAbs().sum();
+    // N(θ) ≥ nc0 + kn (a_0 − Σ_k |(a_k, b_k)|): when that is positive the contact never opens and
+    // the scans for lift-off are skipped (their answer is known).
+    double n_min = nc0_;
+    for (int q = 0; q < set.size(); ++q) {
+      const int o = set.offset(q);
+      n_min += set.harmonics()[q] == 0 ? kn_ * cw_[o] : -kn_ * std::hypot(cw_[o], cw_[o + 1]);
+    }
+    always_closed_ = n_min > 0;
     h_max_ = std::min(0.5 * kStages * grid_, kPi / max_k_);
     exit_grid_ = std::min(grid_, kPi / (4 * max_k_));
     max_events_ = 8 * grid_samples + 100;
@@ -174,6 +220,7 @@ class PlanarCycle {
 
   // Basis φ, φ', φ'' at θ into b0_, b1_, b2_ and the signals.
   Sig at(double th) {
+    if (th == last_th_) return last_sig_;  // callers ask for a value and its derivative in turn
     for (int q = 0; q < set_.size(); ++q) {
       const int k = set_.harmonics()[q], o = set_.offset(q);
       if (k == 0) {
@@ -196,12 +243,68 @@ class PlanarCycle {
     s.N = nc0_ + kn_ * cw_.dot(b0_);
     s.N1 = kn_ * cw_.dot(b1_);
     s.N2 = kn_ * cw_.dot(b2_);
+    last_th_ = th;
+    last_sig_ = s;
     return s;
   }
 
-  // The periodic cycle and its integrals. False when it could not be closed (the caller falls
-  // back to the sampled AFT).
-  bool run(bool jac, Totals& tot, int& periods, Eigen::Matrix3Xd* samples) {
+  // The periodic cycle and its integrals. warm: nullptr, or a start to try first (warm.arguments
+  // == args: the call that found it had these arguments), updated to this cycle's. False when it
+  // could not be closed (the caller falls back to the sampled AFT).
+  bool run(bool jac, Totals& tot, int& periods, Eigen::Matrix3Xd* samples, AftWarmStart* warm,
+           const Eigen::VectorXd& args) {
+    using Kind = AftWarmStart::Kind;
+    if (warm && warm->kind != Kind::kNone && warm->arguments.size() == args.size() &&
+        run_warm(jac, tot, periods, samples, *warm, args)) {
+      warm->arguments = args;
+      return true;
+    }
+    AftWarmStart found;
+    const bool ok = run_cold(jac, tot, periods, samples, found);
+    if (warm) {
+      *warm = ok ? found : AftWarmStart{};
+      if (ok) warm->arguments = args;
+    }
+    return ok;
+  }
+
+ private:
+  // From the start of an earlier cycle: a phase in separation closes at once (the state after it
+  // does not depend on the history); a phase in slip with the angle found there is closed by
+  // Newton on the angle (close_slip), or taken as closed when the arguments are the same (the
+  // call before found it so; with the sensitivities now). False when the start does not apply
+  // (not in separation, not slipping, or the cycle does not close from it).
+  bool run_warm(bool jac, Totals& tot, int& periods, Eigen::Matrix3Xd* samples, AftWarmStart& w,
+                const Eigen::VectorXd& args) {
+    full_ = false;
+    np_ = 1;
+    const double ts = w.theta;
+    if (w.kind == AftWarmStart::Kind::kOpen) {
+      if (!(normal(ts, 0) < -kSwitchTolerance * n_scale_)) return false;
+      State so;
+      so.mode = Mode::kOpen;
+      periods = 1;
+      return final_march(so, ts, jac, tot, samples);
+    }
+    if (frictionless() || !(normal(ts, 0) > 0) || !(slip_rate(ts, w.phi) > 0)) return false;
+    if ((jac || samples) && w.arguments == args) {
+      State ss;
+      ss.mode = Mode::kSlip;
+      ss.phi = w.phi;
+      periods = 1;
+      return final_march(ss, ts, jac, tot, samples);
+    }
+    double phi_s = w.phi;
+    periods = 0;
+    if (!close_slip(ts, phi_s, jac, tot, periods, samples)) return false;
+    w.phi = phi_s;
+    return true;
+  }
+
+  // From the virgin state at θ = 0: two periods, then the cycle's start from the segments of the
+  // second (found: that start, for the next call's warm start).
+  bool run_cold(bool jac, Totals& tot, int& periods, Eigen::Matrix3Xd* samples,
+                AftWarmStart& found) {
     // Start: θ = 0 from the virgin state.
     full_ = false;
     np_ = 1;
@@ -218,11 +321,14 @@ class PlanarCycle {
       if (s.mode == Mode::kOpen && (!open || s.b - s.a > open->b - open->a)) open = &s;
       if (s.mode == Mode::kSlip && (!slip || s.b - s.a > slip->b - slip->a)) slip = &s;
     }
-    periods = 3;
+    periods = 2;
     if (open) {  // the state after an open segment does not depend on the history: closed
       const double ts = 0.5 * (open->a + open->b);
       State so;
       so.mode = Mode::kOpen;
+      found.kind = AftWarmStart::Kind::kOpen;
+      found.theta = ts;
+      ++periods;
       return final_march(so, ts, jac, tot, samples);
     }
     if (!slip) {
@@ -238,6 +344,19 @@ class PlanarCycle {
     if (!march(st, 2 * kTwoPi, ts, nullptr, nullptr) || st.mode != Mode::kSlip) return false;
     // The angle modulo 2π (a gross-slip cycle winds it up over the transient periods).
     double phi_s = st.phi - kTwoPi * std::round(st.phi / kTwoPi);
+    if (!close_slip(ts, phi_s, jac, tot, periods, samples)) return false;
+    found.kind = AftWarmStart::Kind::kSlip;
+    found.theta = ts;
+    found.phi = phi_s;
+    return true;
+  }
+
+  // Newton on the start angle φ_s at θ_s (in slip) until the period map returns it, then the
+  // integrals (from the last march, or one more with the sensitivities). Adds the periods marched.
+  bool close_slip(double ts, double& phi_s, bool jac, Totals& tot, int& periods,
+                  Eigen::Matrix3Xd* samples) {
+    full_ = false;
+    np_ = 1;
     double r_prev = std::numeric_limits<double>::infinity();
     Totals t1;
     for (int it = 0;; ++it) {
@@ -268,10 +387,9 @@ class PlanarCycle {
     State ss;
     ss.mode = Mode::kSlip;
     ss.phi = phi_s;
+    ++periods;
     return final_march(ss, ts, jac, tot, samples);
   }
-
- private:
   struct Seg {
     double a, b;
     Mode mode;
@@ -381,6 +499,13 @@ class PlanarCycle {
     return event_roots::first_exit(fun, tol, exit_grid_, a, b);
   }
 
+  // The first lift-off in (a, b] (first_exit of N).
+  std::optional<double> first_opening(double a, double b) {
+    if (always_closed_) return std::nullopt;
+    return first_exit([&](double t, int q) { return normal(t, q); }, kSwitchTolerance * n_scale_, a,
+                      b);
+  }
+
   double normal(double th, int q) {
     const Sig s = at(th);
     return q == 0 ? s.N : q == 1 ? s.N1 : s.N2;
@@ -422,8 +547,7 @@ class PlanarCycle {
           };
           std::optional<double> e1;
           if (!frictionless()) e1 = first_exit(g, kSwitchTolerance * g_scale, th, b);
-          const auto e2 =
-              first_exit([&](double t, int q) { return normal(t, q); }, n_tol, th, e1 ? *e1 : b);
+          const auto e2 = first_opening(th, e1 ? *e1 : b);
           if (e2) {
             te = *e2;
             next = Mode::kOpen;
@@ -444,7 +568,7 @@ class PlanarCycle {
           continue;
         }
         case Mode::kSlip: {
-          const auto e = first_exit([&](double t, int q) { return normal(t, q); }, n_tol, th, b);
+          const auto e = first_opening(th, b);
           const double end = e ? *e : b;
           bool to_stick = false, lifted = false;
           const double stop = integrate_slip(st, th, end, tot, to_stick, lifted);
@@ -582,7 +706,7 @@ class PlanarCycle {
     }
   }
 
-  // The slip ODE's right-hand side and its φ-derivative at (θ, φ) (at(θ) already called).
+  // The slip ODE's right-hand side and its φ-derivative at (θ, φ) (s: the signals at θ).
   void rhs(const Sig& s, double phi, double& f, double& fphi) const {
     const Eigen::Vector2d e(std::cos(phi), std::sin(phi)), ep(-e[1], e[0]);
     const double mn = mu_ * s.N;
@@ -590,21 +714,29 @@ class PlanarCycle {
     fphi = -kt_ * e.dot(s.u1) / mn;
   }
 
-  // One collocation step from (θ, φ) of length h. False if the stage equations do not converge.
-  bool solve_step(double th, double phi, double h, StepResult& r) {
+  // One collocation step from (θ, φ) of length h. guess: the stage values' starting point (else
+  // φ at every stage). False if the stage equations do not converge.
+  bool solve_step(double th, double phi, double h, StepResult& r,
+                  const std::array<double, kStages>* guess = nullptr) {
     const Collocation& k = collocation();
     r.nonpositive = -1;
+    r.th0 = th;
+    r.phi = phi;
+    r.h = h;
+    if (r.B0.rows() != nc_) {
+      r.B0.resize(nc_, kStages);
+      r.B1.resize(nc_, kStages);
+    }
     for (int j = 0; j < kStages; ++j) {
       r.th[j] = th + k.c[j] * h;
-      r.Phi[j] = phi;
-    }
-    std::array<Sig, kStages> sig;
-    for (int j = 0; j < kStages; ++j) sig[j] = at(r.th[j]);
-    for (int j = 0; j < kStages; ++j) {
-      if (!(sig[j].N > 0)) {
+      r.Phi[j] = guess ? (*guess)[j] : phi;
+      r.sig[j] = at(r.th[j]);
+      if (!(r.sig[j].N > 0)) {
         r.nonpositive = j;
         return false;
       }
+      r.B0.col(j) = b0_;
+      r.B1.col(j) = b1_;
     }
     const double tol = 8 * std::numeric_limits<double>::epsilon() * (1 + std::abs(phi));
     Eigen::Matrix<double, kStages, 1> res;
@@ -614,7 +746,7 @@ class PlanarCycle {
     }
     bool converged = false;
     for (int it = 0; it < kMaxStageIterations; ++it) {
-      for (int j = 0; j < kStages; ++j) rhs(sig[j], r.Phi[j], r.f[j], r.fphi[j]);
+      for (int j = 0; j < kStages; ++j) rhs(r.sig[j], r.Phi[j], r.f[j], r.fphi[j]);
       for (int i = 0; i < kStages; ++i) {
         double a = 0;
         for (int j = 0; j < kStages; ++j) a += Ah(i, j) * r.f[j];
@@ -636,14 +768,14 @@ class PlanarCycle {
       est += (k.b[j] - k.bhat[j]) * r.f[j];
     }
     r.phi_end = phi + h * sum;
-    const double n_mid = std::abs(sig[kStages / 2].N) / n_scale_;
+    const double n_mid = std::abs(r.sig[kStages / 2].N) / n_scale_;
     r.err = std::abs(h * est) * std::clamp(n_mid, 1e-6, 1.0);
     return std::isfinite(r.phi_end);
   }
 
-  // The slip rate λ/|u_t| scale: e·u_t' − μN'/kt at (θ, φ), and its total θ-derivative.
-  double slip_rate(double th, double phi, double* dth = nullptr) {
-    const Sig s = at(th);
+  // The slip rate λ/|u_t| scale: e·u_t' − μN'/kt at (θ, φ) (s: the signals at θ), and its total
+  // θ-derivative along the slip ODE.
+  double slip_rate(const Sig& s, double phi, double* dth = nullptr) const {
     const Eigen::Vector2d e(std::cos(phi), std::sin(phi)), ep(-e[1], e[0]);
     if (dth) {
       double f, fphi;
@@ -651,6 +783,49 @@ class PlanarCycle {
       *dth = ep.dot(s.u1) * f + e.dot(s.u2) - mu_ * s.N2 / kt_;
     }
     return e.dot(s.u1) - mu_ * s.N1 / kt_;
+  }
+  double slip_rate(double th, double phi, double* dth = nullptr) {
+    return slip_rate(at(th), phi, dth);
+  }
+
+  // The length x in (0, neg] of the step from r's start that ends where the slip rate crosses
+  // zero (r: an accepted step of length ≥ neg whose slip rate is negative at neg). Located by
+  // Newton on the length of the step that ends there (each iterate a collocation step: the event
+  // lies on the discrete solution), started from the zero along r's collocation polynomial (no
+  // step solves; its error is the polynomial's, O(h^{s+1})). tmp receives the step of the root.
+  // Returns −1 on failure.
+  double slip_to_stick_step(double th, const StepResult& r, double neg, StepResult& tmp) {
+    const double h = r.h, phi = r.phi;
+    // The zero along the dense output.
+    auto fd = [&](double x) { return slip_rate(th + x, r.dense(x / h)); };
+    auto dfd = [&](double x) {
+      double d = 0;
+      slip_rate(th + x, r.dense(x / h), &d);
+      return d;
+    };
+    const double x0 = event_roots::locate(fd, dfd, 0.0, neg);
+    // Newton on the discrete solution; each iterate's step solved once (value and derivative).
+    bool ok = true;
+    double last_x = std::numeric_limits<double>::quiet_NaN(), last_f = 0, last_d = 0;
+    auto eval = [&](double x) {
+      if (x == last_x) return;
+      last_x = x;
+      std::array<double, kStages> guess;
+      for (int j = 0; j < kStages; ++j) guess[j] = r.dense(collocation().c[j] * x / h);
+      ok = ok && solve_step(th, phi, x, tmp, &guess);
+      if (ok) last_f = slip_rate(th + x, tmp.phi_end, &last_d);
+    };
+    auto fun = [&](double x) {
+      eval(x);
+      return ok ? last_f : -1.0;
+    };
+    auto dfun = [&](double x) {
+      eval(x);
+      return ok ? last_d : 0.0;
+    };
+    const double step = event_roots::locate(fun, dfun, 0.0, neg, x0);
+    eval(step);
+    return ok ? step : -1.0;
   }
 
   // Integrates the slip from a towards end; stops at end, where the slip rate turns negative
@@ -663,14 +838,27 @@ class PlanarCycle {
     const double lam_tol =
         kSwitchTolerance * (C_.cwiseAbs().sum() * max_k_ + mu_ * n_scale_ * max_k_ / kt_);
     double th = a, h = h_max_;
-    StepResult r;
+    StepResult r, tmp;
+    bool have_prev = false;  // r holds the last solved step of this slip segment
     int steps = 0;
     while (th < end) {
       if (++steps > 1000 * grid_samples_) return -1;
       const bool last = h >= end - th;
       const double hs = last ? end - th : h;
       if (end - th <= 1e-13 * (1 + std::abs(th))) return end;  // what is left carries N ≈ 0
-      if (!solve_step(th, st.phi, hs, r)) {
+      // The stage values' starting point: the last step's collocation polynomial (the rejected
+      // step from the same start, or the accepted one before, extrapolated by at most
+      // kMaxExtrapolation of its length); else φ at every stage.
+      std::array<double, kStages> guess;
+      bool guessed = false;
+      if (have_prev && th + hs - r.th0 <= (1 + kMaxExtrapolation) * r.h) {
+        for (int j = 0; j < kStages; ++j) guess[j] = r.dense((th + k.c[j] * hs - r.th0) / r.h);
+        guessed = true;
+      }
+      bool solved = solve_step(th, st.phi, hs, r, guessed ? &guess : nullptr);
+      if (!solved && guessed && r.nonpositive < 0) solved = solve_step(th, st.phi, hs, r);
+      have_prev = solved;
+      if (!solved) {
         if (r.nonpositive >= 0) {
           if (!(normal(th, 0) > 0)) {
             lifted = true;
@@ -693,27 +881,18 @@ class PlanarCycle {
       // Slip → stick inside the step: the slip rate at the stage nodes and the end.
       double neg = -1;
       for (int j = 0; j < kStages && neg < 0; ++j) {
-        if (slip_rate(r.th[j], r.Phi[j]) < -lam_tol) neg = k.c[j] * hs;
+        if (slip_rate(r.sig[j], r.Phi[j]) < -lam_tol) neg = k.c[j] * hs;
       }
       if (neg < 0 && slip_rate(th + hs, r.phi_end) < -lam_tol) neg = hs;
       double step = hs;
+      const StepResult* acc = &r;
       if (neg > 0) {
-        StepResult tmp;
-        bool ok = true;
-        auto fun = [&](double x) {
-          ok = ok && solve_step(th, st.phi, x, tmp);
-          return ok ? slip_rate(th + x, tmp.phi_end) : -1.0;
-        };
-        auto dfun = [&](double x) {
-          double d = 0;
-          if (ok && solve_step(th, st.phi, x, tmp)) slip_rate(th + x, tmp.phi_end, &d);
-          return d;
-        };
-        step = event_roots::locate(fun, dfun, 0.0, neg);
-        if (!ok || !solve_step(th, st.phi, step, r)) return -1;
+        step = slip_to_stick_step(th, r, neg, tmp);
+        if (step < 0) return -1;
+        acc = &tmp;
         to_stick = true;
       }
-      accept_step(st, th, step, r, tot);
+      accept_step(st, th, step, *acc, tot);
       th += step;
       if (to_stick) return th;
       if (last) break;
@@ -733,20 +912,18 @@ class PlanarCycle {
     Eigen::MatrixXd Fp;
     const bool sens = st.dphi.size() == np_;
     if (sens) Fp.setZero(kStages, np_);
-    std::array<Eigen::VectorXd, kStages> b0s;
     for (int j = 0; j < kStages; ++j) {
-      const Sig s = at(r.th[j]);
+      const Sig& s = r.sig[j];
       const Eigen::Vector2d e(std::cos(r.Phi[j]), std::sin(r.Phi[j])), ep(-e[1], e[0]);
       if (sens && full_) {
         const double mn = mu_ * s.N;
         for (int q = 0; q < 2; ++q)
-          Fp.block(j, q * nc_, 1, nc_) = kt_ * ep[q] / mn * b1_.transpose();
-        Fp.block(j, 2 * nc_, 1, nc_) = -r.f[j] * kn_ / s.N * b0_.transpose();
+          Fp.block(j, q * nc_, 1, nc_) = kt_ * ep[q] / mn * r.B1.col(j).transpose();
+        Fp.block(j, 2 * nc_, 1, nc_) = -r.f[j] * kn_ / s.N * r.B0.col(j).transpose();
       }
-      b0s[j] = b0_;
       if (!tot) continue;
       const double w = h * k.b[j];
-      const Eigen::VectorXd psi = b0_.cwiseProduct(norm_);
+      const Eigen::VectorXd psi = r.B0.col(j).cwiseProduct(norm_);
       const Eigen::Vector2d tau = mu_ * s.N * e;
       tot->F.segment(0, nc_) += (w * tau[0]) * psi;
       tot->F.segment(nc_, nc_) += (w * tau[1]) * psi;
@@ -769,16 +946,17 @@ class PlanarCycle {
     if (tot && full_) {
       for (int j = 0; j < kStages; ++j) {
         const double w = h * k.b[j];
-        const Sig s = at(r.th[j]);
+        const Sig& s = r.sig[j];
         const Eigen::Vector2d e(std::cos(r.Phi[j]), std::sin(r.Phi[j])), ep(-e[1], e[0]);
-        const Eigen::VectorXd psi = b0_.cwiseProduct(norm_);
+        const auto b0 = r.B0.col(j);
+        const Eigen::VectorXd psi = b0.cwiseProduct(norm_);
         for (int q = 0; q < 2; ++q) {
           tot->J.block(q * nc_, 2 * nc_, nc_, nc_).noalias() +=
-              (w * mu_ * kn_ * e[q] * psi) * b0_.transpose();
+              (w * mu_ * kn_ * e[q] * psi) * b0.transpose();
           tot->J.block(q * nc_, 0, nc_, np_).noalias() +=
               (w * mu_ * s.N * ep[q] * psi) * dPhi.row(j);
         }
-        tot->J.block(2 * nc_, 2 * nc_, nc_, nc_).noalias() += (w * kn_ * psi) * b0_.transpose();
+        tot->J.block(2 * nc_, 2 * nc_, nc_, nc_).noalias() += (w * kn_ * psi) * b0.transpose();
       }
     }
     if (samples_) {
@@ -813,6 +991,9 @@ class PlanarCycle {
   Eigen::Vector2d u0_;
   double nc0_ = 0.0;
   Eigen::VectorXd b0_, b1_, b2_, norm_;
+  double last_th_ = std::numeric_limits<double>::quiet_NaN();  // at(): the last θ and its signals
+  Sig last_sig_;
+  bool always_closed_ = false;  // N > 0 at every θ (a bound from the coefficients' moduli)
   int max_k_ = 1, max_events_ = 0, grid_samples_ = 0, np_ = 1;
   double n_scale_ = 1.0, u_scale_ = 0.0, h_max_ = 1.0, exit_grid_ = 1.0;
   bool full_ = false;
@@ -823,7 +1004,7 @@ class PlanarCycle {
 
 bool Aft::evaluate_planar(const FrictionContact3D& contact, const Eigen::VectorXd& coefficients,
                           const Eigen::VectorXd& offset, Eigen::VectorXd& forces,
-                          Eigen::MatrixXd* jacobian, AftSamples* samples,
+                          Eigen::MatrixXd* jacobian, AftSamples* samples, AftWarmStart* warm,
                           CycleStatistics& stats) const {
   const HarmonicSet& set = basis_.harmonics();
   const int nc = set.coefficient_count();
@@ -834,7 +1015,13 @@ bool Aft::evaluate_planar(const FrictionContact3D& contact, const Eigen::VectorX
   Totals tot;
   int periods = 0;
   Eigen::Matrix3Xd f;
-  if (!cycle.run(jacobian != nullptr, tot, periods, samples ? &f : nullptr)) return false;
+  Eigen::VectorXd args;
+  if (warm) {
+    args.resize(coefficients.size() + 3);
+    args << coefficients, off;
+  }
+  if (!cycle.run(jacobian != nullptr, tot, periods, samples ? &f : nullptr, warm, args))
+    return false;
   if (!tot.F.allFinite() || (jacobian && !tot.J.allFinite())) return false;
   forces = tot.F;
   if (jacobian) *jacobian = tot.J;

@@ -10,12 +10,13 @@
 
 namespace stickslip::event_roots {
 
-// Zero of fun in (lo, hi), fun(lo) ≥ 0 > fun(hi) taken as given: Newton with dfun, safeguarded by
-// bisection of the bracket, to a few ulps of θ.
+// Zero of fun in (lo, hi), fun(lo) ≥ 0 > fun(hi) taken as given: Newton with dfun from x0 (the
+// midpoint when x0 is not inside), safeguarded by bisection of the bracket, to a few ulps of θ.
 template <class F, class D>
-double locate(const F& fun, const D& dfun, double lo, double hi) {
+double locate(const F& fun, const D& dfun, double lo, double hi,
+              double x0 = std::numeric_limits<double>::quiet_NaN()) {
   const double eps = std::numeric_limits<double>::epsilon();
-  double x = 0.5 * (lo + hi);
+  double x = x0 > lo && x0 < hi ? x0 : 0.5 * (lo + hi);
   for (int it = 0; it < 200; ++it) {
     const double fx = fun(x), dfx = dfun(x);
     (fx >= 0 ? lo : hi) = x;

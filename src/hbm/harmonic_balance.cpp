@@ -539,9 +539,8 @@ void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::Vect
   Eigen::VectorXd fp;
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    const CycleStatistics s =
-        aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp, nullptr,
-                      samples ? &(*samples)[p] : nullptr);
+    const CycleStatistics s = evaluate_pair(p, x.segment(r * nc_, m * nc_), pair_offset_[p], fp,
+                                            nullptr, samples ? &(*samples)[p] : nullptr);
     forces.segment(r * nc_, m * nc_) = fp;
     if (stats) (*stats)[p] = s;
   }
@@ -576,6 +575,25 @@ Eigen::MatrixXd HarmonicBalanceSystem::force_jacobian(const Eigen::VectorXd& x,
   return J;
 }
 
+CycleStatistics HarmonicBalanceSystem::evaluate_pair(size_t p, const Eigen::VectorXd& c,
+                                                     const Eigen::VectorXd& offset,
+                                                     Eigen::VectorXd& f, Eigen::MatrixXd* J,
+                                                     AftSamples* samples) const {
+  if (aft_.method() != AftMethod::kEventPlanar) {
+    return aft_.evaluate(*pairs_[p].element, c, offset, f, J, samples);
+  }
+  AftWarmStart warm;
+  {
+    const std::lock_guard<std::mutex> lock(warm_starts_->mutex);
+    if (warm_starts_->pairs.size() != pairs_.size()) warm_starts_->pairs.resize(pairs_.size());
+    warm = warm_starts_->pairs[p];
+  }
+  const CycleStatistics s = aft_.evaluate(*pairs_[p].element, c, offset, f, J, samples, &warm);
+  const std::lock_guard<std::mutex> lock(warm_starts_->mutex);
+  warm_starts_->pairs[p] = std::move(warm);
+  return s;
+}
+
 AftSamples HarmonicBalanceSystem::pair_cycle(const Eigen::VectorXd& x, int pair) const {
   STICKSLIP_VERIFY(x.size() == size(), "HarmonicBalanceSystem: x has the wrong size");
   STICKSLIP_VERIFY(pair >= 0 && pair < static_cast<int>(pairs_.size()),
@@ -597,7 +615,7 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
   std::vector<Eigen::MatrixXd> blocks(dR_dx ? pairs_.size() : 0);
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    stats[p] = aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp,
+    stats[p] = evaluate_pair(p, x.segment(r * nc_, m * nc_), pair_offset_[p], fp,
                              dR_dx ? &blocks[p] : nullptr);
     F.segment(r * nc_, m * nc_) = fp;
   }
@@ -748,7 +766,7 @@ bool HarmonicBalanceSystem::solve_jacobian(const Eigen::VectorXd& x, double omeg
   std::vector<Eigen::MatrixXd> blocks(pairs_.size());
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    aft_.evaluate(*pairs_[p].element, x.segment(r * nc_, m * nc_), pair_offset_[p], fp, &blocks[p]);
+    evaluate_pair(p, x.segment(r * nc_, m * nc_), pair_offset_[p], fp, &blocks[p]);
     if (!blocks[p].allFinite()) return false;
   }
   const std::shared_ptr<const CondensedOperator> op = condensed_operator(omega, false);

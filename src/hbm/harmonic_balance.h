@@ -317,6 +317,17 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::vector<CycleStatistics> stats;
   };
   std::shared_ptr<ForceCache> force_cache_ = std::make_shared<ForceCache>();
+  // Per contact pair, where its last cycle started (aft.h, AftWarmStart; read by kEventPlanar):
+  // only where the next cycle starts, never the answer beyond the AFT's closure tolerance.
+  struct WarmStarts {
+    std::mutex mutex;
+    std::vector<AftWarmStart> pairs;
+  };
+  std::shared_ptr<WarmStarts> warm_starts_ = std::make_shared<WarmStarts>();
+  // aft_.evaluate of pair p's coefficients c with its warm start.
+  CycleStatistics evaluate_pair(size_t p, const Eigen::VectorXd& c, const Eigen::VectorXd& offset,
+                                Eigen::VectorXd& f, Eigen::MatrixXd* J,
+                                AftSamples* samples = nullptr) const;
   // master_response's harmonic-0 column for the last contact force it was asked with (the frozen
   // static force of the uncoupled formulation: the same at every point of a sweep).
   struct StaticResponseCache {

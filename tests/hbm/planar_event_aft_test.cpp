@@ -171,5 +171,59 @@ TEST(PlanarEventAft, JacobianMatchesCentralDifferencesAtEllipticalStickSlipAndLi
   }
 }
 
+TEST(PlanarEventAft, WarmStartedCyclesAreTheVirginMarchsCyclesInFewerPeriods) {
+  // A sweep calls each pair again and again with nearby coefficients, then with the Jacobian at
+  // the same ones. Started where the pair's last cycle started (aft.h, AftWarmStart), the cycle is
+  // the one marched from the virgin state (the reference here, no warm start) to the closure
+  // tolerance (an angle error δ moves the force by μN δ, δ ≤ 1e-13; the Jacobian by as little
+  // relative to its norm), in one period when the arguments repeat (a slipping or separating
+  // cycle) and at most three (two Newton steps on the start angle and the final period) nearby.
+  // A start that does not apply (here: a wrong angle, a phase in stick) gives the same cycle too.
+  constexpr double kForceTolerance = 1e-11;
+  constexpr double kJacobianTolerance = 1e-9;
+  const FrictionContact3D element(kContact);
+  const Aft aft(FourierBasis(HarmonicSet::up_to(kH), 64), AftMethod::kEventPlanar);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const Case& c : cases()) {
+    SCOPED_TRACE(c.label);
+    AftWarmStart warm;
+    Eigen::VectorXd x = c.c;
+    for (int call = 0; call < 6; ++call) {
+      const bool jac = call % 2 == 1;  // no Jacobian at a new x, then the Jacobian at the same x
+      if (!jac && call > 0) {
+        for (Eigen::Index q = 0; q < x.size(); ++q) x[q] += 1e-3 * std::abs(c.c[q]) * unit(rng);
+      }
+      Eigen::VectorXd Fw, Fc;
+      Eigen::MatrixXd Jw, Jc;
+      const CycleStatistics sw =
+          aft.evaluate(element, x, Eigen::VectorXd(), Fw, jac ? &Jw : nullptr, nullptr, &warm);
+      const CycleStatistics sc =
+          aft.evaluate(element, x, Eigen::VectorXd(), Fc, jac ? &Jc : nullptr);
+      EXPECT_FALSE(sw.aft_fallback);
+      EXPECT_LE((Fw - Fc).norm(), kForceTolerance * Fc.norm()) << "call " << call;
+      if (jac) {
+        EXPECT_LE((Jw - Jc).norm(), kJacobianTolerance * Jc.norm()) << "call " << call;
+      }
+      if (call > 0 && !c.stuck) {
+        EXPECT_LE(sw.periods, jac ? 1 : 3) << "call " << call;
+        EXPECT_LT(sw.periods, sc.periods) << "call " << call;
+      }
+    }
+    if (c.stuck) continue;
+    // A start that does not apply: the angle turned by π/2, or the phase moved to a stuck one.
+    for (int variant = 0; variant < 2; ++variant) {
+      AftWarmStart bad = warm;
+      if (variant == 0) bad.phi += 0.5 * kPi;
+      if (variant == 1) bad.theta += 0.5 * kPi;
+      bad.arguments.setZero();  // other arguments: no shortcut
+      Eigen::VectorXd Fw, Fc;
+      aft.evaluate(element, x, Eigen::VectorXd(), Fw, nullptr, nullptr, &bad);
+      aft.evaluate(element, x, Eigen::VectorXd(), Fc, nullptr);
+      EXPECT_LE((Fw - Fc).norm(), kForceTolerance * Fc.norm()) << "variant " << variant;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stickslip
