@@ -84,7 +84,8 @@ double number_argument(const py::handle& value, const std::string& what) {
 long long integer_argument(const py::handle& value, const std::string& what) {
   if (py::isinstance<py::bool_>(value) || !PyIndex_Check(value.ptr()))
     type_error(what + ": expected an integer");
-  const long long v = PyLong_AsLongLong(py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr())).ptr());
+  const long long v =
+      PyLong_AsLongLong(py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr())).ptr());
   if (v == -1 && PyErr_Occurred()) {
     PyErr_Clear();
     value_error(what + ": integer out of range");
@@ -103,7 +104,8 @@ std::array<double, 3> direction_argument(const py::handle& value, const std::str
       s = s.substr(1);
     }
     if (s != "x" && s != "y" && s != "z")
-      value_error(what + " = '" + value.cast<std::string>() + "': give x, y, z, -x, -y, -z or "
+      value_error(what + " = '" + value.cast<std::string>() +
+                  "': give x, y, z, -x, -y, -z or "
                   "three numbers");
     d[static_cast<size_t>(s[0] - 'x')] = sign;
     return d;
@@ -169,8 +171,9 @@ Eigen::MatrixXd matrix_argument(const py::object& value, const std::string& what
 std::vector<ReducedDof> dofs_argument(const py::object& value, Eigen::Index size) {
   if (!py::isinstance<py::sequence>(value) && !py::isinstance<py::array>(value))
     type_error("dofs: expected a sequence of (node_id, direction) pairs or None (modal DOF)");
-  py::sequence rows = py::isinstance<py::array>(value) ? py::sequence(value.attr("tolist")())
-                                                         : py::reinterpret_borrow<py::sequence>(value);
+  py::sequence rows = py::isinstance<py::array>(value)
+                          ? py::sequence(value.attr("tolist")())
+                          : py::reinterpret_borrow<py::sequence>(value);
   if (static_cast<Eigen::Index>(py::len(rows)) != size)
     value_error("dofs: " + std::to_string(py::len(rows)) + " entries for matrices of size " +
                 std::to_string(size));
@@ -249,7 +252,8 @@ std::string canonical_path(const CaseDefinition& def, const std::string& path) {
   if (!parts.empty() && parts[0].rfind("contacts[", 0) == 0 && parts[0].back() == ']') {
     const std::string index = parts[0].substr(9, parts[0].size() - 10);
     size_t i = def.contacts.size();
-    if (!index.empty() && index.size() < 9 && index.find_first_not_of("0123456789") == std::string::npos)
+    if (!index.empty() && index.size() < 9 &&
+        index.find_first_not_of("0123456789") == std::string::npos)
       i = std::stoul(index);
     if (i >= def.contacts.size())
       throw InvalidInput({def.file, 0, path}, "no contact " + index + " (the case has " +
@@ -267,8 +271,8 @@ std::string canonical_path(const CaseDefinition& def, const std::string& path) {
 
 // The analysis keys set() and get() know (docs/python.md), besides the study's paths.
 const std::vector<std::string> kAnalysisKeys = {
-    "start_hz", "stop_hz", "step_hz", "around_mode", "half_width_hz", "min_step_hz",
-    "max_step_hz", "harmonics", "time_samples", "tolerance", "max_iterations", "max_points"};
+    "start_hz",    "stop_hz",   "step_hz",      "around_mode", "half_width_hz",  "min_step_hz",
+    "max_step_hz", "harmonics", "time_samples", "tolerance",   "max_iterations", "max_points"};
 
 std::string analysis_key(const std::vector<std::string>& parts) {
   if (parts.size() == 3 && parts[0] == "analysis" && parts[1] == "frequency") return parts[2];
@@ -384,15 +388,18 @@ double get_value(const CaseDefinition& def, const std::string& raw_path) {
     return it->second.modal_damping_ratio;
   } else if (parts.size() == 2 && parts[0].rfind("excitation[", 0) == 0 && key == "amplitude") {
     const std::string index = parts[0].substr(11, parts[0].size() - 12);
-    if (index.empty() || index.size() > 8 || index.find_first_not_of("0123456789") != std::string::npos ||
+    if (index.empty() || index.size() > 8 ||
+        index.find_first_not_of("0123456789") != std::string::npos ||
         std::stoul(index) >= def.excitation.size())
       return fail("no excitation entry " + index);
     const ExcitationDefinition& e = def.excitation[std::stoul(index)];
-    if (!e.by_direction) return fail("excitation " + index + " is a force vector, not an amplitude");
+    if (!e.by_direction)
+      return fail("excitation " + index + " is a force vector, not an amplitude");
     return e.amplitude;
   } else if (parts.size() == 2 && parts[0].rfind("static_loads[", 0) == 0) {
     const std::string index = parts[0].substr(13, parts[0].size() - 14);
-    if (index.empty() || index.size() > 8 || index.find_first_not_of("0123456789") != std::string::npos ||
+    if (index.empty() || index.size() > 8 ||
+        index.find_first_not_of("0123456789") != std::string::npos ||
         std::stoul(index) >= def.static_loads.size())
       return fail("no static_loads entry " + index);
     const StaticLoadDefinition& l = def.static_loads[std::stoul(index)];
@@ -402,8 +409,10 @@ double get_value(const CaseDefinition& def, const std::string& raw_path) {
       return std::sqrt(l.force[0] * l.force[0] + l.force[1] * l.force[1] + l.force[2] * l.force[2]);
     return fail("static_loads entry " + index + " has no '" + key + "'");
   }
-  return fail("not a key path set() and get() know: the study's paths (stickslip keys, "
-              "docs/case-file.md `study`) and analysis." + std::string("{start_hz, ...}"));
+  return fail(
+      "not a key path set() and get() know: the study's paths (stickslip keys, "
+      "docs/case-file.md `study`) and analysis." +
+      std::string("{start_hz, ...}"));
 }
 
 void set_value(CaseDefinition& def, const std::string& raw_path, double value) {
@@ -500,10 +509,12 @@ class ProgressRelay {
 // reduced by Craig–Bampton with the shared cache (serialised: ModelCache is not thread-safe).
 // Called without the GIL.
 std::shared_ptr<const PreparedModel> build_model(
-    const CaseDefinition& def, const std::map<std::string, std::shared_ptr<const ReducedBody>>& given,
-    SharedCache& cache, const ProgressFn& stage) {
+    const CaseDefinition& def,
+    const std::map<std::string, std::shared_ptr<const ReducedBody>>& given, SharedCache& cache,
+    const ProgressFn& stage) {
   std::lock_guard<std::mutex> lock(cache.mutex);
-  if (given.empty()) return std::make_shared<PreparedModel>(prepare_model(def, stage, &cache.cache));
+  if (given.empty())
+    return std::make_shared<PreparedModel>(prepare_model(def, stage, &cache.cache));
   return std::make_shared<PreparedModel>(prepare_model(
       def, resolve_case_bodies(def, stage, &cache.cache), GivenReduction(given), stage));
 }
@@ -604,7 +615,8 @@ py::array_t<std::complex<double>> pair_forces(const PySolution& s, bool global) 
       if (q < pairs.size()) f = global ? &pairs[q].force_global : &pairs[q].force_local;
       for (Eigen::Index row = 0; row < 3; ++row) {
         for (size_t h = 0; h < nh; ++h) {
-          const bool have = f != nullptr && row < f->rows() && static_cast<Eigen::Index>(h) < f->cols();
+          const bool have =
+              f != nullptr && row < f->rows() && static_cast<Eigen::Index>(h) < f->cols();
           r(i, q, row, h) = have ? (*f)(row, static_cast<Eigen::Index>(h)) : nan;
         }
       }
@@ -638,7 +650,8 @@ constexpr const char* kReadCaseDoc = R"(read_case(path) -> Case
 Reads and checks a case file (docs/case-file.md); relative paths inside it are resolved against
 its folder. Raises InvalidInput (ValueError) naming the file, line and key of a problem.)";
 
-constexpr const char* kCaseDoc = R"(A case: what a case file says, as data that Python can read and change.
+constexpr const char* kCaseDoc =
+    R"(A case: what a case file says, as data that Python can read and change.
 
 Case(title="") makes an empty case to fill with add_body, add_contact, add_excitation,
 set_damping and set_analysis; read_case(path) reads one from YAML. Values are read and changed
@@ -795,7 +808,8 @@ PYBIND11_MODULE(stickslip, m) {
           "The case file's study block, {parameter, values}, or None. solve() solves the case's "
           "own values and does not run the study: loop over it in Python (set, solve).")
       .def(
-          "get", [](const PyCase& c, const std::string& path) { return get_value(c.definition, path); },
+          "get",
+          [](const PyCase& c, const std::string& path) { return get_value(c.definition, path); },
           "path"_a,
           "get(path) -> float\n\nThe value at a key path (see Case). InvalidInput for a path the "
           "case does not have.")
@@ -814,12 +828,13 @@ PYBIND11_MODULE(stickslip, m) {
           "reduced once).")
       .def("__repr__",
            [](const PyCase& c) {
-             return "<stickslip.Case '" + c.definition.title + "' (" + c.definition.file + "): " +
-                    std::to_string(c.definition.bodies.size()) + " bodies, " +
+             return "<stickslip.Case '" + c.definition.title + "' (" + c.definition.file +
+                    "): " + std::to_string(c.definition.bodies.size()) + " bodies, " +
                     std::to_string(c.definition.contacts.size()) + " contacts>";
            })
       .def("__copy__", [](const PyCase& c) { return PyCase(c); })
-      .def("__deepcopy__", [](const PyCase& c, py::dict) { return PyCase(c); }, "memo"_a)
+      .def(
+          "__deepcopy__", [](const PyCase& c, py::dict) { return PyCase(c); }, "memo"_a)
       .def(
           "describe", [](const PyCase& c) { return describe_case(c.definition); },
           "describe() -> str\n\nThe case as canonical YAML with every default filled in (bodies "
@@ -843,22 +858,26 @@ PYBIND11_MODULE(stickslip, m) {
                 return s;
               };
               if (key == "method") {
-                a.method = text({"stepped", "continuation"}) == "stepped" ? SweepMethod::kStepped
-                                                                         : SweepMethod::kContinuation;
+                a.method = text({"stepped", "continuation"}) == "stepped"
+                               ? SweepMethod::kStepped
+                               : SweepMethod::kContinuation;
               } else if (key == "aft") {
                 const std::string s = text({"event", "sampled", "event_planar"});
-                a.aft = s == "event" ? AftChoice::kEvent
-                        : s == "sampled" ? AftChoice::kSampled : AftChoice::kEventPlanar;
+                a.aft = s == "event"     ? AftChoice::kEvent
+                        : s == "sampled" ? AftChoice::kSampled
+                                         : AftChoice::kEventPlanar;
                 a.aft_given = true;
               } else if (key == "static") {
                 a.static_coupling = text({"uncoupled", "coupled"}) == "coupled"
-                                        ? StaticChoice::kCoupled : StaticChoice::kUncoupled;
+                                        ? StaticChoice::kCoupled
+                                        : StaticChoice::kUncoupled;
               } else if (key == "initial_guess") {
                 a.initial_guess = text({"stuck", "free"}) == "free" ? InitialGuessChoice::kFree
                                                                     : InitialGuessChoice::kStuck;
               } else if (key == "predictor") {
-                a.predictor = text({"secant", "previous"}) == "previous" ? PredictorChoice::kPrevious
-                                                                         : PredictorChoice::kSecant;
+                a.predictor = text({"secant", "previous"}) == "previous"
+                                  ? PredictorChoice::kPrevious
+                                  : PredictorChoice::kSecant;
               } else if (key == "sweep") {
                 a.frequency.downward = text({"up", "down"}) == "down";
               } else if (key == "harmonics" && py::isinstance<py::sequence>(v)) {
@@ -968,7 +987,8 @@ recovery: physical DOFs then name its mesh's node ids).)")
               fail("no body '" + body_b + "' (body_b; or 'ground')");
             if (find_contact_laws(law).empty()) {
               std::string names;
-              for (const std::string& n : contact_law_names()) names += (names.empty() ? "" : ", ") + n;
+              for (const std::string& n : contact_law_names())
+                names += (names.empty() ? "" : ", ") + n;
               fail("unknown law '" + law + "' (laws: " + names + ")");
             }
             ContactDefinition d;
@@ -978,11 +998,15 @@ recovery: physical DOFs then name its mesh's node ids).)")
             d.body_b = body_b;
             d.uses_frame = !normal.is_none();
             if (d.uses_frame == !direction.is_none())
-              fail("give `normal` (a law in a frame: friction, 3D linear) or `direction` (a 1D law), "
-                   "one of them");
+              fail(
+                  "give `normal` (a law in a frame: friction, 3D linear) or `direction` (a 1D "
+                  "law), "
+                  "one of them");
             bool frame_law = false, line_law = false;
-            for (const ContactLaw* l : find_contact_laws(law)) (l->uses_frame ? frame_law : line_law) = true;
-            if (d.uses_frame && !frame_law) fail("law " + law + " acts along a `direction`, not in a frame");
+            for (const ContactLaw* l : find_contact_laws(law))
+              (l->uses_frame ? frame_law : line_law) = true;
+            if (d.uses_frame && !frame_law)
+              fail("law " + law + " acts along a `direction`, not in a frame");
             if (!d.uses_frame && !line_law) fail("law " + law + " acts in a frame: give `normal`");
             if (d.uses_frame) {
               d.normal = direction_argument(normal, where + " normal");
@@ -1000,14 +1024,16 @@ recovery: physical DOFs then name its mesh's node ids).)")
             d.parameters_given = total ? ContactDefinition::Parameters::kTotal
                                        : ContactDefinition::Parameters::kPerPair;
             const std::map<std::string, std::optional<double>> given = {
-                {"kt", kt}, {"kn", kn}, {"mu", mu}, {"preload", preload}, {"k", k}, {"k1", k1}, {"k3", k3}};
+                {"kt", kt}, {"kn", kn}, {"mu", mu}, {"preload", preload},
+                {"k", k},   {"k1", k1}, {"k3", k3}};
             for (const auto& [key, value] : given) {
               if (!value) continue;
               const LawParameter* p = l.parameter(key);
               if (p == nullptr) fail("'" + key + "' is not a parameter of law " + law);
               const double v = *value;
-              const bool ok = std::isfinite(v) && (p->rule == LawParameter::Rule::kAny ||
-                                                   (p->rule == LawParameter::Rule::kPositive ? v > 0 : v >= 0));
+              const bool ok =
+                  std::isfinite(v) && (p->rule == LawParameter::Rule::kAny ||
+                                       (p->rule == LawParameter::Rule::kPositive ? v > 0 : v >= 0));
               if (!ok)
                 fail(key + " = " + number_text(v) + ": must be " +
                      (p->rule == LawParameter::Rule::kPositive ? "> 0" : ">= 0"));
@@ -1016,7 +1042,8 @@ recovery: physical DOFs then name its mesh's node ids).)")
             if (gap) {
               if (!l.has_gap) fail("law " + law + " has no gap");
               if (preload) fail("give either a preload or a gap");
-              if (!(*gap >= 0) || !std::isfinite(*gap)) fail("gap = " + number_text(*gap) + ": must be >= 0");
+              if (!(*gap >= 0) || !std::isfinite(*gap))
+                fail("gap = " + number_text(*gap) + ": must be >= 0");
               d.gap = *gap;
             }
             for (const std::string& key : l.required_keys()) {
@@ -1053,7 +1080,8 @@ total=True (mu and gap are not split). docs/case-file.md `contacts` has the laws
             if (!std::isfinite(amplitude) || amplitude < 0)
               fail("amplitude = " + number_text(amplitude) + ": finite and >= 0 (N)");
             if (!std::isfinite(phase_deg)) fail("phase_deg is not finite");
-            if (harmonic < 0 || harmonic > kMaxHarmonic) fail("harmonic " + std::to_string(harmonic));
+            if (harmonic < 0 || harmonic > kMaxHarmonic)
+              fail("harmonic " + std::to_string(harmonic));
             ExcitationDefinition e;
             e.body = body;
             e.nodes.ids = {node};
@@ -1087,7 +1115,8 @@ on one node; harmonic k = 0 is a static force. It becomes excitation[i] in key p
             return array1(std::vector<double>(f.data(), f.data() + f.size()));
           },
           "stuck_frequencies_hz() -> array\n\nNatural frequencies (Hz, ascending) of the "
-          "assembled reduced model with every contact stuck (friction pairs as springs kt, kt, kn), "
+          "assembled reduced model with every contact stuck (friction pairs as springs kt, kt, "
+          "kn), "
           "as `stickslip modes` lists them and around_mode counts them. Builds the model (cached); "
           "the GIL is released.")
       .def(
@@ -1133,67 +1162,84 @@ the solve returns. Points that do not converge are kept with converged False (ch
 Solution.converged); bad input raises InvalidInput.)");
 
   py::class_<PySolution>(m, "Solution", kSolutionDoc)
-      .def_property_readonly("frequencies_hz", [](const PySolution& s) {
-        return per_point(s, [](const FrequencyPoint& p) { return p.omega / (2 * kPi); });
-      },
+      .def_property_readonly(
+          "frequencies_hz",
+          [](const PySolution& s) {
+            return per_point(s, [](const FrequencyPoint& p) { return p.omega / (2 * kPi); });
+          },
           "Frequency of each point, Hz (P).")
-      .def_property_readonly("omega", [](const PySolution& s) {
-        return per_point(s, [](const FrequencyPoint& p) { return p.omega; });
-      },
+      .def_property_readonly(
+          "omega",
+          [](const PySolution& s) {
+            return per_point(s, [](const FrequencyPoint& p) { return p.omega; });
+          },
           "Angular frequency of each point, rad/s (P).")
-      .def_property_readonly("converged", [](const PySolution& s) {
-        std::vector<bool> v;
-        for (const FrequencyPoint& p : s.points()) v.push_back(p.converged);
-        py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
-        std::copy(v.begin(), v.end(), a.mutable_data());
-        return a;
-      },
+      .def_property_readonly(
+          "converged",
+          [](const PySolution& s) {
+            std::vector<bool> v;
+            for (const FrequencyPoint& p : s.points()) v.push_back(p.converged);
+            py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
+            std::copy(v.begin(), v.end(), a.mutable_data());
+            return a;
+          },
           "Whether each point converged (P, bool).")
-      .def_property_readonly("iterations", [](const PySolution& s) {
-        std::vector<int> v;
-        for (const FrequencyPoint& p : s.points()) v.push_back(p.iterations);
-        return array1(v);
-      },
+      .def_property_readonly(
+          "iterations",
+          [](const PySolution& s) {
+            std::vector<int> v;
+            for (const FrequencyPoint& p : s.points()) v.push_back(p.iterations);
+            return array1(v);
+          },
           "Newton iterations of each point (P, int).")
-      .def_property_readonly("residual", [](const PySolution& s) {
-        return per_point(s, [](const FrequencyPoint& p) { return p.residual_norm; });
-      },
+      .def_property_readonly(
+          "residual",
+          [](const PySolution& s) {
+            return per_point(s, [](const FrequencyPoint& p) { return p.residual_norm; });
+          },
           "||R|| of the harmonic-balance equations at each point, m (P).")
-      .def_property_readonly("residual_relative", [](const PySolution& s) {
-        return per_point(s, [](const FrequencyPoint& p) { return p.residual_norm / p.residual_scale; });
-      },
+      .def_property_readonly(
+          "residual_relative",
+          [](const PySolution& s) {
+            return per_point(
+                s, [](const FrequencyPoint& p) { return p.residual_norm / p.residual_scale; });
+          },
           "||R|| over the point's residual scale (P): below analysis.tolerance when converged.")
-      .def_property_readonly("dissipated_energy", [](const PySolution& s) {
-        return per_point(s, &point_energy);
-      },
+      .def_property_readonly(
+          "dissipated_energy", [](const PySolution& s) { return per_point(s, &point_energy); },
           "Friction energy per cycle summed over the pairs, J (P).")
-      .def_property_readonly("static_mismatch", [](const PySolution& s) {
-        return per_point(s, [](const FrequencyPoint& p) { return p.static_mismatch; });
-      },
+      .def_property_readonly(
+          "static_mismatch",
+          [](const PySolution& s) {
+            return per_point(s, [](const FrequencyPoint& p) { return p.static_mismatch; });
+          },
           "static: uncoupled: the largest pair mismatch ||mean f - f0|| / scale of each point "
           "(P; 0 with static: coupled; docs/output-files.md points.csv).")
-      .def_property_readonly("static_warning", [](const PySolution& s) {
-        std::vector<bool> v;
-        for (const FrequencyPoint& p : s.points()) v.push_back(p.static_warning);
-        py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
-        std::copy(v.begin(), v.end(), a.mutable_data());
-        return a;
-      },
+      .def_property_readonly(
+          "static_warning",
+          [](const PySolution& s) {
+            std::vector<bool> v;
+            for (const FrequencyPoint& p : s.points()) v.push_back(p.static_warning);
+            py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
+            std::copy(v.begin(), v.end(), a.mutable_data());
+            return a;
+          },
           "Whether the frozen static state is flagged wrong at each point (P, bool; static: "
           "uncoupled; use static: coupled then).")
-      .def_property_readonly("aft_fallback_pairs", [](const PySolution& s) {
-        std::vector<int> v;
-        for (const FrequencyPoint& p : s.points()) {
-          int n = 0;
-          for (const PairResponse& r : p.pairs) n += r.cycle.aft_fallback ? 1 : 0;
-          v.push_back(n);
-        }
-        return array1(v);
-      },
+      .def_property_readonly(
+          "aft_fallback_pairs",
+          [](const PySolution& s) {
+            std::vector<int> v;
+            for (const FrequencyPoint& p : s.points()) {
+              int n = 0;
+              for (const PairResponse& r : p.pairs) n += r.cycle.aft_fallback ? 1 : 0;
+              v.push_back(n);
+            }
+            return array1(v);
+          },
           "Pairs whose cycle the event AFT left to the sampled AFT at each point (P, int).")
-      .def_property_readonly("harmonics", [](const PySolution& s) {
-        return array1(s.solved->response.harmonics);
-      },
+      .def_property_readonly(
+          "harmonics", [](const PySolution& s) { return array1(s.solved->response.harmonics); },
           "The output harmonics, 0 first: the last axis of master and the force arrays.")
       .def_property_readonly(
           "completed", [](const PySolution& s) { return s.solved->response.completed; },
@@ -1227,22 +1273,25 @@ Solution.converged); bad input raises InvalidInput.)");
             return out;
           },
           "The physical master DOFs, (body, node id, axis), in the order of master's 2nd axis.")
-      .def_property_readonly("master", [](const PySolution& s) {
-        const size_t np = s.num_points(), nd = s.dofs.size(), nh = s.num_harmonics();
-        py::array_t<std::complex<double>> a({np, nd, nh});
-        auto r = a.mutable_unchecked<3>();
-        for (size_t i = 0; i < np; ++i) {
-          const Eigen::MatrixXcd& x = s.points()[i].master;
-          for (size_t j = 0; j < nd; ++j) {
-            for (size_t h = 0; h < nh; ++h) {
-              const bool have = x.rows() > s.dofs[j].global && static_cast<size_t>(x.cols()) > h;
-              r(i, j, h) = have ? x(s.dofs[j].global, static_cast<Eigen::Index>(h))
-                                : std::complex<double>(std::nan(""), std::nan(""));
+      .def_property_readonly(
+          "master",
+          [](const PySolution& s) {
+            const size_t np = s.num_points(), nd = s.dofs.size(), nh = s.num_harmonics();
+            py::array_t<std::complex<double>> a({np, nd, nh});
+            auto r = a.mutable_unchecked<3>();
+            for (size_t i = 0; i < np; ++i) {
+              const Eigen::MatrixXcd& x = s.points()[i].master;
+              for (size_t j = 0; j < nd; ++j) {
+                for (size_t h = 0; h < nh; ++h) {
+                  const bool have =
+                      x.rows() > s.dofs[j].global && static_cast<size_t>(x.cols()) > h;
+                  r(i, j, h) = have ? x(s.dofs[j].global, static_cast<Eigen::Index>(h))
+                                    : std::complex<double>(std::nan(""), std::nan(""));
+                }
+              }
             }
-          }
-        }
-        return a;
-      },
+            return a;
+          },
           "Harmonics of the physical master DOFs, m (P, D, H complex; D as master_dofs).")
       .def(
           "response",
@@ -1274,28 +1323,36 @@ Solution.converged); bad input raises InvalidInput.)");
             py::list out;
             for (size_t q = 0; q < s.model->pair_info.size(); ++q) {
               const PreparedPair& p = s.model->pair_info[q];
-              out.append(py::dict("contact"_a = s.definition->contacts[static_cast<size_t>(p.contact)].name,
-                                  "pair"_a = s.pair_in_contact[q], "node_a"_a = p.node_a_id,
-                                  "node_b"_a = p.node_b_id));
+              out.append(py::dict(
+                  "contact"_a = s.definition->contacts[static_cast<size_t>(p.contact)].name,
+                  "pair"_a = s.pair_in_contact[q], "node_a"_a = p.node_a_id,
+                  "node_b"_a = p.node_b_id));
             }
             return out;
           },
           "Per contact pair: contact, pair (0-based within its contact), node_a, node_b.")
-      .def_property_readonly("contact_forces", [](const PySolution& s) { return pair_forces(s, true); },
-          "Force on node B of each pair, global x, y, z, N (P, Q, 3, H complex); A receives the negative.")
-      .def_property_readonly("contact_forces_local", [](const PySolution& s) { return pair_forces(s, false); },
-          "Force on node B in each pair's frame t1, t2, n, N (P, Q, 3, H complex); a 1D law fills row 0, NaN elsewhere.")
-      .def_property_readonly("stick", [](const PySolution& s) { return per_pair(s, &CycleStatistics::stick_fraction); },
+      .def_property_readonly(
+          "contact_forces", [](const PySolution& s) { return pair_forces(s, true); },
+          "Force on node B of each pair, global x, y, z, N (P, Q, 3, H complex); A receives the "
+          "negative.")
+      .def_property_readonly(
+          "contact_forces_local", [](const PySolution& s) { return pair_forces(s, false); },
+          "Force on node B in each pair's frame t1, t2, n, N (P, Q, 3, H complex); a 1D law fills "
+          "row 0, NaN elsewhere.")
+      .def_property_readonly(
+          "stick",
+          [](const PySolution& s) { return per_pair(s, &CycleStatistics::stick_fraction); },
           "Fraction of the cycle each pair sticks (P, Q).")
-      .def_property_readonly("slip", [](const PySolution& s) { return per_pair(s, &CycleStatistics::slip_fraction); },
+      .def_property_readonly(
+          "slip", [](const PySolution& s) { return per_pair(s, &CycleStatistics::slip_fraction); },
           "Fraction of the cycle each pair slips (P, Q).")
-      .def_property_readonly("separation", [](const PySolution& s) {
-        return per_pair(s, &CycleStatistics::separation_fraction);
-      },
+      .def_property_readonly(
+          "separation",
+          [](const PySolution& s) { return per_pair(s, &CycleStatistics::separation_fraction); },
           "Fraction of the cycle each pair is open (P, Q).")
-      .def_property_readonly("pair_energy", [](const PySolution& s) {
-        return per_pair(s, &CycleStatistics::dissipated_energy);
-      },
+      .def_property_readonly(
+          "pair_energy",
+          [](const PySolution& s) { return per_pair(s, &CycleStatistics::dissipated_energy); },
           "Friction energy per cycle of each pair, J (P, Q).")
       .def(
           "peak",
@@ -1314,11 +1371,13 @@ Solution.converged); bad input raises InvalidInput.)");
                 amplitude = a;
               }
             }
-            if (best < 0) return py::dict("point"_a = py::none(), "frequency_hz"_a = py::none(),
-                                          "amplitude"_a = py::none());
-            return py::dict("point"_a = best,
-                            "frequency_hz"_a = s.points()[static_cast<size_t>(best)].omega / (2 * kPi),
-                            "amplitude"_a = amplitude);
+            if (best < 0)
+              return py::dict("point"_a = py::none(), "frequency_hz"_a = py::none(),
+                              "amplitude"_a = py::none());
+            return py::dict(
+                "point"_a = best,
+                "frequency_hz"_a = s.points()[static_cast<size_t>(best)].omega / (2 * kPi),
+                "amplitude"_a = amplitude);
           },
           "body"_a, "node"_a, "direction"_a, "harmonic"_a = 1,
           "peak(body, node, direction, harmonic=1) -> dict\n\nThe largest amplitude |X_k| of one "
@@ -1363,16 +1422,19 @@ Solution.converged); bad input raises InvalidInput.)");
               const py::object a = self.attr(key);
               d[(std::string("mean_") + key).c_str()] =
                   nq > 0 ? py::object(a.attr("mean")("axis"_a = 1))
-                         : py::object(py::module_::import("numpy").attr("full")(s.num_points(), std::nan("")));
+                         : py::object(py::module_::import("numpy").attr("full")(s.num_points(),
+                                                                                std::nan("")));
             }
             for (const ResponseDofDefinition& r : s.definition->output.frf) {
               if (s.model->body_index(r.body) < 0) continue;
-              const int g = s.model->bodies[static_cast<size_t>(s.model->body_index(r.body))].global_dof(r.node, r.direction);
+              const int g =
+                  s.model->bodies[static_cast<size_t>(s.model->body_index(r.body))].global_dof(
+                      r.node, r.direction);
               if (g < 0 || s.num_harmonics() < 2) continue;
               std::vector<double> v;
               for (const FrequencyPoint& p : s.points()) v.push_back(std::abs(p.master(g, 1)));
-              d[("amplitude_" + r.body + "_" + std::to_string(r.node) + "_" + "xyz"[r.direction]).c_str()] =
-                  array1(v);
+              d[("amplitude_" + r.body + "_" + std::to_string(r.node) + "_" + "xyz"[r.direction])
+                    .c_str()] = array1(v);
             }
             return d;
           },
@@ -1388,7 +1450,8 @@ Solution.converged); bad input raises InvalidInput.)");
             if (b < 0) value_error("recover: no body '" + body + "'");
             const PreparedBody& pb = s.model->bodies[static_cast<size_t>(b)];
             if (!pb.from_mesh)
-              value_error("recover: body '" + body + "' is given by matrices: no full model to recover");
+              value_error("recover: body '" + body +
+                          "' is given by matrices: no full model to recover");
             const FrequencyPoint& p = s.points()[i];
             if (!p.converged)
               value_error("recover: point " + std::to_string(i) + " did not converge");
@@ -1411,18 +1474,22 @@ Solution.converged); bad input raises InvalidInput.)");
             for (size_t h = 0; h < nh; ++h) {
               for (size_t n = 0; n < nn; ++n) {
                 for (size_t d = 0; d < 3; ++d)
-                  ur(h, n, d) = r.displacement(static_cast<Eigen::Index>(3 * n + d), static_cast<Eigen::Index>(h));
+                  ur(h, n, d) = r.displacement(static_cast<Eigen::Index>(3 * n + d),
+                                               static_cast<Eigen::Index>(h));
               }
             }
             py::array_t<double> xyz({nn, size_t{3}});
             auto xr = xyz.mutable_unchecked<2>();
             for (size_t n = 0; n < nn; ++n) {
-              for (size_t d = 0; d < 3; ++d) xr(n, d) = pb.mesh.coordinates(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(n));
+              for (size_t d = 0; d < 3; ++d)
+                xr(n, d) =
+                    pb.mesh.coordinates(static_cast<Eigen::Index>(d), static_cast<Eigen::Index>(n));
             }
             py::dict out("body"_a = body, "point"_a = i, "frequency_hz"_a = p.omega / (2 * kPi),
                          "harmonics"_a = array1(s.solved->response.harmonics),
                          "node_ids"_a = array1(pb.mesh.node_ids), "coordinates"_a = xyz,
-                         "displacement"_a = u, "check_max_relative"_a = array1(r.check.max_relative),
+                         "displacement"_a = u,
+                         "check_max_relative"_a = array1(r.check.max_relative),
                          "check_max_absolute"_a = array1(r.check.max_absolute),
                          "failed_harmonics"_a = r.summary.failed_harmonics);
             if (stresses) {
@@ -1431,7 +1498,8 @@ Solution.converged); bad input raises InvalidInput.)");
               for (size_t h = 0; h < nh; ++h) {
                 for (size_t n = 0; n < nn; ++n) {
                   for (size_t c = 0; c < 6; ++c)
-                    sr(h, n, c) = sigma[h](static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(n));
+                    sr(h, n, c) =
+                        sigma[h](static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(n));
                 }
               }
               out["stress"] = st;

@@ -24,8 +24,7 @@ void check_inputs(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp,
 void validate(const UnilateralSpringParameters& p) {
   require(std::isfinite(p.k) && p.k > 0.0, "UnilateralSpringParameters.k", format_number(p.k),
           "> 0 and finite");
-  require(std::isfinite(p.gap), "UnilateralSpringParameters.gap", format_number(p.gap),
-          "finite");
+  require(std::isfinite(p.gap), "UnilateralSpringParameters.gap", format_number(p.gap), "finite");
   require(std::isfinite(p.preload) && p.preload >= 0.0, "UnilateralSpringParameters.preload",
           format_number(p.preload), ">= 0 and finite");
 }

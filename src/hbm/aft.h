@@ -26,36 +26,36 @@
 //    the sampled method (fallback, below). ∂F_⊥/∂c_⊥ of a collinear cycle: the sampled method's.
 //  - kEventPlanar: kEvent, and general planar motion (event_aft_planar.cpp; opt-in because on the
 //    reference sweep it costs 9–18 times the sampled AFT at N = 64, though half the time of N =
-//    4096, which is still 1e-6 off: docs/performance.md). In slip τ = μN e(φ) and the direction obeys
-//    φ' = kt e⊥·u_t'/(μN) (from τ' = kt (u_t' − λe), |τ| = μN; slip rate λ = e·u_t' − μN'/kt),
-//    integrated by 8-stage Gauss collocation (order 16, A-stable) with error control; slip → stick
-//    (λ = 0) is located on the integrated solution by Newton on the last step's length; stick →
-//    slip ((μN)² − |τ|² = 0, degree 2 H_max) and lift-off/touchdown are bracketed on a grid refined
-//    to π/(4 H_max). The periodic cycle: from the virgin state two periods, then Newton on the slip
-//    angle at a point mid-way in a slip segment (a cycle with an open segment closes at once:
-//    touchdown forgets the history). With an AftWarmStart from the element's previous call, the
-//    march starts where that cycle started (Newton on the angle from its angle; with the same
+//    4096, which is still 1e-6 off: docs/performance.md). In slip τ = μN e(φ) and the direction
+//    obeys φ' = kt e⊥·u_t'/(μN) (from τ' = kt (u_t' − λe), |τ| = μN; slip rate λ = e·u_t' −
+//    μN'/kt), integrated by 8-stage Gauss collocation (order 16, A-stable) with error control; slip
+//    → stick (λ = 0) is located on the integrated solution by Newton on the last step's length;
+//    stick → slip ((μN)² − |τ|² = 0, degree 2 H_max) and lift-off/touchdown are bracketed on a grid
+//    refined to π/(4 H_max). The periodic cycle: from the virgin state two periods, then Newton on
+//    the slip angle at a point mid-way in a slip segment (a cycle with an open segment closes at
+//    once: touchdown forgets the history). With an AftWarmStart from the element's previous call,
+//    the march starts where that cycle started (Newton on the angle from its angle; with the same
 //    arguments, the final period at once), the virgin march only when that start does not apply.
 //    The cycle is the periodic one of the continuous law (the sampled law's limit N → ∞). N sets
-//    only the bracketing grid, the largest step, and the samples returned in AftSamples. Jacobian: the force is continuous at every transition, so the boundary
-//    terms of the Leibniz rule cancel. Event-time terms: slip → stick: none (the anchor μN e − kt
-//    u_t has derivative −kt λ e = 0 there); stick → slip: none (the stick force's angle turns at kt
-//    e⊥·u_t'/|τ|, the slip ODE's rate); touchdown → stick (τ_a = 0): ∂θ_a = −∂N(θ_a)/N'(θ_a),
-//    included; touchdown → slip along u_t': the start angle's change plus −φ'(θ_a+) ∂θ_a with the
-//    regular solution's start rate φ'(θ_a+) = kt e⊥·u_t''/(μN' + kt|u_t'|), included (the FD tests
-//    fail without either). In slip the variational equations of φ are integrated by the same
-//    collocation steps (the derivative of the discrete map), and the periodicity of the start angle
-//    adds ∂F/∂φ_s (1 − ∂P/∂φ_s)⁻¹ ∂P/∂c. Lift-off: as N → 0 the ODE is singular (φ' ∝ 1/N; φ tends
-//    to the direction of u_t' like (θ_l − θ)^α, α = kt|u_t'|/(μ|N'|), and ∂φ/∂c grows like (θ_l −
-//    θ)^(α−1), unbounded for α < 1); the force's sensitivity μN e⊥ ∂φ stays bounded and integrable
-//    and vanishes at θ_l, where the force itself is 0 (no boundary term). The steps shrink
-//    geometrically towards θ_l, with the error weighted by N/N_scale; after lift-off the state is
-//    history-free, so nothing propagates past it. Fallback to the sampled method, with
-//    CycleStatistics::aft_fallback set so callers can say so: any other element; a cycle that
-//    cannot be closed (Newton on the slip angle, or a step that cannot be solved). A 3D cycle stuck
-//    throughout after slipping in its transient is one of a family of stuck cycles: the law's
-//    history from the virgin state at θ = 0 picks it (as in the sampled march), marched again with
-//    the sensitivities.
+//    only the bracketing grid, the largest step, and the samples returned in AftSamples. Jacobian:
+//    the force is continuous at every transition, so the boundary terms of the Leibniz rule cancel.
+//    Event-time terms: slip → stick: none (the anchor μN e − kt u_t has derivative −kt λ e = 0
+//    there); stick → slip: none (the stick force's angle turns at kt e⊥·u_t'/|τ|, the slip ODE's
+//    rate); touchdown → stick (τ_a = 0): ∂θ_a = −∂N(θ_a)/N'(θ_a), included; touchdown → slip along
+//    u_t': the start angle's change plus −φ'(θ_a+) ∂θ_a with the regular solution's start rate
+//    φ'(θ_a+) = kt e⊥·u_t''/(μN' + kt|u_t'|), included (the FD tests fail without either). In slip
+//    the variational equations of φ are integrated by the same collocation steps (the derivative of
+//    the discrete map), and the periodicity of the start angle adds ∂F/∂φ_s (1 − ∂P/∂φ_s)⁻¹ ∂P/∂c.
+//    Lift-off: as N → 0 the ODE is singular (φ' ∝ 1/N; φ tends to the direction of u_t' like (θ_l −
+//    θ)^α, α = kt|u_t'|/(μ|N'|), and ∂φ/∂c grows like (θ_l − θ)^(α−1), unbounded for α < 1); the
+//    force's sensitivity μN e⊥ ∂φ stays bounded and integrable and vanishes at θ_l, where the force
+//    itself is 0 (no boundary term). The steps shrink geometrically towards θ_l, with the error
+//    weighted by N/N_scale; after lift-off the state is history-free, so nothing propagates past
+//    it. Fallback to the sampled method, with CycleStatistics::aft_fallback set so callers can say
+//    so: any other element; a cycle that cannot be closed (Newton on the slip angle, or a step that
+//    cannot be solved). A 3D cycle stuck throughout after slipping in its transient is one of a
+//    family of stuck cycles: the law's history from the virgin state at θ = 0 picks it (as in the
+//    sampled march), marched again with the sensitivities.
 #pragma once
 
 #include <Eigen/Core>

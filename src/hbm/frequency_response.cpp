@@ -254,7 +254,7 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     require(options.history_pairs[i] >= 0 && options.history_pairs[i] < npairs,
             "FrequencyResponseOptions.history_pairs[" + std::to_string(i) + "]",
             std::to_string(options.history_pairs[i]), "in [0, " + std::to_string(npairs) + ")");
-  if (options.stability) validate(options.hill);
+    if (options.stability) validate(options.hill);
   }
   require(system.size() > 0 || options.method == ContinuationMethod::kSteppedSweep,
           "FrequencyResponseOptions.method", "arc-length",

@@ -67,9 +67,9 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   // J = ∂F/∂U over the perturbation's harmonics.
   Eigen::MatrixXd J;
   if (wider) {
-    const Aft aft(FourierBasis(S, std::max(system.aft().basis().time_samples(),
-                                           S.min_time_samples())),
-                  system.aft().method());
+    const Aft aft(
+        FourierBasis(S, std::max(system.aft().basis().time_samples(), S.min_time_samples())),
+        system.aft().method());
     J = system.force_jacobian(x, &aft);
   } else {
     J = system.force_jacobian(x);

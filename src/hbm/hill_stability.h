@@ -56,8 +56,8 @@
 namespace stickslip {
 
 struct HillOptions {
-  double dynamic_mode_factor = 4.0;    // ≥ 0; 0: every mode dynamic
-  double stability_tolerance = 1e-7;   // > 0: stable when max Re μ ≤ tolerance · Ω
+  double dynamic_mode_factor = 4.0;   // ≥ 0; 0: every mode dynamic
+  double stability_tolerance = 1e-7;  // > 0: stable when max Re μ ≤ tolerance · Ω
 };
 void validate(const HillOptions& options);
 

@@ -405,7 +405,8 @@ TEST(MortarContactCli, EachPointStartsFromItsGeometricGap) {
   const double kA = 1.0 / (1.0 / k1 + 1.0 / (kKnPerArea * A) + 1.0 / k2a);
   const double open_travel = kForce / kB;  // δ0, 3.4 µm
   for (const double gap : {0.3 * open_travel, 1.5 * open_travel}) {
-    const fs::path dir = fresh_dir(fmt::format("mortar_gap_{}", gap < open_travel ? "closed" : "open"));
+    const fs::path dir =
+        fresh_dir(fmt::format("mortar_gap_{}", gap < open_travel ? "closed" : "open"));
     std::ofstream(dir / "bars.inp") << two_bars_inp(2, 3, 0.0, gap);
     const fs::path c = write_case(
         dir, "gap",
@@ -532,8 +533,8 @@ void tied_bars_against_calculix(bool quadratic) {
     double tolerance;
   };
   for (const Mesh m : {Mesh{2, 1e-4}, Mesh{3, 1e-2}}) {
-    const fs::path dir = fresh_dir(std::string("mortar_tie_") + (quadratic ? "c3d20_" : "") +
-                                   std::to_string(m.ns2));
+    const fs::path dir =
+        fresh_dir(std::string("mortar_tie_") + (quadratic ? "c3d20_" : "") + std::to_string(m.ns2));
     const std::string inp = quadratic ? two_quadratic_bars_inp(2, m.ns2) : two_bars_inp(2, m.ns2);
     std::ofstream(dir / "bars.inp") << inp;
     std::ostringstream job;

@@ -21,8 +21,8 @@
 #include <sstream>
 #include <string>
 
-#include <Eigen/Core>
 #include <fmt/core.h>
+#include <Eigen/Core>
 
 namespace {
 
@@ -212,8 +212,11 @@ TEST(MortarNormalsCli, AFrictionlessVeeCarriesThePressAlongEachFlanksNormal) {
   for (const auto& [pair, f] : forces) {
     const double x = ridge_x(nodes.at(pair));
     // The point's normal: its flank's, or on the ridge line the mean of the two (vertical).
-    const Eigen::Vector3d n =
-        Eigen::Vector3d(x < -1e-12 ? -t : x > 1e-12 ? t : 0.0, 0, -1).normalized();
+    const Eigen::Vector3d n = Eigen::Vector3d(x < -1e-12  ? -t
+                                              : x > 1e-12 ? t
+                                                          : 0.0,
+                                              0, -1)
+                                  .normalized();
     const Eigen::Vector3d g(f.global.at("x"), f.global.at("y"), f.global.at("z"));
     EXPECT_LT((g - g.dot(n) * n).norm(), 1e-12 * kPress) << pair << " x " << x;
     EXPECT_NEAR(g.dot(n), f.local.at("n"), 1e-12 * kPress) << pair;

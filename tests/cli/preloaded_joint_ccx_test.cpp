@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
+#include <fmt/core.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <fmt/core.h>
 
 #include "../required_tool.h"
 
@@ -34,7 +34,7 @@ namespace {
 using namespace stickslip::cli_test;
 
 constexpr double kKnPerArea = 2.25236e14, kKtPerArea = 1.7868e14, kMu = 0.5;  // N/m³
-constexpr double kPress = 4500.0;                                               // N
+constexpr double kPress = 4500.0;                                             // N
 // The joint is pressed symmetrically: the tangential forces are round-off (ours 1e-8 N) or
 // ccx's iteration residual (0.11 N); a bound far below the normal forces (≥ 250 N).
 constexpr double kTangential = 1e-4;
@@ -169,14 +169,16 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
   job.precision(17);
   job << beam1.text << beam2.text
       << "*MATERIAL, NAME=STEEL\n*ELASTIC\n2e11, 0.3\n*DENSITY\n7800\n"
-         "*SOLID SECTION, ELSET=BEAM1, MATERIAL=STEEL\n*SOLID SECTION, ELSET=BEAM2, MATERIAL=STEEL\n"
+         "*SOLID SECTION, ELSET=BEAM1, MATERIAL=STEEL\n*SOLID SECTION, ELSET=BEAM2, "
+         "MATERIAL=STEEL\n"
          "*SURFACE, NAME=SLAVE\n";
   for (const auto& [e, f] : slave.faces) job << e << ", S" << f << "\n";
   job << "*SURFACE, NAME=MASTER\n";
   for (const auto& [e, f] : master.faces) job << e << ", S" << f << "\n";
   job << "*CONTACT PAIR, INTERACTION=JOINT, TYPE=NODE TO SURFACE\nSLAVE, MASTER\n"
       << "*SURFACE INTERACTION, NAME=JOINT\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n"
-      << kKnPerArea << ", 0.1\n*FRICTION\n" << kMu << ", " << kKtPerArea << "\n"
+      << kKnPerArea << ", 0.1\n*FRICTION\n"
+      << kMu << ", " << kKtPerArea << "\n"
       << "*STEP\n*STATIC\n*BOUNDARY\nCLAMP1, 1, 3\nCLAMP2, 1, 3\n*CLOAD\nFORCE1, 1, " << kPress
       << "\nFORCE2, 1, " << -kPress
       << "\n*NODE PRINT, NSET=CLAMP1, TOTALS=ONLY\nRF\n*CONTACT PRINT\nCSTR\n*END STEP\n";
@@ -189,7 +191,8 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
   const double ccx_total = kPress + reaction[0][0];  // beam 1: F + R − N = 0
   std::map<int, double> ccx_normal;                  // slave node -> N
   for (const auto& row : dat_block(dat, "contact stress (slave node,press,tang1,tang2)")) {
-    ccx_normal[static_cast<int>(row[0])] = row[1] > 0 ? row[1] * slave.area.at(static_cast<int>(row[0])) : 0.0;
+    ccx_normal[static_cast<int>(row[0])] =
+        row[1] > 0 ? row[1] * slave.area.at(static_cast<int>(row[0])) : 0.0;
     EXPECT_LT(std::hypot(row[2], row[3]) * slave.area.at(static_cast<int>(row[0])),
               kTangential * kPress)
         << row[0];

@@ -93,7 +93,8 @@ TEST(StabilityCli, DuffingMiddleBranchIsUnstableAndTheOuterBranchesStable) {
   const auto rows = read_csv(dir / "plain" / "points.csv");
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0].count("stable"), 0u);
-  EXPECT_TRUE(nlohmann::json::parse(slurp(dir / "plain" / "summary.json")).at("stability").is_null());
+  EXPECT_TRUE(
+      nlohmann::json::parse(slurp(dir / "plain" / "summary.json")).at("stability").is_null());
   fs::remove_all(dir);
 }
 

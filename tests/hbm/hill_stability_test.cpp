@@ -62,8 +62,7 @@ TEST(HillStability, LinearSystemHasItsDampedEigenvaluesAsExponents) {
     A.bottomRightCorner(2, 2) = -C;
     const Eigen::VectorXcd s = Eigen::EigenSolver<MatrixXd>(A, false).eigenvalues();
 
-    const FloquetSummary f =
-        hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
+    const FloquetSummary f = hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
     ASSERT_EQ(f.exponents.size(), 4);
     EXPECT_EQ(f.dynamic_modes, 2);
     EXPECT_TRUE(f.stable);
@@ -261,8 +260,7 @@ TEST(HillStability, QuasiStaticHighModesChangeTheExponentsLittle) {
   newton.tolerance = 1e-12;
   VectorXd x = sys.linear_guess(w, false);
   ASSERT_TRUE(solve_newton(sys, w, x, newton).converged());
-  const FloquetSummary all =
-      hill_stability(sys, x, w, {.dynamic_mode_factor = 0});
+  const FloquetSummary all = hill_stability(sys, x, w, {.dynamic_mode_factor = 0});
   const FloquetSummary split = hill_stability(sys, x, w);
   EXPECT_EQ(all.dynamic_modes, 2);
   EXPECT_EQ(split.dynamic_modes, 1);
@@ -271,7 +269,8 @@ TEST(HillStability, QuasiStaticHighModesChangeTheExponentsLittle) {
   // The two exponents of the low mode: the full computation has them among its four.
   for (int i = 0; i < 2; ++i) {
     double nearest = 1e300;
-    for (int j = 0; j < 4; ++j) nearest = std::min(nearest, std::abs(split.exponents[i] - all.exponents[j]));
+    for (int j = 0; j < 4; ++j)
+      nearest = std::min(nearest, std::abs(split.exponents[i] - all.exponents[j]));
     EXPECT_LE(nearest, 0.01 * std::abs(split.exponents[i]) + 1e-3) << split.exponents[i];
   }
 }
