@@ -42,13 +42,42 @@ inline std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+// The folders fresh_dir made in this process. They are removed when the process ends if every
+// test in it passed, and kept (for a look at what the program wrote) if one failed or if
+// STICKSLIP_KEEP_TEST_DIRS is set. Left behind, they filled the disk: a whole suite made ~180 MB.
+// The registry is constructed after GoogleTest's UnitTest (first used by test registration,
+// before main), so it is destroyed before it and can still ask whether the tests passed.
+struct TestDirsOfThisProcess {
+  std::vector<fs::path> dirs;
+  TestDirsOfThisProcess() = default;
+  TestDirsOfThisProcess(const TestDirsOfThisProcess&) = delete;
+  TestDirsOfThisProcess& operator=(const TestDirsOfThisProcess&) = delete;
+  ~TestDirsOfThisProcess() {
+    if (std::getenv("STICKSLIP_KEEP_TEST_DIRS") != nullptr ||
+        !::testing::UnitTest::GetInstance()->Passed()) {
+      return;
+    }
+    for (const fs::path& dir : dirs) {
+      std::error_code ignored;
+      fs::remove_all(dir, ignored);
+    }
+  }
+};
+
+inline TestDirsOfThisProcess& test_dirs_of_this_process() {
+  static TestDirsOfThisProcess registry;
+  return registry;
+}
+
 // An empty folder under the system's temporary directory, private to this process (two test
-// runs at once, e.g. two build folders, must not share it).
+// runs at once, e.g. two build folders, must not share it); removed at exit if the tests passed.
 inline fs::path fresh_dir(const std::string& name) {
   const fs::path dir =
       fs::temp_directory_path() / ("stickslip_cli_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
+  std::vector<fs::path>& dirs = test_dirs_of_this_process().dirs;
+  if (std::find(dirs.begin(), dirs.end(), dir) == dirs.end()) dirs.push_back(dir);
   return dir;
 }
 
