@@ -83,7 +83,8 @@ const Choices<PreloadSplit>& choices_of(PreloadSplit) {
 const Choices<ContactCoupling>& choices_of(ContactCoupling) {
   static const Choices<ContactCoupling> c{{"auto", ContactCoupling::kAuto},
                                           {"nodes", ContactCoupling::kNodes},
-                                          {"mortar", ContactCoupling::kMortar}};
+                                          {"mortar", ContactCoupling::kMortar},
+                                          {"node_to_surface", ContactCoupling::kNodeToSurface}};
   return c;
 }
 const Choices<UnpairedChoice>& choices_of(UnpairedChoice) {
@@ -1040,10 +1041,14 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
       if (d.body_b.empty()) d.body_b = "ground";
       m.choice("coupling", &d.coupling);
-      if (d.coupling == ContactCoupling::kMortar) {
+      // mortar and node_to_surface couple two surfaces (their points' partners from geometry).
+      const bool surfaces = d.coupling == ContactCoupling::kMortar ||
+                            d.coupling == ContactCoupling::kNodeToSurface;
+      if (surfaces) {
+        const std::string name(case_name(d.coupling));
         p.check(d.body_b != "ground", m.full("coupling"), m.line("coupling"),
-                "mortar couples two surfaces: 'between' needs two bodies");
-        m.forbid("tolerance", "with coupling: mortar (use 'search_distance')");
+                name + " couples two surfaces: 'between' needs two bodies");
+        m.forbid("tolerance", "with coupling: " + name + " (use 'search_distance')");
       }
       // One body (to the ground): each node is a pair, nothing is mortar's.
       const bool nodes_only = d.coupling == ContactCoupling::kNodes || d.body_b == "ground";
@@ -1061,7 +1066,7 @@ void parse_contacts(Parser& p, const MapView& top) {
                 "must be >= 0 (0: automatic), got " + format_number(d.search_distance));
         m.choice("unpaired", &d.unpaired);
       }
-      if (d.coupling != ContactCoupling::kMortar) {
+      if (!surfaces) {
         m.number("tolerance", &d.tolerance);
         p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
                 "must be > 0, got " + format_number(d.tolerance));
@@ -2181,11 +2186,12 @@ std::string describe_case(const CaseDefinition& c) {
       // The default (auto) and its defaults are not written: earlier fingerprints stay.
       if (d.coupling != ContactCoupling::kAuto)
         e << YAML::Key << "coupling" << YAML::Value << case_name(d.coupling);
-      if (d.coupling != ContactCoupling::kMortar)
-        e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
-      if (d.coupling == ContactCoupling::kMortar || d.search_distance != 0.0)
+      const bool surfaces = d.coupling == ContactCoupling::kMortar ||
+                            d.coupling == ContactCoupling::kNodeToSurface;
+      if (!surfaces) e << YAML::Key << "tolerance" << YAML::Value << num(d.tolerance);
+      if (surfaces || d.search_distance != 0.0)
         e << YAML::Key << "search_distance" << YAML::Value << num(d.search_distance);
-      if (d.coupling == ContactCoupling::kMortar || d.unpaired != UnpairedChoice::kError)
+      if (surfaces || d.unpaired != UnpairedChoice::kError)
         e << YAML::Key << "unpaired" << YAML::Value << case_name(d.unpaired);
     } else {
       e << YAML::Key << "bodies" << YAML::Value;

@@ -78,17 +78,17 @@ inline constexpr std::uintmax_t kMaxCaseFileBytes = std::uintmax_t{16} << 20;
 // on the value.
 enum class MeshFileFormat { kInp, kMsh, kCdb };                                 // meshes.M.format
 enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  // reduced.format
-enum class PreloadSplit { kEqual, kArea };                  // contacts.C.total.split
-enum class ContactCoupling { kAuto, kNodes, kMortar };      // contacts.C.coupling
-enum class UnpairedChoice { kError, kSkip };                // contacts.C.unpaired
-enum class SweepMethod { kStepped, kContinuation };         // analysis.method
-enum class AftChoice { kEvent, kSampled, kEventPlanar };    // analysis.aft
-enum class StaticChoice { kUncoupled, kCoupled };           // analysis.static
-enum class InitialGuessChoice { kStuck, kFree };            // analysis.initial_guess
-enum class PredictorChoice { kSecant, kPrevious };          // analysis.predictor
-enum class RecoveryPoints { kPeak, kAll, kNone, kList };    // recovery.points
-enum class RecoveryMethod { kDirect, kModal, kExpansion };  // recovery.method
-enum class RecoveryField { kDisplacement, kStress };        // recovery.fields
+enum class PreloadSplit { kEqual, kArea };                              // contacts.C.total.split
+enum class ContactCoupling { kAuto, kNodes, kMortar, kNodeToSurface };  // contacts.C.coupling
+enum class UnpairedChoice { kError, kSkip };                            // contacts.C.unpaired
+enum class SweepMethod { kStepped, kContinuation };                     // analysis.method
+enum class AftChoice { kEvent, kSampled, kEventPlanar };                // analysis.aft
+enum class StaticChoice { kUncoupled, kCoupled };                       // analysis.static
+enum class InitialGuessChoice { kStuck, kFree };                        // analysis.initial_guess
+enum class PredictorChoice { kSecant, kPrevious };                      // analysis.predictor
+enum class RecoveryPoints { kPeak, kAll, kNone, kList };                // recovery.points
+enum class RecoveryMethod { kDirect, kModal, kExpansion };              // recovery.method
+enum class RecoveryField { kDisplacement, kStress };                    // recovery.fields
 const char* case_name(MeshFileFormat v);
 const char* case_name(ReducedFileFormat v);
 const char* case_name(PreloadSplit v);

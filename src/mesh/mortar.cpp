@@ -408,4 +408,94 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
   return out;
 }
 
+MortarCoupling node_to_surface_coupling(const Mesh& mesh_a, std::span<const ElementFace> faces_a,
+                                        const Mesh& mesh_b, std::span<const ElementFace> faces_b,
+                                        const MortarOptions& options) {
+  // The points' areas and normals (and the checks of both surfaces) are mortar's.
+  MortarCoupling out = mortar_coupling(mesh_a, faces_a, mesh_b, faces_b, options);
+  out.partial.clear();
+  std::vector<Face> B;
+  for (size_t i = 0; i < faces_b.size(); ++i)
+    B.push_back(make_face(mesh_b, faces_b[i], "B", static_cast<int>(i)));
+  const double search = out.search_distance;
+  const FaceGrid grid(B, search);
+  // A projection inside a face within this much of its natural extent (round-off on its edges).
+  constexpr double kInside = 1e-9;
+  // Weights below this are round-off of a node that lies on B's edge or node: dropped.
+  constexpr double kNegligibleWeight = 1e-12;
+  Eigen::VectorXd N;
+  Eigen::Matrix2Xd dN;
+  for (MortarPoint& p : out.points) {
+    const Eigen::Vector3d x = mesh_a.coordinates.col(p.node_a);
+    const Eigen::Vector3d& n = p.normal;
+    Eigen::AlignedBox3d box(x);
+    box.extend(Eigen::Vector3d(x.array() - search));
+    box.extend(Eigen::Vector3d(x.array() + search));
+    int best = -1;
+    double best_gap = 0;
+    Vec2 best_xi(0, 0);
+    for (int fb : grid.near(box)) {
+      const Face& b = B[static_cast<size_t>(fb)];
+      if (!(n.dot(b.normal) < 0)) continue;  // not facing A
+      if (!b.box.intersects(box)) continue;
+      // x + g n = X_B N(ξ): Newton in (ξ, η, g) from the face's centre.
+      Vec2 xi = b.corners == 3 ? Vec2(1.0 / 3, 1.0 / 3) : Vec2(0, 0);
+      double g = n.dot(b.centroid - x);
+      const double size = b.box.sizes().maxCoeff();
+      bool solved = false;
+      for (int it = 0; it < 50; ++it) {
+        face_shape(b.n, xi.x(), xi.y(), N, dN);
+        const Eigen::Vector3d r = b.X * N - x - g * n;
+        if (r.norm() <= kInverseMapTolerance * 10 * size) {
+          solved = true;
+          break;
+        }
+        Eigen::Matrix3d J;
+        J.leftCols<2>() = b.X * dN.transpose();
+        J.col(2) = -n;
+        const Eigen::FullPivLU<Eigen::Matrix3d> lu(J);
+        if (!lu.isInvertible()) break;
+        const Eigen::Vector3d step = lu.solve(r);
+        xi -= step.head<2>();
+        g -= step(2);
+        if (!xi.allFinite() || xi.cwiseAbs().maxCoeff() > 1e3) break;
+      }
+      if (!solved || !(std::abs(g) <= search)) continue;
+      const bool inside = b.corners == 3 ? xi.x() >= -kInside && xi.y() >= -kInside &&
+                                               xi.x() + xi.y() <= 1 + kInside
+                                         : xi.cwiseAbs().maxCoeff() <= 1 + kInside;
+      if (!inside) continue;
+      if (best < 0 || std::abs(g) < std::abs(best_gap) - kInside * size) {
+        best = fb;
+        best_gap = g;
+        best_xi = xi;
+      }
+    }
+    p.nodes_a.clear();  // the point is the node itself
+    p.weights_a.clear();
+    p.nodes_b.clear();
+    p.weights_b.clear();
+    p.faces_b.clear();
+    if (best < 0) {
+      p.coverage = 0;
+      p.gap = std::numeric_limits<double>::quiet_NaN();
+      out.partial.push_back(p.node_a);
+      continue;
+    }
+    const Face& b = B[static_cast<size_t>(best)];
+    face_shape(b.n, best_xi.x(), best_xi.y(), N, dN);
+    std::map<int, double> weights;
+    for (int k = 0; k < b.n; ++k)
+      if (std::abs(N(k)) >= kNegligibleWeight) weights[faces_b[static_cast<size_t>(best)].nodes[k]] += N(k);
+    for (const auto& [node, w] : weights) {
+      p.nodes_b.push_back(node);
+      p.weights_b.push_back(w);
+    }
+    p.coverage = 1;
+    p.gap = best_gap;
+    p.faces_b.push_back(best);
+  }
+  return out;
+}
+
 }  // namespace stickslip

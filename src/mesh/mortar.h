@@ -94,4 +94,20 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
                                const Mesh& mesh_b, std::span<const ElementFace> faces_b,
                                const MortarOptions& options = {});
 
+// Node-to-surface coupling of the same surfaces (`coupling: node_to_surface`, issue 23 item 1):
+// one point per node of A's faces, the node itself (a = 1), projected along its normal (the
+// point's normal of mortar_coupling) onto the nearest facing B face: x_A + g n = Σ_k N_k^B(ξ) x_Bk
+// with ξ, g found by Newton on the face's isoparametric map (curved quadratic faces included), so
+// Φ_ik = N_k^B(ξ) (Σ_k Φ_ik = 1; quadratic faces may give negative corner weights) and the gap is
+// g (> 0 open). Of the faces whose projection holds ξ (within 1e-9 of the edges), the one with the
+// smallest |g| within search_distance; a node on an edge shared by two faces gets the same weights
+// from either. The point's area and normal are mortar_coupling's (D_i = ∫ Ñ_i dA over A's faces), so
+// stiffness per unit area gives the same totals as mortar. coverage is 1 for a projected node, 0
+// for one that projects onto no face (listed in `partial`); faces_b holds the one face.
+// This is CalculiX's NODE TO SURFACE contact and *TIE (slave nodes on the master's interpolated
+// surface); it does not pass the patch test between non-matching meshes (mortar does).
+MortarCoupling node_to_surface_coupling(const Mesh& mesh_a, std::span<const ElementFace> faces_a,
+                                        const Mesh& mesh_b, std::span<const ElementFace> faces_b,
+                                        const MortarOptions& options = {});
+
 }  // namespace stickslip

@@ -308,9 +308,11 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
                     const std::vector<int>& nodes_b, CaseContact& rc) {
   const std::string key = "contacts." + cd.name + ".between";
   // What the messages start with: the coupling asked for, or chosen (auto).
+  const bool node_to_surface = cd.coupling == ContactCoupling::kNodeToSurface;
   const std::string lead = cd.coupling == ContactCoupling::kAuto
                                ? "the surfaces do not match node for node, so coupling: mortar: "
-                               : "coupling: mortar: ";
+                           : node_to_surface ? "coupling: node_to_surface: "
+                                             : "coupling: mortar: ";
   std::vector<ElementFace> faces[2];
   for (int side = 0; side < 2; ++side) {
     const CaseBody& body = side == 0 ? A : B;
@@ -345,7 +347,9 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
   options.search_distance = cd.search_distance;
   MortarCoupling coupling;
   try {
-    coupling = mortar_coupling(A.mesh, faces[0], B.mesh, faces[1], options);
+    coupling = node_to_surface
+                   ? node_to_surface_coupling(A.mesh, faces[0], B.mesh, faces[1], options)
+                   : mortar_coupling(A.mesh, faces[0], B.mesh, faces[1], options);
   } catch (const InvalidInput& e) {
     throw InvalidInput(def.where(key), e.message());
   }
@@ -359,10 +363,16 @@ void resolve_mortar(const CaseDefinition& def, const ContactDefinition& cd, cons
   if (!none.empty() || !partial.empty()) {
     std::string what;
     if (!none.empty())
-      what += fmt::format("node(s) {} of body {} have no part of their area over body {}'s "
-                          "surface (outside it, or farther than the search distance {} m)",
-                          listed_ids(A, none), A.name, B.name,
-                          format_number(coupling.search_distance));
+      what += node_to_surface
+                  ? fmt::format("node(s) {} of body {} project onto no face of body {}'s "
+                                "surface along their normal (outside it, or farther than the "
+                                "search distance {} m)",
+                                listed_ids(A, none), A.name, B.name,
+                                format_number(coupling.search_distance))
+                  : fmt::format("node(s) {} of body {} have no part of their area over body {}'s "
+                                "surface (outside it, or farther than the search distance {} m)",
+                                listed_ids(A, none), A.name, B.name,
+                                format_number(coupling.search_distance));
     if (!partial.empty())
       what += fmt::format("{}node(s) {} of body {} lie only partly over body {}'s surface",
                           what.empty() ? "" : "; ", listed_ids(A, partial), A.name, B.name);
@@ -455,7 +465,8 @@ CaseContact resolve_contact(const CaseDefinition& def, int c, const std::vector<
   // either has one partner in the other); anything else is a non-matching interface, for which
   // node pairs would leave B's other nodes untied and node-to-surface fails the patch test
   // (docs/case-file.md, "Non-matching surfaces").
-  bool mortar = cd.coupling == ContactCoupling::kMortar;
+  bool mortar =
+      cd.coupling == ContactCoupling::kMortar || cd.coupling == ContactCoupling::kNodeToSurface;
   if (cd.coupling == ContactCoupling::kAuto) {
     try {
       rc.node_pairs = match_coincident_nodes(A.mesh, nodes_a, B.mesh, nodes_b, cd.tolerance);
