@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -190,6 +191,10 @@ bool plot_spec(const fs::path& dir, const PlotSpec& p, PlotLog* log) {
     for (const PlotSeries& s : p.series) {
       fmt::print(out, "# {}\n", one_line(s.label));
       for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+        if (std::isnan(s.x[i])) {  // a break: gnuplot ends the line at a blank line
+          out << "\n";
+          continue;
+        }
         fmt::print(out, "{:.10g} {:.10g}\n", s.x[i], s.y[i]);
       }
       out << "\n\n";
@@ -317,6 +322,95 @@ std::vector<PlotSeries> frf_phase_series(const SolveResults& results) {
   return out;
 }
 
+// The bifurcation markers of the FRF plot: one series per bifurcation type (black symbols), at the
+// bifurcation's frequency and, for each FRF curve, its amplitude there.
+std::vector<PlotSeries> bifurcation_markers(const SolveResults& results, size_t curves) {
+  struct Kind {
+    const char* type;
+    const char* label;
+    const char* style;
+  };
+  static constexpr Kind kKinds[] = {
+      {"fold", "fold", "points pt 7 ps 1.6 lc rgb 'black'"},
+      {"branch_point", "branch point", "points pt 13 ps 1.8 lc rgb 'black'"},
+      {"period_doubling", "period doubling", "points pt 9 ps 1.8 lc rgb 'black'"},
+      {"neimark_sacker", "Neimark-Sacker", "points pt 5 ps 1.6 lc rgb 'black'"}};
+  std::vector<PlotSeries> out;
+  for (const Kind& k : kKinds) {
+    PlotSeries s{k.label, {}, {}, k.style};
+    for (const SolvedBifurcation& b : results.bifurcations) {
+      if (b.type != k.type) continue;
+      for (size_t d = 0; d < curves && d < b.amplitude_m.size(); ++d) {
+        if (std::isnan(b.amplitude_m[d])) continue;
+        s.x.push_back(b.frequency_hz);
+        s.y.push_back(b.amplitude_m[d]);
+      }
+    }
+    if (!s.x.empty()) out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// The FRF curves split by stability (analysis.stability): per curve a solid series over the
+// stable points and a dashed one over the unstable points, in one colour. Where stability
+// changes between two consecutive points the curve is split at the bifurcation located between
+// them (summary.json) or else at the segment's midpoint, which ends one series and starts the
+// other; a NaN in x is a break (plot_spec). Curves without stability are returned as they are.
+// at_bifurcations false: always at the midpoint (the phase plot: summary.json has no phase).
+std::vector<PlotSeries> frf_by_stability(const SolveResults& results,
+                                         const std::vector<PlotSeries>& frf,
+                                         bool at_bifurcations = true) {
+  std::vector<int> index;  // the converged points, as frf_channels takes them
+  bool any = false;
+  for (size_t i = 0; i < results.response.points.size(); ++i) {
+    const FrequencyPoint& p = results.response.points[i];
+    if (!p.converged) continue;
+    index.push_back(static_cast<int>(i));
+    any = any || p.stability_computed;
+  }
+  if (!any) return frf;
+  const auto stable = [&](size_t j) {
+    const FrequencyPoint& p = results.response.points[index[j]];
+    return !p.stability_computed || p.floquet.stable;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<PlotSeries> out;
+  for (size_t d = 0; d < frf.size(); ++d) {
+    const PlotSeries& c = frf[d];
+    if (c.x.size() != index.size()) {  // not per converged point: drawn as it is
+      out.push_back(c);
+      continue;
+    }
+    PlotSeries solid{c.label, {}, {}, fmt::format("lines lw 2 lc {}", d + 1)};
+    PlotSeries dashed{c.label + ", unstable (dashed: Floquet multiplier > 1)", {}, {},
+                      fmt::format("lines lw 2 dt 2 lc {}", d + 1)};
+    for (size_t j = 0; j < c.x.size(); ++j) {
+      PlotSeries& here = stable(j) ? solid : dashed;
+      here.x.push_back(c.x[j]);
+      here.y.push_back(c.y[j]);
+      if (j + 1 == c.x.size() || stable(j) == stable(j + 1)) continue;
+      double fx = 0.5 * (c.x[j] + c.x[j + 1]), fy = 0.5 * (c.y[j] + c.y[j + 1]);
+      for (const SolvedBifurcation& b : results.bifurcations) {
+        if (at_bifurcations && b.point == index[j] && index[j + 1] == index[j] + 1 && d < b.amplitude_m.size() &&
+            !std::isnan(b.amplitude_m[d])) {
+          fx = b.frequency_hz, fy = b.amplitude_m[d];
+          break;
+        }
+      }
+      PlotSeries& next = stable(j + 1) ? solid : dashed;
+      here.x.push_back(fx), here.y.push_back(fy);
+      here.x.push_back(nan), here.y.push_back(nan);
+      next.x.push_back(fx), next.y.push_back(fy);
+    }
+    for (PlotSeries* p : {&solid, &dashed}) {
+      // No trailing break (a blank line before the block's end would read as an empty block).
+      while (!p->x.empty() && std::isnan(p->x.back())) p->x.pop_back(), p->y.pop_back();
+      if (!p->x.empty()) out.push_back(std::move(*p));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix) {
@@ -328,10 +422,12 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
                         const PlotOptions& options) {
   const std::string title = results.title.empty() ? "stickslip" : results.title;
   if (!frf.empty()) {
-    plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", frf, log,
+    std::vector<PlotSeries> curves = frf_by_stability(results, frf);
+    for (PlotSeries& m : bifurcation_markers(results, frf.size())) curves.push_back(std::move(m));
+    plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", curves, log,
                 options.log_amplitude);
     plot_curves(dir, "frf_phase", title, "frequency (Hz)", "phase of harmonic 1 (deg)",
-                frf_phase_series(results), log);
+                frf_by_stability(results, frf_phase_series(results), false), log);
   }
   // Contact state along the sweep: mean fractions over all pairs.
   PlotSeries stick{"stick", {}, {}}, slip{"slip", {}, {}}, separation{"separation", {}, {}};

@@ -23,6 +23,7 @@
 
 namespace stickslip {
 
+// x[i] = NaN is a break: the data file gets a blank line there and gnuplot ends the line.
 struct PlotSeries {
   std::string label;
   std::vector<double> x;
@@ -68,7 +69,10 @@ bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
 // labelled "<prefix><body> node <id> <axis>".
 std::vector<PlotSeries> frf_series(const SolveResults& results, const std::string& prefix);
 
-// The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json) and
+// The plots of one solve folder, from its files: frf (the FRF DOFs of summary.json; with
+// analysis.stability the unstable points' parts of each curve dashed, in the curve's colour, and
+// the bifurcations of summary.json marked by black symbols, one legend entry per type; frf_phase
+// likewise dashed, split at midpoints) and
 // frf_phase (their phase, unwrapped along the sweep),
 // contact_state (mean stick / slip / separation fractions over the pairs along the sweep),
 // dissipation (energy dissipated per cycle per contact, and in all, along the sweep) and

@@ -196,6 +196,31 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       }
       out.log_amplitude = plots.value("log_amplitude", false);
     }
+    // [{"type": ..., "point": i, "frequency_hz": f, "amplitude_m": [a or null, ...], ...}];
+    // absent in files of earlier versions.
+    if (summary.contains("bifurcations") && !summary["bifurcations"].is_null()) {
+      const auto& list = summary["bifurcations"];
+      if (!list.is_array()) fail("bifurcations", "expected a list");
+      for (const auto& v : list) {
+        if (!(v.is_object() && v.contains("type") && v["type"].is_string() && v.contains("point") &&
+              v["point"].is_number_integer() && v.contains("frequency_hz") &&
+              v["frequency_hz"].is_number() && v.contains("amplitude_m") &&
+              v["amplitude_m"].is_array())) {
+          fail("bifurcations",
+               "'" + v.dump() + "' has no type, point, frequency_hz and amplitude_m list");
+        }
+        SolvedBifurcation b;
+        b.type = v["type"].get<std::string>();
+        b.point = v["point"].get<int>();
+        b.frequency_hz = v["frequency_hz"].get<double>();
+        for (const auto& a : v["amplitude_m"]) {
+          if (!a.is_null() && !a.is_number()) fail("bifurcations", "amplitude_m: not a number");
+          b.amplitude_m.push_back(a.is_null() ? std::numeric_limits<double>::quiet_NaN()
+                                              : a.get<double>());
+        }
+        out.bifurcations.push_back(std::move(b));
+      }
+    }
     if (summary.contains("frf")) {
       const auto& frf = summary["frf"];
       if (!frf.is_array()) fail("frf", "expected a list of DOFs");
@@ -235,6 +260,9 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
     const int c_point = csv.column("point"), c_f = csv.column("frequency_hz"),
               c_conv = csv.column("converged"), c_it = csv.column("iterations"),
               c_res = csv.column("residual_m", "residual");
+    // analysis.stability: stable (0/1) and floquet_multiplier, empty where not computed.
+    const int c_stable = csv.has("stable") ? csv.column("stable") : -1;
+    const int c_multiplier = csv.has("floquet_multiplier") ? csv.column("floquet_multiplier") : -1;
     while (csv.next()) {
       const int i = csv.integer(c_point);
       if (i != static_cast<int>(fr.points.size())) {
@@ -248,6 +276,15 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
       p.converged = converged == 1;
       p.iterations = csv.integer(c_it);
       p.residual_norm = csv.number(c_res);
+      if (c_stable >= 0 && !csv.text(c_stable).empty()) {
+        const int stable = csv.integer(c_stable);
+        if (stable != 0 && stable != 1) csv.fail("stable must be 0, 1 or empty");
+        p.stability_computed = true;
+        p.floquet.stable = stable == 1;
+        if (c_multiplier >= 0 && !csv.text(c_multiplier).empty()) {
+          p.floquet.max_multiplier = csv.number(c_multiplier);
+        }
+      }
       fr.points.push_back(std::move(p));
     }
     if (fr.points.empty()) csv.fail("no frequency points");

@@ -46,6 +46,14 @@ struct SolvedPairId {
 // A master DOF of master_response.csv: (body, external node id, direction 0..2).
 using MasterDofKey = std::tuple<std::string, int, int>;
 
+// A bifurcation of summary.json's `bifurcations` (hbm/frequency_response.h).
+struct SolvedBifurcation {
+  std::string type;  // fold, branch_point, period_doubling, neimark_sacker
+  int point = 0;     // between points `point` and `point + 1`
+  double frequency_hz = 0.0;
+  std::vector<double> amplitude_m;  // per output.frf DOF (summary.json frf order); NaN: none
+};
+
 struct SolveResults {
   std::string title;
   std::string fingerprint;                 // of the solve's inputs (summary.json)
@@ -54,7 +62,10 @@ struct SolveResults {
   std::string study_parameter;
   double study_value = 0.0;
   bool log_amplitude = false;  // the case's output.log_amplitude (summary.json "plots")
-  // points: omega, converged, iterations, residual_norm, per pair force_local (local_rows x nh),
+  std::vector<SolvedBifurcation> bifurcations;  // summary.json; empty in older files
+  // points: omega, converged, iterations, residual_norm, stability_computed, floquet.stable and
+  // floquet.max_multiplier (points.csv stable, floquet_multiplier when present and not empty),
+  // per pair force_local (local_rows x nh),
   // force_global (3 x nh), cycle statistics and (histories.csv) the sampled cycle. `master` and
   // `unknowns` stay empty (the files hold only the physical master DOFs: see `master` below).
   FrequencyResponse response;

@@ -94,6 +94,37 @@ Json static_check_json(const CaseDefinition& def, const PreparedModel& model,
   return out;
 }
 
+// summary.json's bifurcations (docs/output-files.md): per bifurcation of the continuation its type,
+// the point before it, where it lies (frequency, and the amplitude of harmonic 1 of every
+// output.frf DOF, as the FRF plot shows it; null for a DOF that is not a master DOF), whether the
+// bisection located it and the critical Floquet multiplier (null without stability).
+Json bifurcations_json(const CaseDefinition& def, const PreparedModel& model,
+                       const FrequencyResponse& fr) {
+  Json list = Json::array();
+  for (const Bifurcation& b : fr.bifurcations) {
+    const FrequencyPoint& p = b.point;
+    Json amplitudes = Json::array();
+    for (const ResponseDofDefinition& r : def.output.frf) {
+      const int body = model.body_index(r.body);
+      const int g = body < 0 ? -1 : model.bodies[body].global_dof(r.node, r.direction);
+      const int h = p.master.cols() > 1 ? 1 : 0;  // harmonic 1 (column 0 is the mean)
+      amplitudes.push_back(g >= 0 && g < p.master.rows() ? Json(std::abs(p.master(g, h)))
+                                                         : Json(nullptr));
+    }
+    const bool multiplier = std::isfinite(b.multiplier.real());
+    list.push_back({{"type", to_string(b.type)},
+                    {"point", b.after_point},
+                    {"frequency_hz", rad_s_to_hz(p.omega)},
+                    {"amplitude_m", amplitudes},
+                    {"located", b.located},
+                    {"bracket_hz", rad_s_to_hz(b.bracket)},
+                    {"multiplier_real", multiplier ? Json(b.multiplier.real()) : Json(nullptr)},
+                    {"multiplier_imag", multiplier ? Json(b.multiplier.imag()) : Json(nullptr)},
+                    {"message", b.message}});
+  }
+  return list;
+}
+
 // Seconds rounded to the millisecond (timings are not measured more finely than that).
 double milliseconds(double seconds) { return std::round(seconds * 1000) / 1000; }
 
@@ -472,6 +503,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
   } else {
     summary["stability"] = nullptr;
   }
+  summary["bifurcations"] = bifurcations_json(def, model, fr);
   summary["bodies"] = Json::array();
   for (const PreparedBody& body : model.bodies) {
     summary["bodies"].push_back({{"name", body.name},

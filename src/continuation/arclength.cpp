@@ -209,6 +209,8 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
   const double lambda_scale =
       options.lambda_scale > 0 ? options.lambda_scale : std::abs(lambda_end - lambda_start);
 
+  result.x_scale = x_scale;
+  result.lambda_scale = lambda_scale;
   ArcLengthSystem augmented(sys, x_scale, lambda_scale);
   Eigen::VectorXd y(n + 1);
   y << x_first / x_scale, lambda_start / lambda_scale;
@@ -222,6 +224,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     auto t0 = tangent(augmented.dR_dy(y), b, options.newton.min_rcond);
     if (!t0) return stop(false, "dR/dx is singular at the first point: no tangent");
     t = *t0;
+    result.points.front().tangent = t;
   }
 
   // Solution at exactly lambda_target from a guess interpolated between the last point (y) and a
@@ -313,6 +316,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     p.x = x_scale * y_new.head(n);
     const int iterations = summary.iterations;
     p.newton = std::move(summary);
+    p.tangent = *t_new;
     push(std::move(p));
     y = y_new;
     t = *t_new;
@@ -324,6 +328,117 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     }
   }
   return stop(false, "max_points reached at lambda = " + str(y(n) * lambda_scale));
+}
+
+void validate(const ArcBisectionOptions& o) {
+  const std::string p = "ArcBisectionOptions.";
+  require(std::isfinite(o.tolerance) && o.tolerance > 0, p + "tolerance", str(o.tolerance),
+          "must be finite and > 0");
+  require(o.max_bisections >= 0, p + "max_bisections", std::to_string(o.max_bisections),
+          "must be >= 0");
+  require(std::isfinite(o.x_scale) && o.x_scale > 0, p + "x_scale", str(o.x_scale),
+          "must be finite and > 0");
+  require(std::isfinite(o.lambda_scale) && o.lambda_scale > 0, p + "lambda_scale",
+          str(o.lambda_scale), "must be finite and > 0");
+  validate(o.newton, p + "newton.");
+}
+
+ArcBisectionResult bisect_on_arc(const ParametrizedSystem& sys, const ContinuationPoint& a,
+                                 double g_a, const ContinuationPoint& b, double g_b,
+                                 const CurveTestFunction& g, const ArcBisectionOptions& options) {
+  validate(options);
+  const int n = sys.size();
+  if (a.x.size() != n || b.x.size() != n) {
+    throw InvalidInput("bisect_on_arc: the end points must have size " + std::to_string(n));
+  }
+  if (!(g_a * g_b < 0)) {
+    throw InvalidInput("bisect_on_arc: g must change sign between the end points (g_a = " +
+                       str(g_a) + ", g_b = " + str(g_b) + ")");
+  }
+  const double xs = options.x_scale, ls = options.lambda_scale;
+  const auto scaled = [&](const ContinuationPoint& p) {
+    Eigen::VectorXd y(n + 1);
+    y << p.x / xs, p.lambda / ls;
+    return y;
+  };
+  const Eigen::VectorXd ya = scaled(a), yb = scaled(b);
+  const double chord = (yb - ya).norm();
+  ArcBisectionResult result;
+  if (!(chord > 0)) {
+    result.message = "the end points coincide";
+    return result;
+  }
+  const Eigen::VectorXd e = (yb - ya) / chord;
+  ArcLengthSystem augmented(sys, xs, ls);
+  // The curve's point on the plane eᵀ(y − y_a) = s · chord, from the guess y, with its tangent
+  // (oriented along e); false when the corrector or the tangent fails.
+  const auto solve_at = [&](double s, Eigen::VectorXd y, ContinuationPoint& out) {
+    augmented.set_step(ya, e, s * chord);
+    NewtonOptions corrector = options.newton;
+    corrector.trial_jacobian = true;  // the tangent uses the solution's dR/dy
+    out.newton = solve_newton(augmented, 0.0, y, corrector);
+    ++result.solves;
+    if (!out.newton.converged()) return false;
+    auto t = tangent(augmented.dR_dy(y), e, options.newton.min_rcond);
+    if (!t) return false;
+    out.lambda = y(n) * ls;
+    out.x = xs * y.head(n);
+    out.tangent = std::move(*t);
+    return true;
+  };
+  // Bracket [s_lo, s_hi] along the chord, g of opposite signs at its ends.
+  double s_lo = 0, s_hi = 1, g_lo = g_a, g_hi = g_b;
+  Eigen::VectorXd y_lo = ya, y_hi = yb;
+  const auto bracket = [&] { return (y_hi - y_lo).norm() * ls; };
+  int bisections = 0;
+  while (bracket() > options.tolerance && bisections < options.max_bisections) {
+    const double s = 0.5 * (s_lo + s_hi);
+    ContinuationPoint mid;
+    if (!solve_at(s, 0.5 * (y_lo + y_hi), mid)) {
+      result.point = mid;
+      result.bracket = bracket();
+      result.message = "the corrector failed inside the bracket at lambda = " +
+                       str(0.5 * (y_lo(n) + y_hi(n)) * ls) + ": " + mid.newton.message;
+      return result;
+    }
+    ++bisections;
+    const double gm = g(mid);
+    if (!std::isfinite(gm)) {
+      result.point = mid;
+      result.bracket = bracket();
+      result.message = "the test function is not defined at lambda = " + str(mid.lambda);
+      return result;
+    }
+    const Eigen::VectorXd ym = scaled(mid);
+    if (gm == 0) {  // an exact zero: the bracket shrinks to the point
+      s_lo = s_hi = s;
+      y_lo = y_hi = ym;
+      g_lo = g_hi = 0;
+      break;
+    }
+    if ((gm < 0) == (g_lo < 0)) {
+      s_lo = s, y_lo = ym, g_lo = gm;
+    } else {
+      s_hi = s, y_hi = ym, g_hi = gm;
+    }
+  }
+  result.bracket = bracket();
+  // The estimate: the zero of g interpolated linearly in the bracket, solved on the curve.
+  const double w = g_lo == g_hi ? 0.5 : g_lo / (g_lo - g_hi);
+  const double s = s_lo + w * (s_hi - s_lo);
+  ContinuationPoint estimate;
+  if (!solve_at(s, (1 - w) * y_lo + w * y_hi, estimate)) {
+    result.point = estimate;
+    result.message = "the corrector failed at the interpolated zero: " + estimate.newton.message;
+    return result;
+  }
+  result.point = std::move(estimate);
+  result.g = g(result.point);
+  result.located = result.bracket <= options.tolerance;
+  result.message = result.located
+                       ? "located after " + std::to_string(bisections) + " bisections"
+                       : "max_bisections reached with a bracket of " + str(result.bracket);
+  return result;
 }
 
 }  // namespace stickslip

@@ -43,7 +43,9 @@
 // the continuation ended.
 #pragma once
 
+#include <functional>
 #include <limits>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -77,8 +79,50 @@ struct ArcLengthOptions {
 // Throws InvalidInput naming the field ("ArcLengthOptions.min_step = ...") and the rule it broke.
 void validate(const ArcLengthOptions& options);
 
-// x0: initial guess of the solution at lambda_start (size sys.size()).
+// x0: initial guess of the solution at lambda_start (size sys.size()). Every point but a clipped
+// one carries its tangent; the result carries the scales used (sweep.h).
 ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const Eigen::VectorXd& x0,
                                           const ArcLengthOptions& options);
+
+// Locating a zero of a test function g along the curve between two of its points a and b (two
+// consecutive points of arclength_continuation: a fold where the tangent's λ-component changes
+// sign, a Floquet multiplier crossing the unit circle).
+// The curve between a and b is parametrised by the planes eᵀ(y − y_a) = s · |y_b − y_a|, s ∈ [0,
+// 1], e the unit chord (y scaled as in "Scaling" above with the scales given here): each point is
+// the corrector's solution of [R(x, λ) = 0; the plane] from the bracket's midpoint, with its
+// tangent (oriented along e). Bisection on s keeps the sign change of g; it stops when the
+// bracket's ends are closer than `tolerance` (distance in y times lambda_scale, the units of the
+// arc-length steps), and the result is then the curve's point at the zero of g interpolated
+// linearly between the bracket's ends. Since Δs bounds |Δλ| and (lambda_scale / x_scale) ||Δx||,
+// the located λ and x are within the bracket of the exact zero (for a smooth g, the interpolation
+// is within O(bracket²)). Cost: one corrector solve and one tangent per bisection; about log2(|y_b
+// − y_a| · lambda_scale / tolerance) of them. The chord plane cuts the arc once when the tangent
+// turns by less than 90° between a and b (the continuation's turn guard keeps it below
+// max_turn_angle).
+using CurveTestFunction = std::function<double(const ContinuationPoint&)>;
+
+struct ArcBisectionOptions {
+  double tolerance = 0;                  // > 0: bracket length, units of λ
+  int max_bisections = 60;               // >= 0
+  double x_scale = 1, lambda_scale = 1;  // > 0: the continuation's (ContinuationResult)
+  NewtonOptions newton;                  // the corrector's
+};
+void validate(const ArcBisectionOptions& options);
+
+struct ArcBisectionResult {
+  bool located = false;     // the bracket met the tolerance and the estimate was solved
+  ContinuationPoint point;  // the estimate (located), else the last point solved
+  double g = 0;             // g at point (located)
+  double bracket = 0;       // the final bracket's length, units of λ
+  int solves = 0;           // corrector solves
+  std::string message;
+};
+
+// g_a, g_b: g at a and b, of opposite signs (else InvalidInput); g is called at every point
+// solved. A failed corrector or a non-finite g ends the search with located = false (a value,
+// not an exception).
+ArcBisectionResult bisect_on_arc(const ParametrizedSystem& sys, const ContinuationPoint& a,
+                                 double g_a, const ContinuationPoint& b, double g_b,
+                                 const CurveTestFunction& g, const ArcBisectionOptions& options);
 
 }  // namespace stickslip

@@ -42,6 +42,11 @@ struct ContinuationPoint {
   // and whether the arc-length fallback reached it (typically a jump after a fold).
   int step_halvings = 0;
   bool by_arclength = false;
+  // arclength_continuation only: the unit tangent of the curve at this point in the scaled
+  // variables y = (x / x_scale, λ / lambda_scale) (size n + 1, λ last), oriented in the direction
+  // of travel; empty for a point clipped onto lambda_end or the return limit, and in a stepped
+  // sweep. Its last component changes sign at a fold (a turning point in λ).
+  Eigen::VectorXd tangent;
 };
 
 struct ContinuationResult {
@@ -50,6 +55,8 @@ struct ContinuationResult {
   // followed to lambda_end.
   bool completed = false;
   std::string message;  // one line for humans: how it ended, which points failed
+  // arclength_continuation only: the scales it used (arclength.h, "Scaling"); 0 otherwise.
+  double x_scale = 0, lambda_scale = 0;
 };
 
 // Progress of a sweep or continuation, reported after each point it returns (to drive a progress

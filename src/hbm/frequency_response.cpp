@@ -1,6 +1,7 @@
 #include "hbm/frequency_response.h"
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <sstream>
 #include <string>
@@ -215,7 +216,109 @@ int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const dou
   return recovered;
 }
 
+// The bifurcations of an arc-length continuation (frequency_response.h), in the order of the curve.
+std::vector<Bifurcation> locate_bifurcations(const HarmonicBalanceSystem& system,
+                                             const ContinuationResult& curve,
+                                             const std::vector<FrequencyPoint>& points,
+                                             const FrequencyResponseOptions& options) {
+  std::vector<Bifurcation> found;
+  const int n = system.size();
+  ArcBisectionOptions bisection;
+  bisection.tolerance = options.bifurcations.tolerance * curve.lambda_scale;
+  bisection.max_bisections = options.bifurcations.max_bisections;
+  bisection.x_scale = curve.x_scale;
+  bisection.lambda_scale = curve.lambda_scale;
+  bisection.newton = options.arclength.newton;
+  if (!(curve.x_scale > 0 && curve.lambda_scale > 0)) return found;  // only a first point
+  const auto add = [&](BifurcationType type, int i, const ArcBisectionResult& r,
+                       MultiplierKind kind) {
+    Bifurcation b;
+    b.type = type;
+    b.after_point = i;
+    b.located = r.located;
+    b.bracket = r.bracket;
+    b.message = r.message;
+    const bool solved = r.point.x.size() == n && r.point.newton.converged();
+    if (solved) {
+      b.point = evaluate_point(system, r.point.x, r.point.lambda);
+      b.point.converged = true;
+      b.point.iterations = r.point.newton.iterations;
+      b.point.residual_norm = r.point.newton.residual_norm;
+      b.point.message = r.point.newton.message;
+    } else {
+      b.point = points[i];
+      b.message += "; the point before is given";
+    }
+    if (options.stability && solved) {
+      b.point.floquet = hill_stability(system, b.point.unknowns, b.point.omega, options.hill);
+      b.point.stability_computed = true;
+      b.multiplier = critical_multiplier(b.point.floquet, kind, b.point.omega);
+    }
+    found.push_back(std::move(b));
+  };
+  const auto fold_test = [n](const ContinuationPoint& p) { return p.tangent(n); };
+  for (size_t i = 0; i + 1 < curve.points.size() && i + 1 < points.size(); ++i) {
+    const ContinuationPoint &a = curve.points[i], &c = curve.points[i + 1];
+    if (!a.newton.converged() || !c.newton.converged()) continue;
+    const int at = static_cast<int>(i);
+    bool fold = false;
+    if (a.tangent.size() == n + 1 && c.tangent.size() == n + 1 && a.tangent(n) * c.tangent(n) < 0) {
+      fold = true;
+      add(BifurcationType::kFold, at,
+          bisect_on_arc(system, a, a.tangent(n), c, c.tangent(n), fold_test, bisection),
+          MultiplierKind::kPlusOne);
+    }
+    const FrequencyPoint &pa = points[i], &pc = points[i + 1];
+    if (!options.stability || !pa.stability_computed || !pc.stability_computed) continue;
+    for (const MultiplierKind kind :
+         unit_circle_crossings(pa.floquet, pa.omega, pc.floquet, pc.omega, options.hill)) {
+      if (kind == MultiplierKind::kPlusOne && fold) continue;  // the fold's own multiplier
+      // The test function: the largest Re μ of this kind. When the kind is missing at one end
+      // (a complex pair that met the real axis and crossed within one step), the largest Re μ
+      // of all. Of opposite signs at the ends: a crossing, not a change of kind outside the
+      // circle (a complex pair meeting on the real axis there) nor one within the stability
+      // tolerance.
+      double ga = largest_real_part(pa.floquet, kind, pa.omega);
+      double gc = largest_real_part(pc.floquet, kind, pc.omega);
+      const bool of_kind = std::isfinite(ga) && std::isfinite(gc);
+      if (!of_kind) ga = pa.floquet.max_real_part, gc = pc.floquet.max_real_part;
+      if (!(ga * gc < 0)) continue;
+      const auto test = [&](const ContinuationPoint& p) {
+        const FloquetSummary s = hill_stability(system, p.x, p.lambda, options.hill);
+        return of_kind ? largest_real_part(s, kind, p.lambda) : s.max_real_part;
+      };
+      const BifurcationType type = kind == MultiplierKind::kPlusOne ? BifurcationType::kBranchPoint
+                                   : kind == MultiplierKind::kMinusOne
+                                       ? BifurcationType::kPeriodDoubling
+                                       : BifurcationType::kNeimarkSacker;
+      add(type, at, bisect_on_arc(system, a, ga, c, gc, test, bisection), kind);
+    }
+  }
+  return found;
+}
+
 }  // namespace
+
+const char* to_string(BifurcationType type) {
+  switch (type) {
+    case BifurcationType::kFold:
+      return "fold";
+    case BifurcationType::kBranchPoint:
+      return "branch_point";
+    case BifurcationType::kPeriodDoubling:
+      return "period_doubling";
+    case BifurcationType::kNeimarkSacker:
+      return "neimark_sacker";
+  }
+  return "unknown";
+}
+
+void validate(const BifurcationOptions& o) {
+  require(std::isfinite(o.tolerance) && o.tolerance > 0, "BifurcationOptions.tolerance",
+          std::to_string(o.tolerance), "finite and > 0");
+  require(o.max_bisections >= 0, "BifurcationOptions.max_bisections",
+          std::to_string(o.max_bisections), ">= 0");
+}
 
 FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
                               double omega, const std::vector<int>& history_pairs) {
@@ -254,8 +357,9 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
     require(options.history_pairs[i] >= 0 && options.history_pairs[i] < npairs,
             "FrequencyResponseOptions.history_pairs[" + std::to_string(i) + "]",
             std::to_string(options.history_pairs[i]), "in [0, " + std::to_string(npairs) + ")");
-    if (options.stability) validate(options.hill);
   }
+  if (options.stability) validate(options.hill);
+  validate(options.bifurcations);
   require(system.size() > 0 || options.method == ContinuationMethod::kSteppedSweep,
           "FrequencyResponseOptions.method", "arc-length",
           "a stepped sweep when the system has no unknowns (no contact pairs: a linear response)");
@@ -316,6 +420,9 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
       point.stability_computed = true;
     }
     response.points.push_back(std::move(point));
+  }
+  if (options.method == ContinuationMethod::kArcLength && options.bifurcations.enabled) {
+    response.bifurcations = locate_bifurcations(system, result, response.points, options);
   }
   return response;
 }

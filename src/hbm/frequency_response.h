@@ -21,6 +21,8 @@
 // off, in the sweep, its retries and the first point's ramp: it would need the dense dR/dx.
 #pragma once
 
+#include <complex>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,32 @@ struct FrequencyPoint {
   FloquetSummary floquet;
 };
 
+// Bifurcations along an arc-length continuation (FrequencyResponseOptions.bifurcations):
+//   fold             a turning point in Ω: the tangent's Ω-component changes sign between two
+//                    consecutive points;
+//   branch_point     a real Floquet multiplier crosses +1 where no fold is (symmetry breaking,
+//                    transcritical);
+//   period_doubling  a real multiplier crosses −1;
+//   neimark_sacker   a complex pair crosses the unit circle.
+// The last three need analysis.stability (Hill's exponents at every point): a crossing is a
+// change of the number of exponents of one MultiplierKind (hill_stability.h) outside the circle
+// between two consecutive points. Each is then located by bisection on the arc between the two
+// points (bisect_on_arc): the test function is the tangent's Ω-component for a fold, the largest
+// Re μ of the crossing kind (Hill at every bisection point) for the others. A stepped sweep gets
+// none (it has no arc to bisect on, and it jumps at folds).
+enum class BifurcationType { kFold, kBranchPoint, kPeriodDoubling, kNeimarkSacker };
+const char* to_string(BifurcationType type);  // "fold", "branch_point", ...
+
+struct BifurcationOptions {
+  bool enabled = true;
+  // The bisection's final bracket, relative to the continuation's lambda_scale (arclength.h):
+  // the located Ω is within tolerance · lambda_scale of the curve's exact zero of the test
+  // function (and the unknowns within tolerance · x_scale). > 0.
+  double tolerance = 1e-7;
+  int max_bisections = 60;  // >= 0
+};
+void validate(const BifurcationOptions& options);
+
 enum class ContinuationMethod { kSteppedSweep, kArcLength };
 enum class InitialGuess { kLinearStuck, kLinearFree };
 
@@ -95,10 +123,27 @@ struct FrequencyResponseOptions {
   std::vector<int> history_pairs{};  // pairs whose sampled cycle is kept per point
   bool stability = false;            // Hill's method at every converged point
   HillOptions hill{};
+  BifurcationOptions bifurcations{};  // arc-length only
+};
+
+struct Bifurcation {
+  BifurcationType type = BifurcationType::kFold;
+  int after_point = 0;   // between points[after_point] and points[after_point + 1]
+  bool located = false;  // the bisection met BifurcationOptions.tolerance
+  double bracket = 0.0;  // the final bracket, rad/s (arc length in units of Ω)
+  // The outputs at the located point (evaluate_point; with stability its Floquet summary too).
+  // When the bisection failed: the point it stopped at, or the point before (message says).
+  FrequencyPoint point;
+  // With stability: the multiplier of the crossing kind of largest modulus at the point (≈ 1,
+  // −1 or on the unit circle); NaN without.
+  std::complex<double> multiplier{std::numeric_limits<double>::quiet_NaN(),
+                                  std::numeric_limits<double>::quiet_NaN()};
+  std::string message;
 };
 
 struct FrequencyResponse {
   std::vector<FrequencyPoint> points;
+  std::vector<Bifurcation> bifurcations;  // in the order of the curve (arc-length only)
   std::vector<int> harmonics;  // output harmonics (columns of every complex matrix)
   bool completed = false;
   std::string message;

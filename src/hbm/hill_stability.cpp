@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -18,6 +19,13 @@ namespace stickslip {
 namespace {
 // Mean harmonic indices closer than this count as equal (then the smaller |Im μ| is preferred).
 constexpr double kSameIndex = 0.25;
+// Two eigenvalues are members of one family (μ and μ + imΩ, m ≠ 0) when their imaginary parts
+// differ by at least half of Ω (kOtherMember) and their multipliers e^{μT} agree to kSameMultiplier
+// (relative): the members of a family differ only by the truncation of the harmonics (far below
+// 1e-6 for the members near the centre), a complex pair of multipliers ρ, ρ̄ near the real axis
+// by 2 |Im ρ| (kept apart down to angles of 5e-7 rad).
+constexpr double kOtherMember = 0.5;
+constexpr double kSameMultiplier = 1e-6;
 }  // namespace
 
 void validate(const HillOptions& options) {
@@ -171,7 +179,23 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
       if (std::abs(da - db) > kSameIndex) return da < db;
       return std::abs(all[a].imag()) < std::abs(all[b].imag());
     });
-    order.resize(2 * nd);
+    // One member per family: a candidate with the multiplier of one already taken but another
+    // member (Im μ differs by Ω or more) is skipped, and used only if too few are left.
+    const double T = 2 * std::numbers::pi / omega;
+    std::vector<int> chosen, skipped;
+    for (const int e : order) {
+      if (static_cast<int>(chosen.size()) == 2 * nd) break;
+      const std::complex<double> rho = std::exp(all[e] * T);
+      const bool member = std::any_of(chosen.begin(), chosen.end(), [&](int c) {
+        return std::abs(all[c].imag() - all[e].imag()) >= kOtherMember * omega &&
+               std::abs(std::exp(all[c] * T) - rho) <= kSameMultiplier * std::abs(rho);
+      });
+      (member ? skipped : chosen).push_back(e);
+    }
+    for (size_t i = 0; static_cast<int>(chosen.size()) < 2 * nd && i < skipped.size(); ++i) {
+      chosen.push_back(skipped[i]);
+    }
+    order = std::move(chosen);
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return all[a].real() > all[b].real(); });
     summary.exponents.resize(2 * nd);
@@ -181,6 +205,62 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   summary.max_multiplier = std::exp(summary.max_real_part * 2 * std::numbers::pi / omega);
   summary.stable = summary.max_real_part <= options.stability_tolerance * omega;
   return summary;
+}
+
+MultiplierKind multiplier_kind(std::complex<double> exponent, double omega) {
+  const double pi = std::numbers::pi;
+  // θ = Im μ · 2π/Ω wrapped to [0, π] by symmetry (ρ and its conjugate are of one kind).
+  const double theta = std::abs(std::remainder(exponent.imag() * 2 * pi / omega, 2 * pi));
+  if (theta <= kRealMultiplierAngle) return MultiplierKind::kPlusOne;
+  if (theta >= pi - kRealMultiplierAngle) return MultiplierKind::kMinusOne;
+  return MultiplierKind::kComplex;
+}
+
+namespace {
+int largest_of_kind(const FloquetSummary& s, MultiplierKind kind, double omega) {
+  int best = -1;
+  for (int i = 0; i < s.exponents.size(); ++i) {
+    if (multiplier_kind(s.exponents[i], omega) != kind) continue;
+    if (best < 0 || s.exponents[i].real() > s.exponents[best].real()) best = i;
+  }
+  return best;
+}
+}  // namespace
+
+double largest_real_part(const FloquetSummary& s, MultiplierKind kind, double omega) {
+  const int i = largest_of_kind(s, kind, omega);
+  return i < 0 ? -std::numeric_limits<double>::infinity() : s.exponents[i].real();
+}
+
+std::complex<double> critical_multiplier(const FloquetSummary& s, MultiplierKind kind,
+                                         double omega) {
+  const int i = largest_of_kind(s, kind, omega);
+  if (i < 0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  return std::exp(s.exponents[i] * (2 * std::numbers::pi / omega));
+}
+
+std::vector<MultiplierKind> unit_circle_crossings(const FloquetSummary& a, double omega_a,
+                                                  const FloquetSummary& b, double omega_b,
+                                                  const HillOptions& options) {
+  validate(options);
+  const auto outside = [&](const FloquetSummary& s, double omega, MultiplierKind kind) {
+    int count = 0;
+    for (const std::complex<double>& mu : s.exponents) {
+      count += multiplier_kind(mu, omega) == kind && mu.real() > options.stability_tolerance * omega
+                   ? 1
+                   : 0;
+    }
+    return count;
+  };
+  std::vector<MultiplierKind> crossed;
+  for (const MultiplierKind kind :
+       {MultiplierKind::kPlusOne, MultiplierKind::kMinusOne, MultiplierKind::kComplex}) {
+    if (outside(a, omega_a, kind) != outside(b, omega_b, kind)) crossed.push_back(kind);
+  }
+  return crossed;
 }
 
 }  // namespace stickslip

@@ -30,7 +30,12 @@
 // system exactly: p concentrated on the complex harmonic −m). The physical representative is the
 // member whose p is centred on harmonic 0: per eigenvalue the mean complex harmonic index
 // k̄ = Σ k |p_k|² / Σ |p_k|² (over k = ±S) is computed, and the 2 n_d eigenvalues with the smallest
-// |k̄| are taken (ties within 0.25: the smaller |Im μ|). The imaginary-part criterion alone (the
+// |k̄| are taken (ties within 0.25: the smaller |Im μ|), one member per family: a candidate whose
+// multiplier e^{μT} equals one already taken (to 1e-6) while its Im μ differs from it by Ω/2 or
+// more is another member of that family and is passed over. This matters for real negative
+// multipliers (period doubling): their family σ + i(m + ½)Ω has two members equally centred,
+// σ ± iΩ/2 (|k̄| = ½ both), and taking both would leave another family out — a real negative
+// pair −e^{σ1 T}, −e^{σ2 T} must give σ1 and σ2. The imaginary-part criterion alone (the
 // 2 n_d smallest |Im μ|) fails when a mode lies above H Ω: its family's members within the strip
 // are cut off by the truncation and another mode's outer members take their place. The real
 // part — all stability needs — is common to a family; the centred member's imaginary part is
@@ -48,6 +53,9 @@
 // Uncoupled statics: the static state is frozen in the solution (u0 the offset of the cycle); the
 // perturbation's harmonic 0 moves the mean about it.
 #pragma once
+
+#include <complex>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -74,5 +82,29 @@ struct FloquetSummary {
 // InvalidInput on bad options, Ω ≤ 0 or a wrong size of x.
 FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
                               double omega, const HillOptions& options = {});
+
+// Where the multiplier ρ = e^{μT} (T = 2π/Ω) of an exponent μ lies by its angle θ = Im μ · T
+// (mod 2π): on the positive real axis (|θ| ≤ kRealMultiplierAngle: a fold or a branch point when
+// it leaves the unit circle), on the negative one (|θ| ≥ π − kRealMultiplierAngle: period
+// doubling) or off the real axis (a complex pair: Neimark–Sacker). Real multipliers give exactly
+// θ = 0 (a real eigenvalue of the real companion matrix) or θ = π up to the truncation of the
+// harmonics (a family μ + i(m + ½)Ω cut at ±H).
+enum class MultiplierKind { kPlusOne, kMinusOne, kComplex };
+// 0.02 rad (1.1°): a complex pair closer than that to the real axis counts as real there.
+inline constexpr double kRealMultiplierAngle = 0.02;
+MultiplierKind multiplier_kind(std::complex<double> exponent, double omega);
+
+// The largest Re μ over the exponents of one kind (−∞ when there is none), 1/s.
+double largest_real_part(const FloquetSummary& summary, MultiplierKind kind, double omega);
+// The multiplier e^{μT} of that exponent (NaN when there is none).
+std::complex<double> critical_multiplier(const FloquetSummary& summary, MultiplierKind kind,
+                                         double omega);
+
+// The kinds of multipliers that crossed the unit circle between two solutions a (at Ω_a) and b
+// (at Ω_b) of a curve: those whose number of exponents with Re μ > stability_tolerance · Ω
+// differs between a and b, in the order kPlusOne, kMinusOne, kComplex.
+std::vector<MultiplierKind> unit_circle_crossings(const FloquetSummary& a, double omega_a,
+                                                  const FloquetSummary& b, double omega_b,
+                                                  const HillOptions& options = {});
 
 }  // namespace stickslip

@@ -7,11 +7,19 @@
 // the key neither appears.
 #include <gtest/gtest.h>
 
+#include "../required_tool.h"
 #include "cli_test_support.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,7 +33,7 @@ const fs::path kExample =
 // ẍ + α ẋ + ω0² x + k3 x³ = F cos Ωt with ω0 = 1000 rad/s, α = 20 1/s (ζ = 1 %), k3 = 1e12 N/m³,
 // F = 30 N: in units of ω0 and 1 mm the Duffing oscillator ω0 = 1, c = 0.02, k3 = 1, F = 0.03,
 // whose response folds twice between 0.5 ω0 and 2 ω0 (80–318 Hz).
-std::string duffing_case(bool stability) {
+std::string duffing_case(bool stability, bool plots = false) {
   return std::string(R"(stickslip: 1
 bodies:
   oscillator:
@@ -47,9 +55,8 @@ analysis:
   time_samples: 64
   static: coupled
 )") + (stability ? "  stability: true\n" : "") +
-         R"(recovery: {points: none}
-output: {directory: results, plots: false}
-)";
+         "recovery: {points: none}\noutput: {directory: results, plots: " +
+         (plots ? "true, frf: [{body: oscillator, node: 1, direction: x}]" : "false") + "}\n";
 }
 
 TEST(StabilityCli, DuffingMiddleBranchIsUnstableAndTheOuterBranchesStable) {
@@ -95,6 +102,143 @@ TEST(StabilityCli, DuffingMiddleBranchIsUnstableAndTheOuterBranchesStable) {
   EXPECT_EQ(rows[0].count("stable"), 0u);
   EXPECT_TRUE(
       nlohmann::json::parse(slurp(dir / "plain" / "summary.json")).at("stability").is_null());
+  fs::remove_all(dir);
+}
+
+// A data file of ours (plots.cpp): blocks separated by two blank lines, each starting with
+// "# <label>", a single blank line breaking the line within a block.
+struct DatBlock {
+  std::string label;
+  std::vector<std::pair<double, double>> points;
+  int breaks = 0;
+};
+std::vector<DatBlock> read_dat(const fs::path& path) {
+  std::vector<DatBlock> blocks;
+  std::ifstream in(path);
+  std::string line;
+  int blank = 0;
+  while (std::getline(in, line)) {
+    if (line.empty()) {
+      ++blank;
+      continue;
+    }
+    if (line.rfind("# ", 0) == 0) {
+      blocks.push_back({line.substr(2), {}, 0});
+    } else {
+      if (blocks.empty()) ADD_FAILURE() << "data before a label in " << path;
+      if (blank == 1 && !blocks.back().points.empty()) ++blocks.back().breaks;
+      std::istringstream row(line);
+      double x = 0, y = 0;
+      row >> x >> y;
+      blocks.back().points.emplace_back(x, y);
+    }
+    blank = 0;
+  }
+  return blocks;
+}
+
+// The style gnuplot draws block `index` with (frf.gp: "... index <i> using ... with <style>
+// title").
+std::string style_of_block(const std::string& script, size_t index) {
+  const std::regex clause("index " + std::to_string(index) + " using \\S+ with (.*?) title");
+  std::smatch m;
+  return std::regex_search(script, m, clause) ? m[1].str() : "";
+}
+
+bool same_point(std::pair<double, double> a, double f, double y) {
+  // frf.dat has 10 significant digits.
+  return std::abs(a.first - f) <= 1e-9 * std::abs(f) &&
+         std::abs(a.second - y) <= 1e-9 * std::abs(y);
+}
+
+// Folds (issue 14 item 2) and the dashed unstable range (item 1) through the program: summary.json
+// lists both folds of the Duffing curve, each between the two points where stability changes and
+// at the extremum of frequency there; frf.dat and frf.gp draw exactly the points.csv `stable = 0`
+// points (and the folds that bound them) dashed, every other point solid, the folds as markers.
+TEST(StabilityCli, DuffingFoldsAreListedAndItsUnstableRangeIsDrawnDashed) {
+  STICKSLIP_REQUIRE_TOOL(std::system("command -v gnuplot > /dev/null 2>&1") == 0, "gnuplot");
+  const fs::path dir = fresh_dir("stability_plot_cli");
+  for (const char* f : {"K.hb", "K.mapping", "M.hb", "M.mapping"}) {
+    fs::copy_file(kExample / f, dir / f);
+  }
+  const fs::path file = write_case(dir, "duffing", duffing_case(true, true));
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run("run -q " + file.string() + " -o " + out.string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  const auto points = read_csv(out / "points.csv");
+  const int n = static_cast<int>(points.size());
+  std::vector<double> f(n), a(n, -1);
+  std::vector<bool> stable(n);
+  for (int i = 0; i < n; ++i) {
+    f[i] = std::stod(points[i].at("frequency_hz"));
+    stable[i] = points[i].at("stable") == "1";
+  }
+  for (const auto& row : read_csv(out / "master_response.csv")) {
+    if (row.at("harmonic") != "1" || row.at("node") != "1" || row.at("axis") != "x") continue;
+    a[std::stoi(row.at("point"))] =
+        std::hypot(std::stod(row.at("real_m")), std::stod(row.at("imag_m")));
+  }
+  const nlohmann::json summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  const auto& bifurcations = summary.at("bifurcations");
+  ASSERT_EQ(bifurcations.size(), 2u) << bifurcations.dump(1);
+  std::vector<std::pair<double, double>> folds;
+  for (size_t k = 0; k < 2; ++k) {
+    const auto& b = bifurcations[k];
+    EXPECT_EQ(b.at("type"), "fold");
+    EXPECT_TRUE(b.at("located").get<bool>());
+    const int i = b.at("point").get<int>();
+    ASSERT_TRUE(i >= 0 && i + 1 < n);
+    EXPECT_NE(stable[i], stable[i + 1]) << "fold " << k << " after point " << i;
+    const double fold_f = b.at("frequency_hz").get<double>();
+    const double fold_a = b.at("amplitude_m").at(0).get<double>();
+    // The first fold is the peak (the largest frequency of its branch), the second the jump-up.
+    const double slack = 1e-9 * fold_f;
+    if (k == 0) {
+      EXPECT_GE(fold_f, std::max(f[i], f[i + 1]) - slack);
+    } else {
+      EXPECT_LE(fold_f, std::min(f[i], f[i + 1]) + slack);
+    }
+    EXPECT_GE(fold_a, std::min(a[i], a[i + 1]));
+    EXPECT_LE(fold_a, std::max(a[i], a[i + 1]));
+    EXPECT_NEAR(b.at("multiplier_real").get<double>(), 1.0, 1e-3);
+    folds.emplace_back(fold_f, fold_a);
+  }
+
+  const std::vector<DatBlock> blocks = read_dat(out / "frf.dat");
+  const std::string script = slurp(out / "frf.gp");
+  ASSERT_EQ(blocks.size(), 3u) << script;
+  const DatBlock &solid = blocks[0], &dashed = blocks[1], &markers = blocks[2];
+  EXPECT_EQ(solid.label, "oscillator node 1 x");
+  EXPECT_EQ(dashed.label, "oscillator node 1 x, unstable (dashed: Floquet multiplier > 1)");
+  EXPECT_EQ(markers.label, "fold");
+  EXPECT_EQ(style_of_block(script, 0), "lines lw 2 lc 1");
+  EXPECT_EQ(style_of_block(script, 1), "lines lw 2 dt 2 lc 1");
+  EXPECT_NE(style_of_block(script, 2).find("points"), std::string::npos);
+  // The dashed block: the unstable points in order, bounded by the two folds; the solid one: the
+  // stable points with the folds where their branches end (one break between the branches).
+  ASSERT_EQ(markers.points.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(same_point(markers.points[k], folds[k].first, folds[k].second));
+  }
+  std::vector<std::pair<double, double>> want_dashed{folds[0]}, want_solid;
+  for (int i = 0; i < n; ++i) {
+    (stable[i] ? want_solid : want_dashed).emplace_back(f[i], a[i]);
+    if (i + 1 < n && stable[i] && !stable[i + 1]) want_solid.push_back(folds[0]);
+    if (i + 1 < n && !stable[i] && stable[i + 1]) want_solid.push_back(folds[1]);
+  }
+  want_dashed.push_back(folds[1]);
+  ASSERT_EQ(dashed.points.size(), want_dashed.size());
+  for (size_t j = 0; j < want_dashed.size(); ++j) {
+    EXPECT_TRUE(same_point(dashed.points[j], want_dashed[j].first, want_dashed[j].second)) << j;
+  }
+  EXPECT_EQ(dashed.breaks, 0);
+  ASSERT_EQ(solid.points.size(), want_solid.size());
+  for (size_t j = 0; j < want_solid.size(); ++j) {
+    EXPECT_TRUE(same_point(solid.points[j], want_solid[j].first, want_solid[j].second)) << j;
+  }
+  EXPECT_EQ(solid.breaks, 1);
+  EXPECT_TRUE(fs::exists(out / "frf.png"));
+  EXPECT_TRUE(fs::exists(out / "frf.svg"));
   fs::remove_all(dir);
 }
 

@@ -350,5 +350,47 @@ TEST(ArcLength, FollowsACornerFold) {
   EXPECT_NEAR(r.points.back().x(0), 1.0, kRootTolerance);
 }
 
+// Folds located by bisection on the tangent's λ-component (bisect_on_arc) against the closed form
+// of the S-curve: ξ = ∓1/√3, η = ±2/(3√3). Scaled as the continuation scaled (x_scale = ||x_0||,
+// lambda_scale = 2): the located point is within the final bracket of the exact fold in λ and in
+// x (arclength.h), and the linear interpolation of the smooth test function makes it far closer.
+TEST(ArcLength, BisectionOnTheTangentLocatesBothFoldsOfTheSCurve) {
+  const FunctionSystem sys = s_curve();
+  const ContinuationResult r =
+      arclength_continuation(sys, VectorXd{{-1.3}}, s_curve_options(-1, 1));
+  ASSERT_TRUE(r.completed) << r.message;
+  EXPECT_EQ(r.lambda_scale, 2.0);
+  EXPECT_NEAR(r.x_scale, kPlasticNumber, 1e-8);
+  ArcBisectionOptions o;
+  o.tolerance = 1e-9;
+  o.x_scale = r.x_scale;
+  o.lambda_scale = r.lambda_scale;
+  o.newton.tolerance = 1e-13;
+  const auto g = [](const ContinuationPoint& p) { return p.tangent(1); };
+  int folds = 0;
+  for (size_t i = 0; i + 1 < r.points.size(); ++i) {
+    const ContinuationPoint &a = r.points[i], &b = r.points[i + 1];
+    ASSERT_EQ(a.tangent.size(), 2);
+    if (b.tangent.size() != 2 || a.tangent(1) * b.tangent(1) >= 0) continue;
+    const ArcBisectionResult f = bisect_on_arc(sys, a, a.tangent(1), b, b.tangent(1), g, o);
+    ASSERT_TRUE(f.located) << f.message;
+    EXPECT_LE(f.bracket, o.tolerance);
+    // Upwards from ξ = −ρ: first the fold at ξ = −1/√3, η = +2/(3√3), then the other.
+    const double xi = folds == 0 ? -1 / std::sqrt(3.0) : 1 / std::sqrt(3.0);
+    const double eta = folds == 0 ? kFoldLambda : -kFoldLambda;
+    // |Δλ| <= bracket; |Δx| <= bracket · x_scale / lambda_scale; plus the corrector's 1e-13.
+    EXPECT_NEAR(f.point.lambda, eta, o.tolerance) << "fold " << folds;
+    EXPECT_NEAR(f.point.x(0), xi, o.tolerance * r.x_scale / r.lambda_scale + 1e-12);
+    EXPECT_LE(std::abs(f.g), 1e-6);
+    EXPECT_GT(f.solves, 10);
+    ++folds;
+  }
+  EXPECT_EQ(folds, 2);
+  // No sign change: refused.
+  EXPECT_THROW(bisect_on_arc(sys, r.points[0], 1.0, r.points[1], 2.0, g, o), InvalidInput);
+  o.tolerance = 0;
+  EXPECT_THROW(bisect_on_arc(sys, r.points[0], 1.0, r.points[1], -1.0, g, o), InvalidInput);
+}
+
 }  // namespace
 }  // namespace stickslip
