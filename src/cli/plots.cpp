@@ -60,6 +60,7 @@ struct PlotSpec {
   // The script draws x · x_scale and y · y_scale (the .dat keeps SI values).
   double x_scale = 1.0, y_scale = 1.0;
   bool log_y = false;  // `set logscale y`
+  bool log_x = false;  // `set logscale x`
 };
 
 // A length axis ("... (m)") in the unit that suits its largest value: m from 0.1 m, mm from
@@ -101,7 +102,8 @@ std::string plot_script(const PlotSpec& p, const std::string& data, const std::s
       "set terminal pngcairo size 1000,600 noenhanced\nset output {}\n{}\n"
       "set terminal svg size 1000,600 noenhanced\nset output {}\n{}\nunset output\n",
       gp_string(p.title), gp_string(p.xlabel), gp_string(p.ylabel),
-      p.log_y ? "set logscale y\n" : "", gp_string(png), plot, gp_string(svg), plot);
+      std::string(p.log_y ? "set logscale y\n" : "") + (p.log_x ? "set logscale x\n" : ""),
+      gp_string(png), plot, gp_string(svg), plot);
 }
 
 std::string file_bytes(const fs::path& p) {
@@ -236,7 +238,7 @@ int plots_exit_code(const PlotLog& log, const fs::path& redraw_dir) {
 
 bool plot_curves(const fs::path& dir, const std::string& stem, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y) {
+                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y, bool log_x) {
   PlotSpec spec{stem, title, xlabel, ylabel, series};
   double x_max = 0, y_max = 0;
   for (const PlotSeries& c : series) {
@@ -251,6 +253,11 @@ bool plot_curves(const fs::path& dir, const std::string& stem, const std::string
     for (double v : c.y) any_positive |= v > 0;
   }
   spec.log_y = log_y && any_positive;
+  bool all_x_positive = true;
+  for (const PlotSeries& c : series) {
+    for (double v : c.x) all_x_positive &= v > 0;
+  }
+  spec.log_x = log_x && all_x_positive;
   return plot_spec(dir, spec, log);
 }
 

@@ -60,10 +60,12 @@ constexpr int kExitPlotsMissing = 4;
 int plots_exit_code(const PlotLog& log, const std::filesystem::path& redraw_dir);
 
 // One plot with several curves; writes <stem>.dat, <stem>.gp, <stem>.png, <stem>.svg into dir.
-// Returns false (and logs the pictures not drawn) if gnuplot is missing or fails.
+// Returns false (and logs the pictures not drawn) if gnuplot is missing or fails. log_x: a
+// logarithmic x axis (drawn linear unless every x is > 0).
 bool plot_curves(const std::filesystem::path& dir, const std::string& stem,
                  const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y = false);
+                 const std::vector<PlotSeries>& series, PlotLog* log, bool log_y = false,
+                 bool log_x = false);
 
 // Amplitude of the first dynamic harmonic of each output.frf DOF over the converged points,
 // labelled "<prefix><body> node <id> <axis>".

@@ -17,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "cli/interruption.h"
+#include "cli/nonlinear_mode_stage.h"
 #include "cli/pipeline.h"
 #include "cli/plots.h"
 #include "cli/progress.h"
@@ -49,6 +50,10 @@ int run_case(const StageCommand& command) {
     const std::string where = run.dir.string();
     interruption_doing("reducing and solving for " + where);
     const PreparedModel model = prepare_model(def, progress, &cache);
+    if (def.analysis.method == SweepMethod::kNonlinearMode) {  // its own files, no recovery
+      outcome += run_nonlinear_mode_stage(run, model, progress, &reporter, &plots, t_run);
+      continue;
+    }
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
     interruption_doing("writing the solve files in " + where);
     const auto removed = write_solve_results(

@@ -15,6 +15,7 @@
 
 #include "cli/commands.h"
 #include "cli/interruption.h"
+#include "cli/nonlinear_mode_stage.h"
 #include "cli/pipeline.h"
 #include "cli/progress.h"
 #include "cli/results_files.h"
@@ -631,6 +632,10 @@ int run_solve(const StageCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/false, &cache);
+    if (run.definition.analysis.method == SweepMethod::kNonlinearMode) {
+      outcome += run_nonlinear_mode_stage(run, model, progress, &reporter, nullptr, t_run);
+      continue;
+    }
     const SolvedCase solved = solve_case(model, run.definition, progress, &reporter);
     interruption_doing("writing the solve files in " + run.dir.string());
     const auto removed = write_solve_results(

@@ -94,7 +94,8 @@ const Choices<UnpairedChoice>& choices_of(UnpairedChoice) {
 }
 const Choices<SweepMethod>& choices_of(SweepMethod) {
   static const Choices<SweepMethod> c{{"stepped", SweepMethod::kStepped},
-                                      {"continuation", SweepMethod::kContinuation}};
+                                      {"continuation", SweepMethod::kContinuation},
+                                      {"nonlinear_mode", SweepMethod::kNonlinearMode}};
   return c;
 }
 const Choices<AftChoice>& choices_of(AftChoice) {
@@ -1394,12 +1395,41 @@ void parse_static_loads(Parser& p, const MapView& top) {
   }
 }
 
+// analysis.mode and analysis.amplitude (method nonlinear_mode); analysis.frequency is not used.
+void parse_nonlinear_mode(Parser& p, const MapView& m, AnalysisDefinition& a) {
+  m.forbid("frequency", "with method nonlinear_mode (the frequency is an unknown of the mode)");
+  m.require("mode", "the mode of the stuck assembly to follow");
+  m.integer("mode", &a.mode, 1);
+  m.require("amplitude", "{start, stop}: the modal amplitudes");
+  MapView am(p, m.value("amplitude"), "analysis.amplitude", m.line("amplitude"),
+             case_keys_in("analysis.amplitude"));
+  AmplitudeDefinition& r = a.amplitude;
+  am.require("start");
+  am.require("stop");
+  r.start = p.number(am.value("start"), am.full("start"), am.line("start"));
+  p.check(r.start > 0, am.full("start"), am.line("start"),
+          "must be > 0 (a modal amplitude), got " + format_number(r.start));
+  r.stop = p.number(am.value("stop"), am.full("stop"), am.line("stop"));
+  p.check(r.stop > r.start, am.full("stop"), am.line("stop"),
+          "the amplitude range is empty or inverted: stop = " + format_number(r.stop) +
+              " must be > start = " + format_number(r.start));
+  am.integer("points", &r.points, 2, kMaxFrequencyPoints, "amplitudes, each solved and written");
+}
+
 void parse_analysis(Parser& p, const MapView& top) {
   top.require("analysis");
   MapView m(p, top.value("analysis"), "analysis", top.line("analysis"),
             case_keys_in("analysis"));
   AnalysisDefinition& a = p.out().analysis;
   m.choice("method", &a.method);
+  const bool nonlinear_mode = a.method == SweepMethod::kNonlinearMode;
+  if (nonlinear_mode) {
+    parse_nonlinear_mode(p, m, a);
+  } else {
+    m.forbid("mode", "without method nonlinear_mode");
+    m.forbid("amplitude", "without method nonlinear_mode");
+  }
+  if (!nonlinear_mode) {
   m.require("frequency");
   MapView f(p, m.value("frequency"), "analysis.frequency", m.line("frequency"),
             case_keys_in("analysis.frequency"));
@@ -1446,6 +1476,19 @@ void parse_analysis(Parser& p, const MapView& top) {
   if (fr.max_step_hz > 0)
     p.check(fr.max_step_hz >= fr.step_hz, f.full("max_step_hz"), f.line("max_step_hz"),
             "must be >= step_hz = " + format_number(fr.step_hz));
+  if (a.method != SweepMethod::kContinuation) {
+    // The points of the stepped sweep, window / step_hz + 1 (the window is known here for both
+    // kinds of frequency definition), bounded as max_points is.
+    const double window = fr.kind == FrequencyDefinition::Kind::kAroundMode
+                              ? 2.0 * fr.half_width_hz
+                              : fr.stop_hz - fr.start_hz;
+    const double points = std::floor(window / fr.step_hz) + 1.0;
+    p.check(points <= kMaxFrequencyPoints, f.full("step_hz"), f.line("step_hz"),
+            "the stepped sweep would have " + format_number(points) + " points (window " +
+                format_number(window) + " Hz / step_hz + 1): at most " +
+                std::to_string(kMaxFrequencyPoints) + " are accepted");
+  }
+  }
 
   if (m.has("harmonics")) {
     const YAML::Node& h = m.value("harmonics");
@@ -1498,23 +1541,16 @@ void parse_analysis(Parser& p, const MapView& top) {
             "must be > 0, got " + format_number(a.tolerance));
   }
   m.integer("max_iterations", &a.max_iterations, 1);
-  if (a.method != SweepMethod::kContinuation) m.forbid("max_points", "with method stepped");
+  const std::string with_method = std::string("with method ") + case_name(a.method);
+  if (a.method != SweepMethod::kContinuation) m.forbid("max_points", with_method);
   m.integer("max_points", &a.max_points, 2, kMaxFrequencyPoints,
             "points of one continuation, each solved and written");
-  if (a.method != SweepMethod::kContinuation) {
-    // The points of the stepped sweep, window / step_hz + 1 (the window is known here for both
-    // kinds of frequency definition), bounded as max_points is.
-    const double window = fr.kind == FrequencyDefinition::Kind::kAroundMode
-                              ? 2.0 * fr.half_width_hz
-                              : fr.stop_hz - fr.start_hz;
-    const double points = std::floor(window / fr.step_hz) + 1.0;
-    p.check(points <= kMaxFrequencyPoints, f.full("step_hz"), f.line("step_hz"),
-            "the stepped sweep would have " + format_number(points) + " points (window " +
-                format_number(window) + " Hz / step_hz + 1): at most " +
-                std::to_string(kMaxFrequencyPoints) + " are accepted");
+  if (nonlinear_mode) {
+    m.forbid("initial_guess", with_method + " (it starts from the linear mode)");
+    m.forbid("stability", with_method + " (Hill's method is for forced responses)");
   }
   m.choice("initial_guess", &a.initial_guess);
-  if (a.method == SweepMethod::kContinuation) m.forbid("predictor", "with method continuation");
+  if (a.method != SweepMethod::kStepped) m.forbid("predictor", with_method);
   m.choice("predictor", &a.predictor);
 }
 
@@ -2273,6 +2309,14 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "beta" << YAML::Value << num(c.damping.beta) << YAML::EndMap;
   const AnalysisDefinition& a = c.analysis;
   e << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
+  const bool nonlinear_mode = a.method == SweepMethod::kNonlinearMode;
+  if (nonlinear_mode) {
+    e << YAML::Key << "mode" << YAML::Value << a.mode;
+    e << YAML::Key << "amplitude" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "start" << YAML::Value << num(a.amplitude.start);
+    e << YAML::Key << "stop" << YAML::Value << num(a.amplitude.stop);
+    e << YAML::Key << "points" << YAML::Value << a.amplitude.points << YAML::EndMap;
+  } else {
   e << YAML::Key << "frequency" << YAML::Value << YAML::Flow << YAML::BeginMap;
   if (a.frequency.kind == FrequencyDefinition::Kind::kRange) {
     e << YAML::Key << "start_hz" << YAML::Value << num(a.frequency.start_hz);
@@ -2291,18 +2335,19 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "max_step_hz" << YAML::Value << num(a.frequency.max_step_hz);
   }
   e << YAML::EndMap;
+  }
   e << YAML::Key << "method" << YAML::Value << case_name(a.method);
   e << YAML::Key << "harmonics" << YAML::Value;
   vec(a.harmonics);
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
   if (a.aft_given) e << YAML::Key << "aft" << YAML::Value << case_name(a.aft);
   e << YAML::Key << "static" << YAML::Value << case_name(a.static_coupling);
-  e << YAML::Key << "stability" << YAML::Value << a.stability;
+  if (!nonlinear_mode) e << YAML::Key << "stability" << YAML::Value << a.stability;
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;
   if (a.method == SweepMethod::kContinuation) e << YAML::Key << "max_points" << YAML::Value << a.max_points;
-  e << YAML::Key << "initial_guess" << YAML::Value << case_name(a.initial_guess);
-  if (a.method != SweepMethod::kContinuation) e << YAML::Key << "predictor" << YAML::Value << case_name(a.predictor);
+  if (!nonlinear_mode) e << YAML::Key << "initial_guess" << YAML::Value << case_name(a.initial_guess);
+  if (a.method == SweepMethod::kStepped) e << YAML::Key << "predictor" << YAML::Value << case_name(a.predictor);
   e << YAML::EndMap;
   if (c.study.active()) {
     e << YAML::Key << "study" << YAML::Value << YAML::Flow << YAML::BeginMap;

@@ -81,7 +81,7 @@ enum class ReducedFileFormat { kHarwellBoeing, kMatrixMarket, kAbaqusMatrix };  
 enum class PreloadSplit { kEqual, kArea };                              // contacts.C.total.split
 enum class ContactCoupling { kAuto, kNodes, kMortar, kNodeToSurface };  // contacts.C.coupling
 enum class UnpairedChoice { kError, kSkip };                            // contacts.C.unpaired
-enum class SweepMethod { kStepped, kContinuation };                     // analysis.method
+enum class SweepMethod { kStepped, kContinuation, kNonlinearMode };     // analysis.method
 enum class AftChoice { kEvent, kSampled, kEventPlanar };                // analysis.aft
 enum class StaticChoice { kUncoupled, kCoupled };                       // analysis.static
 enum class InitialGuessChoice { kStuck, kFree };                        // analysis.initial_guess
@@ -300,9 +300,18 @@ struct FrequencyDefinition {
   bool downward = false;                 // `sweep: down`: from the high end to the low end
 };
 
+// analysis.amplitude (method nonlinear_mode): modal amplitudes a (√kg·m, the mode's coordinate
+// with the mode mass-normalised), `points` of them evenly spaced in ln a from start to stop.
+struct AmplitudeDefinition {
+  double start = 0.0, stop = 0.0;  // 0 < start < stop
+  int points = 50;                 // >= 2
+};
+
 struct AnalysisDefinition {
-  FrequencyDefinition frequency;               // required
-  SweepMethod method = SweepMethod::kStepped;  // stepped | continuation
+  FrequencyDefinition frequency;               // required, except with nonlinear_mode
+  SweepMethod method = SweepMethod::kStepped;  // stepped | continuation | nonlinear_mode
+  int mode = 0;                   // nonlinear_mode: 1-based mode of the stuck assembly
+  AmplitudeDefinition amplitude;  // nonlinear_mode
   std::vector<int> harmonics{1};      // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                       // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;              // N per period, ≥ 2(2 H_max + 1)

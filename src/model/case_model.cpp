@@ -1286,6 +1286,11 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   const auto t0 = Clock::now();
   SolvedCase solved;
   solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft != AftChoice::kSampled;
+  if (def.analysis.method == SweepMethod::kNonlinearMode) {
+    throw InvalidInput(def.where("analysis.method"),
+                       "a nonlinear mode is solved by solve_nonlinear_mode "
+                       "(model/nonlinear_mode_case.h), not as a frequency response");
+  }
   check_memory(model, def);
   if (model.pairs.empty() && def.analysis.method == SweepMethod::kContinuation) {
     throw InvalidInput(def.where("analysis.method"),

@@ -153,7 +153,7 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
   // resolved (an absolute path), `aft` only when the case gives it (the default then warns less),
   // `coupling` and `unpaired` only for mortar contacts (the default keeps the fingerprints of
   // earlier runs), `max_points` and recovery `modes` only with the method they belong to
-  // (continuation, modal), `gap` is exclusive with the preload this case gives, `mass_rule` only
+  // (continuation, modal), `amplitude.points` only with nonlinear_mode, `gap` is exclusive with the preload this case gives, `mass_rule` only
   // when it is calculix (describe_case enters the reduction's fingerprint, which stays that of
   // earlier runs for the default), the .msh-only and `supports` keys belong to blocks this case
   // does not have.
@@ -164,6 +164,7 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
                                           "contacts[].coupling",
                                           "contacts[].unpaired",
                                           "analysis.max_points",
+                                          "analysis.amplitude.points",
                                           "recovery.modes",
                                           "meshes.NAME.hexahedron8",
                                           "meshes.NAME.hexahedron20",

@@ -1,0 +1,383 @@
+// Nonlinear modes by EPMC (hbm/nonlinear_mode.h) against independent references: the closed form
+// of the one-harmonic describing function of a Jenkins element (stiffness and energy per cycle)
+// and of a cubic spring (Duffing backbone), a free decay of the Jenkins oscillator integrated in
+// time here (frequency and decay rate from successive peaks), central differences of the extended
+// system's Jacobian, and the linear limit against the eigenvalues of the stuck assembly.
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "../derivative_check.h"
+#include "contact/friction_contact.h"
+#include "contact/springs.h"
+#include "core/errors.h"
+#include "hbm/harmonic_balance.h"
+#include "hbm/nonlinear_mode.h"
+
+namespace stickslip {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+constexpr double kPi = std::numbers::pi;
+
+// One mass m on a spring k and a dashpot c to the ground, with `element` between the mass and the
+// ground: modal coordinate q = √m x (mass-normalised mode φ = 1/√m).
+struct Oscillator {
+  double m = 2.0, k = 800.0, c = 0.4;
+  LinearModel model() const {
+    LinearModel l;
+    l.omega2 = VectorXd::Constant(1, k / m);
+    l.Phi = MatrixXd::Constant(1, 1, 1.0 / std::sqrt(m));
+    l.modal_damping = VectorXd::Constant(1, c / m);
+    return l;
+  }
+};
+
+ContactPair grounded(ElementPtr element, int dof = 0) {
+  return ContactPair{.dofs_a = {dof},
+                     .dofs_b = {},
+                     .frame = MatrixXd::Constant(1, 1, 1.0),
+                     .element = std::move(element)};
+}
+
+std::vector<double> geometric(double from, double to, int n) {
+  std::vector<double> v(n);
+  for (int i = 0; i < n; ++i) v[i] = from * std::pow(to / from, i / (n - 1.0));
+  return v;
+}
+
+// Relative accuracy of an EPMC point solved to Newton's tolerance 1e-10 (relative residual):
+// the closed forms are exact for H = 1 (the event AFT integrates the Jenkins cycle exactly), so
+// only the residual and round-off remain; 1e-8 leaves two decades for the conditioning.
+constexpr double kClosedFormTolerance = 1e-8;
+
+// Jenkins element (kt, slip force μN) at displacement amplitude a, x = a cos θ: for a ≤ a_s =
+// μN/kt it sticks (k_eq = kt, no loss); beyond, with cos θ* = 1 − 2 a_s/a the angle where the
+// force reverses from +μN to −μN, the fundamental's in-phase part (derived in the header of this
+// test: ∫ f cos θ over the stick arc and the slip arc) is k_eq a with
+//   k_eq = (kt/π) (θ* − sin(2θ*)/2),
+// and the loop (a parallelogram of height 2μN and width 2(a − a_s)) dissipates E = 4μN (a − a_s).
+// EPMC at H = 1 with x = a cos Ωt: cos balance Ω² = (k + k_eq)/m; sin balance, with the element's
+// quadrature part −E/(πa): ξ = c/m + E/(π m Ω a²); D = ξ/(2Ω).
+struct JenkinsReference {
+  double omega, xi, energy;
+};
+JenkinsReference jenkins_reference(const Oscillator& o, double kt, double slip_force, double a) {
+  const double as = slip_force / kt;
+  double keq = kt, energy = 0.0;
+  if (a > as) {
+    const double theta = std::acos(1.0 - 2.0 * as / a);
+    keq = kt / kPi * (theta - 0.5 * std::sin(2 * theta));
+    energy = 4 * slip_force * (a - as);
+  }
+  const double omega = std::sqrt((o.k + keq) / o.m);
+  return {omega, o.c / o.m + energy / (kPi * o.m * omega * a * a), energy};
+}
+
+TEST(NonlinearMode, JenkinsOscillatorAtOneHarmonicMatchesTheDescribingFunction) {
+  const Oscillator o;
+  const double kt = 1200.0, slip_force = 0.6;  // a_s = 5e-4 m
+  HarmonicBalanceOptions hb;
+  hb.harmonics = 1;
+  const HarmonicBalanceSystem sys(o.model(),
+                                  {grounded(std::make_shared<Jenkins1D>(JenkinsParameters{
+                                      .kt = kt, .mu = 0.5, .normal_load = slip_force / 0.5}))},
+                                  Excitation{}, hb);
+  NonlinearModeOptions options;
+  options.mode = 1;
+  const std::vector<double> x_amplitudes =
+      geometric(0.2 * slip_force / kt, 100 * slip_force / kt, 41);
+  for (double a : x_amplitudes) options.amplitudes.push_back(std::sqrt(o.m) * a);
+  options.newton.tolerance = 1e-10;
+  const NonlinearModeResult r = nonlinear_mode(sys, options);
+  ASSERT_EQ(r.points.size(), x_amplitudes.size());
+  EXPECT_TRUE(r.completed) << r.message;
+  EXPECT_NEAR(r.linear_omega, std::sqrt((o.k + kt) / o.m), 1e-12 * r.linear_omega);
+  EXPECT_NEAR(r.linear_xi, o.c / o.m, 1e-14);
+  for (size_t i = 0; i < r.points.size(); ++i) {
+    const NonlinearModePoint& p = r.points[i];
+    ASSERT_TRUE(p.converged) << "point " << i << ": " << p.message;
+    const JenkinsReference ref = jenkins_reference(o, kt, slip_force, x_amplitudes[i]);
+    EXPECT_NEAR(p.omega, ref.omega, kClosedFormTolerance * ref.omega) << "point " << i;
+    EXPECT_NEAR(p.xi, ref.xi, kClosedFormTolerance * ref.xi) << "point " << i;
+    EXPECT_NEAR(p.damping_ratio, ref.xi / (2 * ref.omega),
+                kClosedFormTolerance * ref.xi / ref.omega)
+        << "point " << i;
+    // The mode's displacement is x_a cos Ωt: X_1 = x_a (real).
+    ASSERT_EQ(p.master.rows(), 1);
+    ASSERT_EQ(p.master.cols(), 2);
+    EXPECT_NEAR(p.master(0, 1).real(), x_amplitudes[i], 1e-9 * x_amplitudes[i]);
+    EXPECT_NEAR(p.master(0, 1).imag(), 0.0, 1e-9 * x_amplitudes[i]);
+    EXPECT_NEAR(p.dissipated_energy, ref.energy, 1e-6 * (ref.energy + slip_force * x_amplitudes[i]))
+        << "point " << i;
+  }
+}
+
+TEST(NonlinearMode, DuffingBackboneAtOneHarmonic) {
+  // m ẍ + c ẋ + (k + k1) x + k3 x³ = 0 (k in the structure, k1 + k3 x³ the element: the
+  // condensed unknowns need an element that carries the mode's force, nonlinear_mode.h): at H = 1
+  // with x = a cos Ωt (x³ has ¾a³ in cos Ωt) Ω² = (k + k1 + ¾ k3 a²)/m, and the sin balance leaves
+  // ξ = c/m (a cubic spring dissipates nothing), D = c/(2mΩ).
+  const Oscillator o{.m = 1.5, .k = 600.0, .c = 0.3};
+  const double k1 = 400.0, k3 = 2e7;
+  HarmonicBalanceOptions hb;
+  hb.harmonics = 1;
+  const HarmonicBalanceSystem sys(
+      o.model(),
+      {grounded(std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = k1, .k3 = k3}))},
+      Excitation{}, hb);
+  NonlinearModeOptions options;
+  const std::vector<double> x_amplitudes = geometric(1e-5, 1e-2, 31);
+  for (double a : x_amplitudes) options.amplitudes.push_back(std::sqrt(o.m) * a);
+  options.newton.tolerance = 1e-10;
+  const NonlinearModeResult r = nonlinear_mode(sys, options);
+  ASSERT_TRUE(r.completed) << r.message;
+  for (size_t i = 0; i < r.points.size(); ++i) {
+    const double a = x_amplitudes[i];
+    const double omega = std::sqrt((o.k + k1 + 0.75 * k3 * a * a) / o.m);
+    EXPECT_NEAR(r.points[i].omega, omega, kClosedFormTolerance * omega) << "point " << i;
+    EXPECT_NEAR(r.points[i].xi, o.c / o.m, kClosedFormTolerance * o.c / o.m) << "point " << i;
+    EXPECT_NEAR(r.points[i].damping_ratio, o.c / (2 * o.m * omega),
+                kClosedFormTolerance * o.c / (o.m * omega));
+  }
+}
+
+// Two masses in a chain with friction to the ground and between them, and a cubic spring: the
+// extended Jacobian against central differences (every unknown, Ω, ξ) and the Taylor slope, with
+// proportional and non-proportional damping, static uncoupled and coupled, at a state where the
+// elements slip (a perturbed linear mode at a large amplitude, not a solution).
+TEST(NonlinearMode, ExtendedJacobianMatchesCentralDifferences) {
+  const MatrixXd K = (MatrixXd(2, 2) << 3000, -1000, -1000, 1000).finished();
+  const MatrixXd M = (MatrixXd(2, 2) << 1.0, 0, 0, 0.5).finished();
+  const MatrixXd C = (MatrixXd(2, 2) << 0.8, -0.3, -0.3, 0.5).finished();
+  std::vector<ContactPair> pairs;
+  pairs.push_back(grounded(
+      std::make_shared<Jenkins1D>(JenkinsParameters{.kt = 2000, .mu = 0.5, .normal_load = 2.0})));
+  pairs.push_back(ContactPair{.dofs_a = {0},
+                              .dofs_b = {1},
+                              .frame = MatrixXd::Constant(1, 1, 1.0),
+                              .element = std::make_shared<Jenkins1D>(
+                                  JenkinsParameters{.kt = 1500, .mu = 0.4, .normal_load = 1.0})});
+  pairs.push_back(
+      grounded(std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = 100, .k3 = 1e6}), 1));
+  Excitation static_load;
+  static_load.harmonics[0] = Eigen::Vector2cd(0.3, -0.2);
+  for (const bool dense : {false, true}) {
+    for (const bool coupled : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "dense damping " << dense << ", coupled " << coupled);
+      HarmonicBalanceOptions hb;
+      hb.harmonics = 3;
+      hb.static_coupling = coupled ? StaticCoupling::kCoupled : StaticCoupling::kUncoupled;
+      const LinearModel model =
+          dense ? linear_model_from_matrices(K, M, C) : linear_model_from_matrices(K, M, 0.7, 1e-4);
+      const HarmonicBalanceSystem sys(model, pairs, static_load, hb);
+      const StuckModes modes = stuck_modes(sys);
+      const NonlinearModeSystem nm(sys, modes.eta.col(1));
+      VectorXd y = nm.linear_guess(0.01);
+      const int n = sys.size();
+      y.head(n) += testing::random_state(n, 2e-3, 7);
+      y[n] *= 0.97;
+      y[n + 1] += 0.3;
+      const double lambda = std::log(0.012);
+      VectorXd R, dRdl;
+      MatrixXd J;
+      nm.evaluate(y, lambda, R, &J, &dRdl);
+      ASSERT_EQ(J.rows(), n + 2);
+      ASSERT_EQ(J.cols(), n + 2);
+      MatrixXd fd(n + 2, n + 2);
+      for (int q = 0; q < n + 2; ++q) {
+        const double h = q < n ? 1e-8 : 1e-6 * std::max(1.0, std::abs(y[q]));
+        VectorXd yp = y, ym = y, Rp, Rm;
+        yp[q] += h;
+        ym[q] -= h;
+        nm.evaluate(yp, lambda, Rp, nullptr, nullptr);
+        nm.evaluate(ym, lambda, Rm, nullptr, nullptr);
+        fd.col(q) = (Rp - Rm) / (2 * h);
+      }
+      // Central differences: O(h²) truncation and O(eps ||R|| / h) round-off, far below 1e-6.
+      EXPECT_LE((fd - J).norm(), 1e-6 * J.norm());
+      for (int q = n; q < n + 2; ++q) {
+        EXPECT_LE((fd.col(q) - J.col(q)).norm(), 1e-6 * J.col(q).norm()) << "column " << q;
+      }
+      EXPECT_LE((fd.bottomRows(2) - J.bottomRows(2)).norm(), 1e-6 * J.bottomRows(2).norm());
+      VectorXd dy(n + 2);
+      for (int q = 0; q < n + 2; ++q) dy[q] = std::cos(1.0 + 2.7 * q);
+      dy.head(n) *= 1e-3 / dy.head(n).norm();
+      dy[n] *= 0.01 * y[n];
+      testing::expect_taylor_slope(testing::taylor_remainder(nm, y, lambda, dy, 0.1));
+    }
+  }
+}
+
+// At a small amplitude every element is stuck: the mode is the stuck assembly's linear mode,
+// Ω = its eigenfrequency from K + Σ k_t bbᵀ (solved here in physical coordinates), ξ = α for
+// mass-proportional damping C = αM (every mode: ξ M = C), and the shape is the eigenvector.
+TEST(NonlinearMode, SmallAmplitudeIsTheStuckLinearMode) {
+  const MatrixXd K =
+      (MatrixXd(3, 3) << 3000, -1000, 0, -1000, 2500, -1500, 0, -1500, 1500).finished();
+  const MatrixXd M = Eigen::Vector3d(1.0, 0.5, 0.8).asDiagonal();
+  const double alpha = 1.3, kt1 = 2000, kt2 = 900;
+  std::vector<ContactPair> pairs;
+  pairs.push_back(grounded(
+      std::make_shared<Jenkins1D>(JenkinsParameters{.kt = kt1, .mu = 0.5, .normal_load = 2.0})));
+  pairs.push_back(ContactPair{.dofs_a = {2},
+                              .dofs_b = {1},
+                              .frame = MatrixXd::Constant(1, 1, 1.0),
+                              .element = std::make_shared<Jenkins1D>(
+                                  JenkinsParameters{.kt = kt2, .mu = 0.4, .normal_load = 1.0})});
+  HarmonicBalanceOptions hb;
+  hb.harmonics = 3;
+  const HarmonicBalanceSystem sys(linear_model_from_matrices(K, M, alpha, 0.0), pairs, Excitation{},
+                                  hb);
+  MatrixXd Ks = K;
+  Ks(0, 0) += kt1;
+  Ks(1, 1) += kt2;
+  Ks(2, 2) += kt2;
+  Ks(1, 2) -= kt2;
+  Ks(2, 1) -= kt2;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> eig(Ks, M);
+  for (int mode = 1; mode <= 3; ++mode) {
+    NonlinearModeOptions options;
+    options.mode = mode;
+    options.amplitudes = {1e-6, 2e-6};
+    options.newton.tolerance = 1e-12;
+    const NonlinearModeResult r = nonlinear_mode(sys, options);
+    ASSERT_TRUE(r.completed) << r.message;
+    const double omega = std::sqrt(eig.eigenvalues()[mode - 1]);
+    for (const NonlinearModePoint& p : r.points) {
+      EXPECT_NEAR(p.omega, omega, 1e-9 * omega) << "mode " << mode;
+      EXPECT_NEAR(p.xi, alpha, 1e-9 * alpha) << "mode " << mode;
+      // X_1 = a φ (mass-normalised, sign free), the higher harmonics 0.
+      const VectorXd phi = eig.eigenvectors().col(mode - 1);
+      const VectorXd x1 = p.master.col(1).real();
+      const double sign = x1.dot(M * phi) > 0 ? 1.0 : -1.0;
+      EXPECT_LE((x1 - sign * p.amplitude * phi).norm(), 1e-8 * p.amplitude * phi.norm());
+      EXPECT_LE(p.master.col(1).imag().norm(), 1e-8 * p.amplitude * phi.norm());
+      EXPECT_LE(p.master.rightCols(2).norm(), 1e-8 * p.amplitude * phi.norm());
+    }
+  }
+}
+
+// Free decay of m ẍ + c ẋ + k x + f_J = 0 (Jenkins element, return mapping per step, RK4 with the
+// element force frozen to the step's elastic predictor) against EPMC at H = 7. With slowly varying
+// amplitude the energy balance over a cycle gives dE/dt = −ξ E, so the peaks decay as
+// a_{n+1}/a_n = exp(−ξ T/2): ξ_decay = 2 ln(a_n/a_{n+1}) / T_n, Ω = 2π/T_n, compared at the peak
+// displacement (the EPMC point's max_t x(t), interpolated in ln a). The slow-flow assumption is
+// O(D) ≈ 1–2 % above 15 mm: tolerances 1e-3 on Ω and 3 % on ξ.
+TEST(NonlinearMode, JenkinsFreeDecayMatchesSevenHarmonics) {
+  const Oscillator o{.m = 1.0, .k = 1000.0, .c = 0.05};
+  const double kt = 2000.0, slip_force = 0.5;  // a_s = 2.5e-4 m
+  HarmonicBalanceOptions hb;
+  hb.harmonics = 7;
+  hb.time_samples = 256;
+  const HarmonicBalanceSystem sys(o.model(),
+                                  {grounded(std::make_shared<Jenkins1D>(JenkinsParameters{
+                                      .kt = kt, .mu = 0.5, .normal_load = slip_force / 0.5}))},
+                                  Excitation{}, hb);
+  NonlinearModeOptions options;
+  // From the stuck range (a_s = 2.5e-4 m), where the linear mode is the solution; √m = 1.
+  for (double a : geometric(0.1e-3, 40e-3, 61)) options.amplitudes.push_back(a);
+  options.newton.tolerance = 1e-10;
+  const NonlinearModeResult r = nonlinear_mode(sys, options);
+  ASSERT_TRUE(r.completed) << r.message;
+  // Peak displacement of each EPMC point: max over a fine grid of x(t) = Re Σ X_k e^{ikθ}.
+  std::vector<double> peak, omega, xi;
+  for (const NonlinearModePoint& p : r.points) {
+    double best = 0;
+    for (int s = 0; s < 2000; ++s) {
+      const double th = 2 * kPi * s / 2000;
+      double x = p.master(0, 0).real();
+      for (int j = 1; j < p.master.cols(); ++j)
+        x += (p.master(0, j) * std::exp(std::complex<double>(0, r.harmonics[j] * th))).real();
+      best = std::max(best, x);
+    }
+    peak.push_back(best);
+    omega.push_back(p.omega);
+    xi.push_back(p.xi);
+  }
+  auto interpolate = [&](const std::vector<double>& v, double a) {
+    size_t i = 1;
+    while (i + 1 < peak.size() && peak[i] < a) ++i;
+    const double t =
+        (std::log(a) - std::log(peak[i - 1])) / (std::log(peak[i]) - std::log(peak[i - 1]));
+    return v[i - 1] + t * (v[i] - v[i - 1]);
+  };
+  // Time integration from x = 35 mm at rest with the element relaxed.
+  const double w_stuck = std::sqrt((o.k + kt) / o.m), dt = 2 * kPi / w_stuck / 4000;
+  double x = 35e-3, v = 0, f = 0, t = 0;
+  auto element = [&](double f0, double x0, double x1) {
+    return std::clamp(f0 + kt * (x1 - x0), -slip_force, slip_force);
+  };
+  std::vector<double> peak_t, peak_x;
+  double x_prev2 = x, x_prev = x;
+  int checked = 0;
+  for (int step = 0; step < 4000 * 400 && peak_x.size() < 200; ++step) {
+    const double x0 = x, f0 = f;
+    auto acc = [&](double xs, double vs) {
+      return -(o.c * vs + o.k * xs + element(f0, x0, xs)) / o.m;
+    };
+    const double k1x = v, k1v = acc(x, v);
+    const double k2x = v + 0.5 * dt * k1v, k2v = acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v);
+    const double k3x = v + 0.5 * dt * k2v, k3v = acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v);
+    const double k4x = v + dt * k3v, k4v = acc(x + dt * k3x, v + dt * k3v);
+    x += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+    v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    f = element(f0, x0, x);
+    t += dt;
+    if (x_prev > x_prev2 && x_prev >= x && step > 1) {  // a maximum at t − dt: parabola
+      const double d = 0.5 * (x_prev2 - x) / (x_prev2 - 2 * x_prev + x);
+      peak_t.push_back(t - dt + d * dt);
+      peak_x.push_back(x_prev - 0.25 * (x_prev2 - x) * d);
+    }
+    x_prev2 = x_prev;
+    x_prev = x;
+  }
+  ASSERT_GE(peak_x.size(), 20u);
+  for (size_t i = 1; i < peak_x.size(); ++i) {
+    const double a = std::sqrt(peak_x[i] * peak_x[i - 1]);
+    // Below ~15 mm D exceeds 2 % (12 % near 2 a_s): the slow flow no longer holds.
+    if (a < 15e-3 || a > 0.95 * peak.back()) continue;
+    const double T = peak_t[i] - peak_t[i - 1];
+    const double omega_decay = 2 * kPi / T, xi_decay = 2 * std::log(peak_x[i - 1] / peak_x[i]) / T;
+    EXPECT_NEAR(omega_decay, interpolate(omega, a), 1e-3 * omega_decay) << "a = " << a;
+    EXPECT_NEAR(xi_decay, interpolate(xi, a), 0.03 * xi_decay) << "a = " << a;
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+TEST(NonlinearMode, BadOptionsAreRefused) {
+  const Oscillator o;
+  HarmonicBalanceOptions hb;
+  const HarmonicBalanceSystem sys(o.model(),
+                                  {grounded(std::make_shared<Jenkins1D>(JenkinsParameters{
+                                      .kt = 100, .mu = 0.5, .normal_load = 1.0}))},
+                                  Excitation{}, hb);
+  NonlinearModeOptions options;
+  options.amplitudes = {1e-3, 1e-2};
+  options.mode = 0;
+  EXPECT_THROW(nonlinear_mode(sys, options), InvalidInput);
+  options.mode = 2;  // one mode only
+  EXPECT_THROW(nonlinear_mode(sys, options), InvalidInput);
+  options.mode = 1;
+  options.amplitudes = {1e-2, 1e-3};
+  EXPECT_THROW(nonlinear_mode(sys, options), InvalidInput);
+  options.amplitudes = {0.0, 1e-3};
+  EXPECT_THROW(nonlinear_mode(sys, options), InvalidInput);
+  options.amplitudes = {};
+  EXPECT_THROW(nonlinear_mode(sys, options), InvalidInput);
+  hb.harmonic_list = {3};
+  const HarmonicBalanceSystem odd(o.model(), sys.pairs(), Excitation{}, hb);
+  options.amplitudes = {1e-3};
+  EXPECT_THROW(nonlinear_mode(odd, options), InvalidInput);
+}
+
+}  // namespace
+}  // namespace stickslip
