@@ -310,8 +310,8 @@ struct AmplitudeDefinition {
 struct AnalysisDefinition {
   FrequencyDefinition frequency;               // required, except with nonlinear_mode
   SweepMethod method = SweepMethod::kStepped;  // stepped | continuation | nonlinear_mode
-  int mode = 0;                   // nonlinear_mode: 1-based mode of the stuck assembly
-  AmplitudeDefinition amplitude;  // nonlinear_mode
+  int mode = 0;                                // nonlinear_mode: 1-based mode of the stuck assembly
+  AmplitudeDefinition amplitude;               // nonlinear_mode
   std::vector<int> harmonics{1};      // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                       // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;              // N per period, ≥ 2(2 H_max + 1)
