@@ -10,7 +10,9 @@
 
 #include "cli/commands.h"
 #include "cli/pipeline.h"
+#include "cli/plots.h"
 #include "cli/progress.h"
+#include "model/cyclic_modes.h"
 #include "model/stuck_assembly.h"
 #include "core/errors.h"
 #include "core/types.h"
@@ -52,6 +54,68 @@ void print_frequencies(const Eigen::VectorXd& f_hz, int rigid = 0) {
     fmt::print("{} rigid-body mode{} (0 Hz within round-off)\n", rigid, rigid == 1 ? "" : "s");
 }
 
+// The modes per nodal diameter of a case's cyclic sector (model/cyclic_modes.h) into
+// run.dir/modes/: cyclic_modes.csv (nodal_diameter, mode, frequency_hz) and the nodal-diameter
+// diagram nodal_diameters.{png,svg} (with its .dat and .gp). Returns 1 when an eigen-solve failed
+// (nothing written for that analysis), kExitPlotsMissing when the diagram could not be drawn.
+int write_cyclic_modes(const StageRun& run, const ModesCommand& command, bool quiet,
+                       const ProgressFn& progress, ModelCache* cache) {
+  namespace fs = std::filesystem;
+  const CaseDefinition& def = run.definition;
+  const CyclicModes modes = cyclic_modes(def, command.num_modes, progress, cache);
+  const std::string prefix = run.folder.empty() ? "" : run.folder + ": ";
+  for (const NodalDiameterModes& d : modes.diameters) {
+    if (d.summary.ok()) continue;
+    std::fprintf(stderr, "stickslip: %smodes of nodal diameter %d failed: %s\n", prefix.c_str(),
+                 d.nodal_diameter, d.summary.message.c_str());
+    return 1;
+  }
+  const fs::path dir = run.dir / "modes";
+  create_output_folder(dir);
+  write_file_atomically((dir / "cyclic_modes.csv").string(), [&](std::ostream& out) {
+    out << "nodal_diameter,mode,frequency_hz\n";
+    for (const NodalDiameterModes& d : modes.diameters) {
+      for (Eigen::Index j = 0; j < d.frequencies_hz.size(); ++j)
+        fmt::print(out, "{},{},{}\n", d.nodal_diameter, j + 1, d.frequencies_hz(j));
+    }
+  });
+  int code = 0;
+  if (def.output.plots) {
+    // One curve per mode number: its frequency at every nodal diameter.
+    std::vector<PlotSeries> series;
+    for (const NodalDiameterModes& d : modes.diameters) {
+      for (Eigen::Index j = 0; j < d.frequencies_hz.size(); ++j) {
+        if (static_cast<size_t>(j) >= series.size())
+          series.push_back({fmt::format("mode {}", j + 1), {}, {}, "linespoints lw 1.5 pt 7 ps 1"});
+        series[static_cast<size_t>(j)].x.push_back(d.nodal_diameter);
+        series[static_cast<size_t>(j)].y.push_back(d.frequencies_hz(j));
+      }
+    }
+    PlotLog plots;
+    const std::string title = (def.title.empty() ? "" : def.title + ": ") + "body " + modes.body +
+                              ", " + std::to_string(modes.sectors) + " sectors";
+    if (!plot_curves(dir, "nodal_diameters", title, "nodal diameter", "frequency (Hz)", series,
+                     &plots)) {
+      std::fprintf(stderr,
+                   "stickslip: the nodal-diameter diagram was not drawn; cyclic_modes.csv and "
+                   "nodal_diameters.dat are complete (run `stickslip modes` again to draw it)\n");
+      code = kExitPlotsMissing;
+    }
+  }
+  if (!quiet) {
+    fmt::print("{}cyclic sector {}: {} sectors, {} independent DOFs per sector\n", prefix,
+               modes.body, modes.sectors, modes.sector_dofs);
+    fmt::print("{:>14} {:>5} {:>14}\n", "nodal_diameter", "mode", "frequency_Hz");
+    for (const NodalDiameterModes& d : modes.diameters) {
+      for (Eigen::Index j = 0; j < d.frequencies_hz.size(); ++j)
+        fmt::print("{:>14} {:>5} {:>14.3f}{}\n", d.nodal_diameter, j + 1, d.frequencies_hz(j),
+                   d.doubled ? "  (double)" : "");
+    }
+    fmt::print("wrote {}\n", (dir / "cyclic_modes.csv").string());
+  }
+  return code;
+}
+
 // `stickslip modes CASE`: modes of the case's assembled reduced model with every contact stuck
 // (the frequencies `analysis.frequency.around_mode` centres on), and their shapes on the full
 // meshes (x = T q) when the Craig–Bampton basis is at hand.
@@ -62,8 +126,17 @@ int run_case_modes(const ModesCommand& command) {
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.output_dir);
   ModelCache cache;  // meshes and reductions shared by the study's analyses
+  const bool cyclic = std::any_of(base.bodies.begin(), base.bodies.end(),
+                                  [](const auto& b) { return b.second.cyclic.has_value(); });
+  int code = 0;
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
+    if (cyclic) {  // the modes per nodal diameter instead of the stuck assembly's
+      const int run_code = write_cyclic_modes(run, command, quiet, progress, &cache);
+      if (run_code == 1) return 1;
+      code = std::max(code, run_code);
+      continue;
+    }
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.case_file, /*full_matrices=*/false, progress,
                             /*load_basis_if_present=*/true, &cache);
@@ -113,7 +186,7 @@ int run_case_modes(const ModesCommand& command) {
       fmt::print("wrote {}\n", (dir / "frequencies.csv").string());
     }
   }
-  return 0;
+  return code;
 }
 
 }  // namespace

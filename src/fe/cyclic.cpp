@@ -79,6 +79,12 @@ std::vector<std::pair<int, int>> match_cyclic_boundaries(const Mesh& mesh, std::
   return pairs;
 }
 
+int CyclicSectorProblem::independent_index(int full_dof) const {
+  const auto it = std::lower_bound(independent.begin(), independent.end(), full_dof);
+  return it != independent.end() && *it == full_dof ? static_cast<int>(it - independent.begin())
+                                                    : -1;
+}
+
 Eigen::VectorXcd CyclicSectorProblem::expand(const Eigen::VectorXd& solution) const {
   const Eigen::Index n = static_cast<Eigen::Index>(independent.size());
   Eigen::VectorXcd uI(n);

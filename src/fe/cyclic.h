@@ -56,6 +56,8 @@ struct CyclicSectorProblem {
   bool doubled = false;          // true for 0 < h < N/2: K, M are the real 2n form above
   SparseMatrix K, M;             // real symmetric, n or 2n square
   std::vector<int> independent;  // full DOFs of u_I, increasing (n of them)
+  // Index in u_I of a full DOF; -1 when it is clamped or on the high boundary.
+  int independent_index(int full_dof) const;
   // Full complex displacement of the sector (3·num_nodes) from a solution of K, M (size n or 2n).
   Eigen::VectorXcd expand(const Eigen::VectorXd& solution) const;
 

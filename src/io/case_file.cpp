@@ -889,6 +889,31 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
   return out;
 }
 
+// bodies.B.cyclic: {sectors, axis: {point, direction}, low, high, tolerance}.
+CyclicDefinition parse_cyclic(Parser& p, const MapView& body) {
+  MapView m(p, body.value("cyclic"), body.full("cyclic"), body.line("cyclic"),
+            case_keys_in("bodies.NAME.cyclic"));
+  for (const char* key : {"sectors", "axis", "low", "high"}) m.require(key);
+  CyclicDefinition d;
+  m.integer("sectors", &d.sectors, 2, kMaxCyclicSectors,
+            "one modal analysis per nodal diameter 0..N/2");
+  MapView axis(p, m.value("axis"), m.full("axis"), m.line("axis"),
+               case_keys_in("bodies.NAME.cyclic.axis"));
+  axis.require("point");
+  axis.require("direction");
+  d.axis_point = p.vector3(axis.value("point"), axis.full("point"), axis.line("point"));
+  d.axis_direction =
+      p.direction(axis.value("direction"), axis.full("direction"), axis.line("direction"));
+  d.low = node_selection(p, m.value("low"), m.full("low"), m.line("low"));
+  d.high = node_selection(p, m.value("high"), m.full("high"), m.line("high"));
+  if (m.has("tolerance")) {
+    d.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
+    p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
+            "must be > 0, got " + format_number(d.tolerance));
+  }
+  return d;
+}
+
 void parse_bodies(Parser& p, const MapView& top) {
   for_each_named(
       p, top, "bodies",
@@ -902,7 +927,7 @@ void parse_bodies(Parser& p, const MapView& top) {
         if (m.has("reduced")) {
           d.source = BodyDefinition::Source::kReduced;
           for (const char* key : {"mesh", "element_set", "material", "clamp", "supports", "masters",
-                                  "modes", "mass_rule"})
+                                  "modes", "mass_rule", "cyclic"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
                     case_keys_in("bodies.NAME.reduced"));
@@ -962,6 +987,7 @@ void parse_bodies(Parser& p, const MapView& top) {
           m.choice("mass_rule", &rule, {"exact", "calculix"});
           d.mass_rule =
               rule == "calculix" ? MassIntegration::kStiffnessRule : MassIntegration::kExact;
+          if (m.has("cyclic")) d.cyclic = parse_cyclic(p, m);
         }
         p.out().bodies[name] = d;
       });
@@ -2194,6 +2220,23 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "modes" << YAML::Value << b.modes;
       if (b.mass_rule == MassIntegration::kStiffnessRule)  // exact (the default): not written
         e << YAML::Key << "mass_rule" << YAML::Value << "calculix";
+      if (b.cyclic) {
+        const CyclicDefinition& cd = *b.cyclic;
+        e << YAML::Key << "cyclic" << YAML::Value << YAML::BeginMap;
+        e << YAML::Key << "sectors" << YAML::Value << cd.sectors;
+        e << YAML::Key << "axis" << YAML::Value << YAML::BeginMap;
+        e << YAML::Key << "point" << YAML::Value << YAML::Flow
+          << std::vector<double>(cd.axis_point.begin(), cd.axis_point.end());
+        e << YAML::Key << "direction" << YAML::Value << YAML::Flow
+          << std::vector<double>(cd.axis_direction.begin(), cd.axis_direction.end());
+        e << YAML::EndMap;
+        e << YAML::Key << "low" << YAML::Value;
+        selection(cd.low);
+        e << YAML::Key << "high" << YAML::Value;
+        selection(cd.high);
+        e << YAML::Key << "tolerance" << YAML::Value << num(cd.tolerance);
+        e << YAML::EndMap;
+      }
     } else {
       e << YAML::Key << "reduced" << YAML::Value << YAML::BeginMap;
       e << YAML::Key << "stiffness" << YAML::Value << b.reduced.stiffness;

@@ -167,6 +167,20 @@ struct ReducedMatricesDefinition {
                                                                  // matrix_market | abaqus_matrix
 };
 
+// bodies.B.cyclic: the body is one sector of N (fe/cyclic.h; docs/cyclic.md). Sector j + 1 is
+// sector j rotated by 2π/N about the axis (right-handed about `axis_direction`); the `low`
+// boundary's nodes rotated by 2π/N land on the `high` boundary's within `tolerance`.
+struct CyclicDefinition {
+  int sectors = 0;                                // N (required, 2 ≤ N ≤ kMaxCyclicSectors)
+  std::array<double, 3> axis_point{0, 0, 0};      // m (required)
+  std::array<double, 3> axis_direction{0, 0, 1};  // unit vector (required)
+  NodeSelection low, high;                        // required
+  double tolerance = 1.0e-6;                      // m, > 0: matching distance
+};
+// bodies.B.cyclic.sectors: one modal analysis per nodal diameter 0..N/2; 1000 is far above any
+// bladed disk (tens to ~200 blades) and stops a typo before N/2 eigen-solves.
+inline constexpr int kMaxCyclicSectors = 1000;
+
 struct BodyDefinition {
   enum class Source { kMesh, kReduced };
   Source source = Source::kMesh;
@@ -184,7 +198,8 @@ struct BodyDefinition {
   MassIntegration mass_rule = MassIntegration::kExact;
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
   double modal_damping_ratio = 0.0;
-  ReducedMatricesDefinition reduced;  // kReduced
+  ReducedMatricesDefinition reduced;       // kReduced
+  std::optional<CyclicDefinition> cyclic;  // kMesh: one sector of a cyclic structure
 };
 
 // Contact parameters; which apply depends on the law (docs/case-file.md; the laws and their keys:

@@ -605,6 +605,32 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
   return shares;
 }
 
+// bodies.B.cyclic on the body's mesh: its boundaries matched (the library's message, naming the
+// unmatched node, its image and the nearest high node with its distance, at the key's line).
+void resolve_cyclic(const CaseDefinition& def, const std::string& name, const CyclicDefinition& cd,
+                    CaseBody& body) {
+  const std::string key = "bodies." + name + ".cyclic";
+  const std::vector<int> low = resolve_nodes(def, key + ".low", body, cd.low);
+  const std::vector<int> high = resolve_nodes(def, key + ".high", body, cd.high);
+  for (int n : low) {
+    if (std::find(high.begin(), high.end(), n) != high.end()) {
+      throw InvalidInput(def.where(key + ".high"),
+                         fmt::format("node {} of body {} is on both the low and the high boundary",
+                                     body.mesh.node_ids[n], name));
+    }
+  }
+  CyclicSymmetry symmetry;
+  symmetry.sectors = cd.sectors;
+  symmetry.axis_point = vec3(cd.axis_point);
+  symmetry.axis_direction = vec3(cd.axis_direction);
+  try {
+    body.cyclic_pairs = match_cyclic_boundaries(body.mesh, low, high, symmetry, cd.tolerance);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(def.where(key), "body " + name + ": " + e.message());
+  }
+  body.cyclic = symmetry;
+}
+
 }  // namespace
 
 DofMap body_constraints(const CaseBody& body, const Mesh& mesh) {
@@ -831,6 +857,7 @@ CaseBodies resolve_case_bodies(const CaseDefinition& def, const ProgressFn& prog
       for (int n : resolve_nodes(def, key + ".nodes", body, sd.nodes))
         body.supports.push_back({n, directions, origin});
     }
+    if (bd.cyclic) resolve_cyclic(def, name, *bd.cyclic, body);
   }
   return out;
 }
@@ -860,6 +887,18 @@ std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vec
   return out;
 }
 
+void refuse_cyclic_bodies(const CaseDefinition& def, const std::string& what) {
+  for (const auto& [name, bd] : def.bodies) {
+    if (!bd.cyclic) continue;
+    throw InvalidInput(
+        def.where("bodies." + name + ".cyclic"),
+        "body " + name + " is a cyclic sector: " + what +
+            " does not take cyclic sectors yet (it would treat the sector as a whole body); "
+            "`stickslip modes` computes its modes per nodal diameter, the forced response under "
+            "engine-order excitation is still to come");
+  }
+}
+
 PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progress,
                             ModelCache* cache) {
   const auto t0 = Clock::now();
@@ -874,6 +913,7 @@ PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progres
 PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                             const BodyReduction& reduction, const ProgressFn& progress) {
   const auto t0 = Clock::now();
+  refuse_cyclic_bodies(def, "the assembled reduced model (reduce, solve, run, a stuck-mode window)");
   const auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };

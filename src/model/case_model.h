@@ -34,6 +34,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@
 #include "contact/nonlinear_element.h"
 #include "continuation/sweep.h"
 #include "core/types.h"
+#include "fe/cyclic.h"
 #include "fe/dof_map.h"
 #include "fe/material.h"
 #include "hbm/frequency_response.h"
@@ -80,6 +82,10 @@ struct CaseBody {
   // The dotted case key that first asked for each master (a contact pair, an excitation entry,
   // bodies.B.masters, an output.frf entry), for messages about that node.
   std::map<int, std::string> master_keys;
+  // bodies.B.cyclic (from_mesh): the sector's symmetry and its boundary, each low node with the
+  // high node it reaches rotated by 2π/N (node indices; match_cyclic_boundaries).
+  std::optional<CyclicSymmetry> cyclic;
+  std::vector<std::pair<int, int>> cyclic_pairs;
   int node_id(int node) const { return from_mesh ? mesh.node_ids[node] : node; }
 };
 // The constraints of a mesh body on `mesh` (its mesh, which may have been moved out of `body`):
@@ -210,6 +216,12 @@ struct PreparedModel {
 };
 
 class BodyReduction;  // model/body_reduction.h
+
+// Cyclic sectors (bodies.B.cyclic) reach only the modal analysis per nodal diameter so far
+// (model/cyclic_modes.h, `stickslip modes`): `what` (an analysis that would treat the sector as an
+// ordinary body, a silent wrong answer) throws InvalidInput at bodies.B.cyclic of the first
+// cyclic body. The forced response under engine-order excitation is issue 13, item 3.
+void refuse_cyclic_bodies(const CaseDefinition& definition, const std::string& what);
 
 // Builds the reduced model of the case. `progress` (may be null) receives one line per stage.
 // `cache` (may be null): meshes and reductions of earlier analyses of the same study, reused when

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "../ccx_dat.h"
+#include "../cyclic_annulus.h"
 #include "../required_tool.h"
 #include "core/errors.h"
 #include "fe/assembly.h"
@@ -26,49 +27,10 @@
 namespace stickslip {
 namespace {
 
+// The default annulus of cyclic_annulus.h: 2 elements in r, 1 in z.
 constexpr int kRadial = 2, kAxial = 1;
-constexpr double kInner = 0.5, kOuter = 1.0, kThickness = 0.05;  // m
-
-// An annular plate of C3D8 elements over `sectors` of N sectors (angle 2π/N each) with
-// `per_sector` elements in θ per sector, kRadial in r, kAxial in z. Node (i, j, k) has index
-// i + (kRadial + 1)(j + nj k); with the whole ring (sectors == N) θ is periodic: nj = N·per_sector
-// and the last layer of elements closes on j = 0.
-struct Annulus {
-  Mesh mesh;
-  int nj = 0;
-  int node(int i, int j, int k) const { return i + (kRadial + 1) * (j + nj * k); }
-};
-
-Annulus annulus(int N, int per_sector, int sectors) {
-  Annulus a;
-  const bool ring = sectors == N;
-  const int cells = per_sector * sectors;
-  a.nj = ring ? cells : cells + 1;
-  const double dtheta = 2 * M_PI / N / per_sector;
-  int id = 1;
-  for (int k = 0; k <= kAxial; ++k) {
-    for (int j = 0; j < a.nj; ++j) {
-      for (int i = 0; i <= kRadial; ++i) {
-        const double r = kInner + (kOuter - kInner) * i / kRadial, t = j * dtheta;
-        a.mesh.add_node(id++, {r * std::cos(t), r * std::sin(t), kThickness * k / kAxial});
-      }
-    }
-  }
-  id = 1;
-  for (int k = 0; k < kAxial; ++k) {
-    for (int j = 0; j < cells; ++j) {
-      const int jn = (j + 1) % a.nj;
-      for (int i = 0; i < kRadial; ++i) {
-        const std::vector<int> nodes = {a.node(i, j, k),          a.node(i + 1, j, k),
-                                        a.node(i + 1, jn, k),     a.node(i, jn, k),
-                                        a.node(i, j, k + 1),      a.node(i + 1, j, k + 1),
-                                        a.node(i + 1, jn, k + 1), a.node(i, jn, k + 1)};
-        a.mesh.add_element(id++, ElementType::kC3D8, nodes);
-      }
-    }
-  }
-  return a;
-}
+using testing_cyclic::Annulus;
+using testing_cyclic::annulus;
 
 const IsotropicMaterial kSteel{.youngs_modulus = 2.1e11, .poisson_ratio = 0.3, .density = 7800};
 
