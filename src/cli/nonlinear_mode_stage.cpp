@@ -30,8 +30,6 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 const char* kAxes[3] = {"x", "y", "z"};
 
-double milliseconds(double seconds) { return std::round(seconds * 1000) / 1000; }
-
 void write_tables(const StageRun& run, const PreparedModel& model,
                   const SolvedNonlinearMode& solved) {
   const NonlinearModeResult& r = solved.result;
@@ -116,24 +114,7 @@ void write_nonlinear_mode_summary(const StageRun& run, const PreparedModel& mode
   summary["message"] = r.message;
   summary["aft"] = {{"method", case_name(def.analysis.aft)},
                     {"time_samples", def.analysis.time_samples}};
-  summary["bodies"] = Json::array();
-  for (const PreparedBody& body : model.bodies) {
-    summary["bodies"].push_back({{"name", body.name},
-                                 {"full_dofs", body.from_mesh ? body.mesh.num_dofs() : 0},
-                                 {"reduced_dofs", body.reduced.size()},
-                                 {"masters", body.master_dof.size() / 3},
-                                 {"seconds_reduction", milliseconds(body.seconds_reduction)}});
-  }
-  summary["timings"] = {{"prepare_s", milliseconds(model.seconds_prepare)},
-                        {"solve_s", milliseconds(solved.seconds_solve)},
-                        {"recovery_s", 0.0},
-                        {"plots_s", 0.0},
-                        {"total_s", milliseconds(seconds_total)}};
-  std::vector<std::string> files;
-  for (const fs::path& f : published_files_under(run.dir)) files.push_back(f.generic_string());
-  files.push_back("summary.json");
-  summary["files"] = files;
-  summary["removed_stale"] = removed;
+  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, run.dir, removed);
   CaseDefinition inputs = with_absolute_paths(def);
   inputs.study = StudyDefinition{};
   inputs.output.directory = summary["output_directory"].get<std::string>();

@@ -126,9 +126,6 @@ Json bifurcations_json(const CaseDefinition& def, const PreparedModel& model,
   return list;
 }
 
-// Seconds rounded to the millisecond (timings are not measured more finely than that).
-double milliseconds(double seconds) { return std::round(seconds * 1000) / 1000; }
-
 }  // namespace
 
 void warn_peak_at_window_edge(const StageRun& run, const PreparedModel& model,
@@ -505,24 +502,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     summary["stability"] = nullptr;
   }
   summary["bifurcations"] = bifurcations_json(def, model, fr);
-  summary["bodies"] = Json::array();
-  for (const PreparedBody& body : model.bodies) {
-    summary["bodies"].push_back({{"name", body.name},
-                                 {"full_dofs", body.from_mesh ? body.mesh.num_dofs() : 0},
-                                 {"reduced_dofs", body.reduced.size()},
-                                 {"masters", body.master_dof.size() / 3},
-                                 {"seconds_reduction", milliseconds(body.seconds_reduction)}});
-  }
-  summary["timings"] = {{"prepare_s", milliseconds(model.seconds_prepare)},
-                        {"solve_s", milliseconds(solved.seconds_solve)},
-                        {"recovery_s", 0.0},
-                        {"plots_s", 0.0},
-                        {"total_s", milliseconds(seconds_total)}};
-  std::vector<std::string> files;
-  for (const fs::path& f : published_files_under(dir)) files.push_back(f.generic_string());
-  files.push_back("summary.json");
-  summary["files"] = files;
-  summary["removed_stale"] = removed;
+  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, dir, removed);
   // This folder's analysis as a case file: one study value (no study), absolute file paths, the
   // output folder used; `stickslip run` on it makes these results again.
   CaseDefinition inputs = with_absolute_paths(def);

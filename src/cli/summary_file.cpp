@@ -12,6 +12,7 @@
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "io/atomic_file.h"
+#include "model/case_model.h"
 
 namespace stickslip {
 
@@ -92,6 +93,33 @@ void complete_summary(const fs::path& dir, const SummaryTimings& timings) {
     summary["removed_stale"] = removed;
   }
   write_summary(dir, summary);
+}
+
+void add_bodies_timings_and_files(nlohmann::ordered_json& summary, const PreparedModel& model,
+                                  double seconds_solve, double seconds_total,
+                                  const std::filesystem::path& dir,
+                                  const std::vector<std::string>& removed) {
+  using Json = nlohmann::ordered_json;
+  const auto milliseconds = [](double seconds) { return std::round(seconds * 1000) / 1000; };
+  summary["bodies"] = Json::array();
+  for (const PreparedBody& body : model.bodies) {
+    summary["bodies"].push_back({{"name", body.name},
+                                 {"full_dofs", body.from_mesh ? body.mesh.num_dofs() : 0},
+                                 {"reduced_dofs", body.reduced.size()},
+                                 {"masters", body.master_dof.size() / 3},
+                                 {"seconds_reduction", milliseconds(body.seconds_reduction)}});
+  }
+  summary["timings"] = {{"prepare_s", milliseconds(model.seconds_prepare)},
+                        {"solve_s", milliseconds(seconds_solve)},
+                        {"recovery_s", 0.0},
+                        {"plots_s", 0.0},
+                        {"total_s", milliseconds(seconds_total)}};
+  std::vector<std::string> files;
+  for (const std::filesystem::path& f : published_files_under(dir))
+    files.push_back(f.generic_string());
+  files.push_back("summary.json");
+  summary["files"] = files;
+  summary["removed_stale"] = removed;
 }
 
 }  // namespace stickslip

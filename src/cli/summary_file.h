@@ -10,10 +10,13 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
 namespace stickslip {
+
+struct PreparedModel;  // model/case_model.h
 
 // The parsed file. InvalidInput naming the file and the line of the fault when it is not JSON or
 // not an object; a missing file names `hint` (the command that writes it).
@@ -36,5 +39,15 @@ struct SummaryTimings {
 // file this process published under dir (io/atomic_file.h), summary.json included, as paths
 // relative to dir with '/' separators.
 void complete_summary(const std::filesystem::path& dir, const SummaryTimings& timings);
+
+// The keys every analysis's summary.json ends with, written alike by the forced response and the
+// nonlinear mode: `bodies` (name, full_dofs, reduced_dofs, masters, seconds_reduction), `timings`
+// (prepare_s, solve_s, recovery_s and plots_s 0 until complete_summary, total_s; seconds rounded
+// to the millisecond), `files` (every file published under dir, then summary.json) and
+// `removed_stale`.
+void add_bodies_timings_and_files(nlohmann::ordered_json& summary, const PreparedModel& model,
+                                  double seconds_solve, double seconds_total,
+                                  const std::filesystem::path& dir,
+                                  const std::vector<std::string>& removed);
 
 }  // namespace stickslip
