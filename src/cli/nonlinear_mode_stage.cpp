@@ -114,7 +114,8 @@ void write_nonlinear_mode_summary(const StageRun& run, const PreparedModel& mode
   summary["message"] = r.message;
   summary["aft"] = {{"method", case_name(def.analysis.aft)},
                     {"time_samples", def.analysis.time_samples}};
-  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, run.dir, removed);
+  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, run.dir,
+                               removed);
   CaseDefinition inputs = with_absolute_paths(def);
   inputs.study = StudyDefinition{};
   inputs.output.directory = summary["output_directory"].get<std::string>();
