@@ -19,10 +19,6 @@
 #include "io/case_file.h"
 #include "model/nonlinear_mode_case.h"
 
-#ifndef STICKSLIP_VERSION
-#define STICKSLIP_VERSION "unknown"
-#endif
-
 namespace stickslip {
 namespace {
 
@@ -78,19 +74,7 @@ void write_nonlinear_mode_summary(const StageRun& run, const PreparedModel& mode
       most_damping_amplitude = p.amplitude;
     }
   }
-  Json summary;
-  summary["program"] = "stickslip";
-  summary["version"] = STICKSLIP_VERSION;
-  summary["case_file"] = def.file;
-  summary["title"] = def.title;
-  summary["fingerprint"] = solve_fingerprint(def);
-  summary["output_directory"] = fs::absolute(run.dir).lexically_normal().string();
-  if (def.study.active()) {
-    summary["study"] = {
-        {"parameter", def.study.parameter}, {"value", run.value}, {"folder", run.folder}};
-  } else {
-    summary["study"] = nullptr;
-  }
+  Json summary = start_summary(run);
   summary["analysis"] = "nonlinear_mode";
   Json mode = {{"mode", r.mode},
                {"linear_frequency_hz", rad_s_to_hz(r.linear_omega)},
@@ -114,12 +98,7 @@ void write_nonlinear_mode_summary(const StageRun& run, const PreparedModel& mode
   summary["message"] = r.message;
   summary["aft"] = {{"method", case_name(def.analysis.aft)},
                     {"time_samples", def.analysis.time_samples}};
-  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, run.dir,
-                               removed);
-  CaseDefinition inputs = with_absolute_paths(def);
-  inputs.study = StudyDefinition{};
-  inputs.output.directory = summary["output_directory"].get<std::string>();
-  summary["inputs"] = describe_case(inputs);
+  finish_summary(summary, run, model, solved.seconds_solve, seconds_total, removed);
   write_summary(run.dir, summary);
 }
 

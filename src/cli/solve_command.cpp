@@ -27,10 +27,6 @@
 #include "io/case_file.h"
 #include "io/vtu_writer.h"
 
-#ifndef STICKSLIP_VERSION
-#define STICKSLIP_VERSION "unknown"
-#endif
-
 namespace stickslip {
 namespace {
 
@@ -440,19 +436,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
 
   int converged = 0;
   for (const FrequencyPoint& p : fr.points) converged += p.converged ? 1 : 0;
-  Json summary;
-  summary["program"] = "stickslip";
-  summary["version"] = STICKSLIP_VERSION;
-  summary["case_file"] = def.file;
-  summary["title"] = def.title;
-  summary["fingerprint"] = solve_fingerprint(def);
-  summary["output_directory"] = fs::absolute(dir).lexically_normal().string();
-  if (def.study.active()) {
-    summary["study"] = {{"parameter", def.study.parameter}, {"value", run.value},
-                        {"folder", run.folder}};
-  } else {
-    summary["study"] = nullptr;
-  }
+  Json summary = start_summary(run);
   summary["plots"] = {{"log_amplitude", def.output.log_amplitude}};
   const SweepWindow& w = solved.window;
   summary["window"] = {{"start_hz", w.start_hz},
@@ -502,13 +486,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     summary["stability"] = nullptr;
   }
   summary["bifurcations"] = bifurcations_json(def, model, fr);
-  add_bodies_timings_and_files(summary, model, solved.seconds_solve, seconds_total, dir, removed);
-  // This folder's analysis as a case file: one study value (no study), absolute file paths, the
-  // output folder used; `stickslip run` on it makes these results again.
-  CaseDefinition inputs = with_absolute_paths(def);
-  inputs.study = StudyDefinition{};
-  inputs.output.directory = summary["output_directory"].get<std::string>();
-  summary["inputs"] = describe_case(inputs);
+  finish_summary(summary, run, model, solved.seconds_solve, seconds_total, removed);
   write_summary(dir, summary);
   return removed;
 }

@@ -9,10 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/commands.h"
 #include "cli/results_files.h"
 #include "core/errors.h"
 #include "io/atomic_file.h"
+#include "io/case_file.h"
 #include "model/case_model.h"
+
+#ifndef STICKSLIP_VERSION
+#define STICKSLIP_VERSION "unknown"
+#endif
 
 namespace stickslip {
 
@@ -95,10 +101,27 @@ void complete_summary(const fs::path& dir, const SummaryTimings& timings) {
   write_summary(dir, summary);
 }
 
-void add_bodies_timings_and_files(nlohmann::ordered_json& summary, const PreparedModel& model,
-                                  double seconds_solve, double seconds_total,
-                                  const std::filesystem::path& dir,
-                                  const std::vector<std::string>& removed) {
+nlohmann::ordered_json start_summary(const StageRun& run) {
+  const CaseDefinition& def = run.definition;
+  nlohmann::ordered_json summary;
+  summary["program"] = "stickslip";
+  summary["version"] = STICKSLIP_VERSION;
+  summary["case_file"] = def.file;
+  summary["title"] = def.title;
+  summary["fingerprint"] = solve_fingerprint(def);
+  summary["output_directory"] = std::filesystem::absolute(run.dir).lexically_normal().string();
+  if (def.study.active()) {
+    summary["study"] = {
+        {"parameter", def.study.parameter}, {"value", run.value}, {"folder", run.folder}};
+  } else {
+    summary["study"] = nullptr;
+  }
+  return summary;
+}
+
+void finish_summary(nlohmann::ordered_json& summary, const StageRun& run,
+                    const PreparedModel& model, double seconds_solve, double seconds_total,
+                    const std::vector<std::string>& removed) {
   using Json = nlohmann::ordered_json;
   const auto milliseconds = [](double seconds) { return std::round(seconds * 1000) / 1000; };
   summary["bodies"] = Json::array();
@@ -115,11 +138,15 @@ void add_bodies_timings_and_files(nlohmann::ordered_json& summary, const Prepare
                         {"plots_s", 0.0},
                         {"total_s", milliseconds(seconds_total)}};
   std::vector<std::string> files;
-  for (const std::filesystem::path& f : published_files_under(dir))
+  for (const std::filesystem::path& f : published_files_under(run.dir))
     files.push_back(f.generic_string());
   files.push_back("summary.json");
   summary["files"] = files;
   summary["removed_stale"] = removed;
+  CaseDefinition inputs = with_absolute_paths(run.definition);
+  inputs.study = StudyDefinition{};
+  inputs.output.directory = summary["output_directory"].get<std::string>();
+  summary["inputs"] = describe_case(inputs);
 }
 
 }  // namespace stickslip

@@ -17,6 +17,7 @@
 namespace stickslip {
 
 struct PreparedModel;  // model/case_model.h
+struct StageRun;       // cli/commands.h
 
 // The parsed file. InvalidInput naming the file and the line of the fault when it is not JSON or
 // not an object; a missing file names `hint` (the command that writes it).
@@ -40,14 +41,19 @@ struct SummaryTimings {
 // relative to dir with '/' separators.
 void complete_summary(const std::filesystem::path& dir, const SummaryTimings& timings);
 
-// The keys every analysis's summary.json ends with, written alike by the forced response and the
-// nonlinear mode: `bodies` (name, full_dofs, reduced_dofs, masters, seconds_reduction), `timings`
-// (prepare_s, solve_s, recovery_s and plots_s 0 until complete_summary, total_s; seconds rounded
-// to the millisecond), `files` (every file published under dir, then summary.json) and
-// `removed_stale`.
-void add_bodies_timings_and_files(nlohmann::ordered_json& summary, const PreparedModel& model,
-                                  double seconds_solve, double seconds_total,
-                                  const std::filesystem::path& dir,
-                                  const std::vector<std::string>& removed);
+// The keys every analysis's summary.json starts with, written alike by the forced response and the
+// nonlinear mode: program, version, case_file, title, fingerprint, output_directory (absolute) and
+// study (parameter, value, folder; null without a study).
+nlohmann::ordered_json start_summary(const StageRun& run);
+
+// The keys it ends with: `bodies` (name, full_dofs, reduced_dofs, masters, seconds_reduction),
+// `timings` (prepare_s, solve_s, recovery_s and plots_s 0 until complete_summary, total_s; seconds
+// rounded to the millisecond), `files` (every file published under run.dir, then summary.json),
+// `removed_stale` and `inputs`: this folder's analysis as a case file (one study value, no study,
+// absolute file paths, the output folder used), from which `stickslip run` makes these results
+// again.
+void finish_summary(nlohmann::ordered_json& summary, const StageRun& run,
+                    const PreparedModel& model, double seconds_solve, double seconds_total,
+                    const std::vector<std::string>& removed);
 
 }  // namespace stickslip
