@@ -19,6 +19,7 @@
 #include "cli/interruption.h"
 #include "core/errors.h"
 #include "core/printable.h"
+#include "io/gmsh_plugin.h"
 
 #ifndef STICKSLIP_VERSION
 #define STICKSLIP_VERSION "unknown"
@@ -209,6 +210,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "stickslip: error: %s: %s\n", e.path1().string().c_str(),
                  e.code().message().c_str());
     return 2;
+  } catch (const GmshUnavailable& e) {
+    // Not the input's fault and not a bug: the installation lacks the Gmsh plugin.
+    std::fprintf(stderr, "stickslip: error: %s\n", e.what());
+    return 5;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stickslip: internal error: %s\n", e.what());
     return 3;

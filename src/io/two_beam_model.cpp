@@ -1,7 +1,5 @@
 #include "io/two_beam_model.h"
 
-#include <gmsh.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,6 +8,7 @@
 
 #include "core/errors.h"
 #include "io/gmsh_mesh.h"
+#include "io/gmsh_plugin.h"
 #include "mesh/mesh_tools.h"
 
 namespace stickslip {
@@ -19,128 +18,23 @@ namespace {
 // interpolation, exact to a few ulps; 1e-9 of the size is far below any element size.
 constexpr double kRelativeGeometryTolerance = 1e-9;
 
-struct Box {
-  Eigen::Vector3d lower, upper;
-  std::array<int, 3> divisions;
-};
-
-// Builds axis-aligned boxes in the current Gmsh model (geo kernel) as transfinite, recombined
-// hexahedral volumes. Points, lines and surfaces at the same place are shared, so boxes that
-// share a face (or an edge) share its nodes; nothing else is merged.
-class BoxBuilder {
- public:
-  explicit BoxBuilder(double tolerance) : tolerance_(tolerance) {}
-
-  int add(const Box& box) {
-    int p[2][2][2];
-    for (int i = 0; i < 2; ++i) {
-      for (int j = 0; j < 2; ++j) {
-        for (int k = 0; k < 2; ++k) {
-          p[i][j][k] = point({i ? box.upper.x() : box.lower.x(), j ? box.upper.y() : box.lower.y(),
-                              k ? box.upper.z() : box.lower.z()});
-        }
-      }
-    }
-    // The 12 edges with their divisions.
-    for (int j = 0; j < 2; ++j)
-      for (int k = 0; k < 2; ++k) line(p[0][j][k], p[1][j][k], box.divisions[0]);
-    for (int i = 0; i < 2; ++i)
-      for (int k = 0; k < 2; ++k) line(p[i][0][k], p[i][1][k], box.divisions[1]);
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j) line(p[i][j][0], p[i][j][1], box.divisions[2]);
-    std::vector<int> faces;
-    for (int s = 0; s < 2; ++s) {
-      faces.push_back(surface({p[s][0][0], p[s][1][0], p[s][1][1], p[s][0][1]}));
-      faces.push_back(surface({p[0][s][0], p[1][s][0], p[1][s][1], p[0][s][1]}));
-      faces.push_back(surface({p[0][0][s], p[1][0][s], p[1][1][s], p[0][1][s]}));
-    }
-    const int loop = gmsh::model::geo::addSurfaceLoop(faces);
-    const int volume = gmsh::model::geo::addVolume({loop});
-    gmsh::model::geo::mesh::setTransfiniteVolume(volume);
-    return volume;
-  }
-
- private:
-  int point(const Eigen::Vector3d& x) {
-    const std::array<long long, 3> key = {std::llround(x.x() / tolerance_),
-                                          std::llround(x.y() / tolerance_),
-                                          std::llround(x.z() / tolerance_)};
-    const auto it = points_.find(key);
-    if (it != points_.end()) return it->second;
-    const int tag = gmsh::model::geo::addPoint(x.x(), x.y(), x.z());
-    points_.emplace(key, tag);
-    return tag;
-  }
-
-  // Signed tag of the line a -> b (negative if stored as b -> a).
-  int line(int a, int b, int divisions = -1) {
-    const auto it = lines_.find({std::min(a, b), std::max(a, b)});
-    if (it != lines_.end()) {
-      STICKSLIP_VERIFY(divisions < 0 || divisions == it->second.second,
-                       "shared edge with different divisions");
-      return a < b ? it->second.first : -it->second.first;
-    }
-    STICKSLIP_VERIFY(divisions > 0, "line without divisions");
-    const int tag = gmsh::model::geo::addLine(std::min(a, b), std::max(a, b));
-    gmsh::model::geo::mesh::setTransfiniteCurve(tag, divisions + 1);
-    lines_.emplace(std::make_pair(std::min(a, b), std::max(a, b)), std::make_pair(tag, divisions));
-    return a < b ? tag : -tag;
-  }
-
-  int surface(std::array<int, 4> corners) {
-    std::array<int, 4> key = corners;
-    std::sort(key.begin(), key.end());
-    const auto it = surfaces_.find(key);
-    if (it != surfaces_.end()) return it->second;
-    const int loop = gmsh::model::geo::addCurveLoop(
-        {line(corners[0], corners[1]), line(corners[1], corners[2]), line(corners[2], corners[3]),
-         line(corners[3], corners[0])});
-    const int tag = gmsh::model::geo::addPlaneSurface({loop});
-    gmsh::model::geo::mesh::setTransfiniteSurface(tag);
-    gmsh::model::geo::mesh::setRecombine(2, tag);
-    surfaces_.emplace(key, tag);
-    return tag;
-  }
-
-  double tolerance_;
-  std::map<std::array<long long, 3>, int> points_;
-  std::map<std::pair<int, int>, std::pair<int, int>> lines_;  // (a, b) -> (tag, divisions)
-  std::map<std::array<int, 4>, int> surfaces_;
-};
+using Box = GmshBox;
 
 bool is_quadratic(ElementType t) { return t == ElementType::kC3D20 || t == ElementType::kC3D20R; }
 
-// Meshes one beam (its boxes, in global coordinates) in a fresh Gmsh model and converts it.
+// Meshes one beam (its boxes, in global coordinates) in a fresh Gmsh model (of the caller's
+// GmshSession) and converts it.
 Mesh mesh_beam(const std::vector<Box>& boxes, const TwoBeamOptions& o, double tolerance,
                const std::string& name) {
   const std::string source = "two-beam model (" + name + ")";
-  Mesh mesh;
-  try {
-    gmsh::model::add(name);
-    BoxBuilder builder(tolerance);
-    std::vector<int> volumes;
-    for (const Box& b : boxes) volumes.push_back(builder.add(b));
-    gmsh::model::geo::synchronize();
-    const int group = gmsh::model::addPhysicalGroup(3, volumes);
-    gmsh::model::setPhysicalName(3, group, name);
-    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 1);
-    gmsh::model::mesh::generate(3);
-    if (is_quadratic(o.element_type)) gmsh::model::mesh::setOrder(2);
-  } catch (const InvalidInput&) {
-    throw;
-  } catch (...) {
-    std::string error;
-    gmsh::logger::getLastError(error);
-    throw InvalidInput({source, 0, ""}, "Gmsh failed to mesh the beam: " + error);
-  }
   GmshReadOptions read;
   if (is_quadratic(o.element_type)) {
     read.hexahedron20 = o.element_type;
   } else {
     read.hexahedron8 = o.element_type;
   }
-  mesh = mesh_from_gmsh_model(source, read);
-  gmsh::model::remove();
+  Mesh mesh = gmsh_plugin(source).mesh_boxes(boxes, is_quadratic(o.element_type), tolerance, name,
+                                             source, read);
   // Renumber 1..n in index order.
   for (int i = 0; i < mesh.num_nodes(); ++i) mesh.node_ids[i] = i + 1;
   for (int e = 0; e < mesh.num_elements(); ++e) mesh.element_ids[e] = e + 1;
