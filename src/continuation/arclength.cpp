@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -25,6 +26,8 @@ constexpr double kStepShrink = 0.5;
 // two differ by about half the turn) and its correction, relative to the step, did not grow (it
 // doubles when the corrector lands on another branch at a fixed distance).
 constexpr double kCornerTangentAgreement = 0.25;
+// A step whose λ advanced by more than this times max_lambda_step is retried shorter.
+constexpr double kLambdaStepSlack = 1.25;
 
 double angle_between(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {  // unit vectors
   return std::acos(std::clamp(a.dot(b), -1.0, 1.0));
@@ -150,6 +153,10 @@ void validate(const ArcLengthOptions& o) {
           str(o.max_turn_angle), "must be in (0, pi)");
   require(std::isfinite(o.step_growth) && o.step_growth >= 1, p + "step_growth", str(o.step_growth),
           "must be finite and >= 1");
+  require(o.target_turn_angle >= 0 && o.target_turn_angle < o.max_turn_angle,
+          p + "target_turn_angle", str(o.target_turn_angle), "must be in [0, max_turn_angle)");
+  require(std::isfinite(o.max_lambda_step) && o.max_lambda_step >= 0, p + "max_lambda_step",
+          str(o.max_lambda_step), "must be finite and >= 0 (0 = no bound)");
   require(std::isfinite(o.max_correction) && o.max_correction > 0, p + "max_correction",
           str(o.max_correction), "must be finite and > 0");
   const bool behind =
@@ -261,6 +268,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     // 4. Accept or reject.
     std::optional<Eigen::VectorXd> t_new;
     std::optional<GuardRejection> rejection;
+    double shrink = 0.5;  // the step's factor if it is rejected
     if (summary.converged()) {
       const double correction = (y_new - y_predicted).norm() / dsigma;
       if (t_new = tangent(augmented.dR_dy(y_new), t, options.newton.min_rcond); !t_new) {
@@ -277,6 +285,16 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
           t_new.reset();
         }
       }
+      if (t_new && options.max_lambda_step > 0) {
+        // The step was sized with the previous tangent's slope; where the curve bends towards λ
+        // (leaving a resonance's flank) λ can advance further: retry with the step scaled down.
+        const double advance = std::abs(y_new(n) - y(n)) * lambda_scale;
+        if (advance > kLambdaStepSlack * options.max_lambda_step) {
+          last_failure = "lambda advanced by " + str(advance) + " > max_lambda_step";
+          shrink = std::max(0.1, options.max_lambda_step / advance);
+          t_new.reset();
+        }
+      }
     } else {  // the corrector's lambda is an unknown: say where it started, not its argument
       last_failure = std::string("corrector from lambda = ") + str(y_predicted(n) * lambda_scale) +
                      ": " + to_string(summary.termination) + " after " +
@@ -284,7 +302,7 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     }
     if (!t_new) {
       rejected = std::move(rejection);
-      step *= 0.5;
+      step *= shrink;
       if (step < options.min_step) {
         return stop(false, "step below min_step = " + str(options.min_step) + " after lambda = " +
                                str(y(n) * lambda_scale) + "; last failure: " + last_failure);
@@ -318,13 +336,25 @@ ContinuationResult arclength_continuation(const ParametrizedSystem& sys, const E
     p.newton = std::move(summary);
     p.tangent = *t_new;
     push(std::move(p));
+    const double turn = angle_between(*t_new, t);
     y = y_new;
     t = *t_new;
     rejected.reset();
+    double factor = 1;
     if (iterations < options.target_newton_iterations) {
-      step = std::min(step * options.step_growth, options.max_step);
+      factor = options.step_growth;
     } else if (iterations > options.target_newton_iterations) {
-      step = std::max(step * kStepShrink, options.min_step);
+      factor = kStepShrink;
+    }
+    if (options.target_turn_angle > 0) {
+      const double by_turn =
+          turn > 0 ? options.target_turn_angle / turn : std::numeric_limits<double>::infinity();
+      factor = std::min(factor, std::clamp(by_turn, kStepShrink, options.step_growth));
+    }
+    step = std::clamp(step * factor, options.min_step, options.max_step);
+    if (options.max_lambda_step > 0 && std::abs(t(n)) > 0) {
+      // t is in y: Δλ = step · t_λ (lambda_scale cancels, see "Scaling").
+      step = std::max(std::min(step, options.max_lambda_step / std::abs(t(n))), options.min_step);
     }
   }
   return stop(false, "max_points reached at lambda = " + str(y(n) * lambda_scale));

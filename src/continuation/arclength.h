@@ -25,7 +25,15 @@
 //     jumping to another branch): Δs is halved and the step retried. Below min_step the
 //     continuation stops with completed = false. An accepted step multiplies Δs by step_growth if
 //     the corrector needed fewer than target_newton_iterations iterations and by 1/2 if more,
-//     within [min_step, max_step].
+//     within [min_step, max_step]. With target_turn_angle > 0 (curvature control) the factor is
+//     also at most target_turn_angle / (the angle the tangent turned in the accepted step), within
+//     [1/2, step_growth]: steps grow where the curve is straight and shrink where it bends (peaks,
+//     folds); the smaller of the two factors wins. With max_lambda_step > 0 a step is also at most
+//     max_lambda_step / |t_λ| (t_λ the tangent's λ-component), and a step whose λ advanced by
+//     more than 1.25 max_lambda_step (the curve bent towards λ within it) is retried shorter:
+//     λ advances by at most that per step, so a stretch cannot jump over a feature in λ, while a step
+//     along a part of the curve that moves x at nearly constant λ (a resonance's flanks) is bounded
+//     only by max_step.
 //     Corners. A piecewise-smooth R (friction contact sampled in time: a sample that switches
 //     between stick, slip and separation is a kink) has a curve with corners, where the tangent
 //     turns by a finite angle and the correction is proportional to the step however small the
@@ -70,6 +78,10 @@ struct ArcLengthOptions {
   // went to another part of the curve.
   double max_correction = 1.0;
   double step_growth = 1.5;  // >= 1: step factor after an easy corrector
+  // Curvature control (see 4.): radians, in [0, max_turn_angle); 0 = off.
+  double target_turn_angle = 0;
+  // Largest advance of λ per step (see 4.), units of λ; >= 0, 0 = no such bound.
+  double max_lambda_step = 0;
   // How far back λ may go behind lambda_start after a fold before the continuation stops: a value
   // on the far side of lambda_start from lambda_end, or NaN (default) for lambda_start itself.
   double lambda_return_limit = std::numeric_limits<double>::quiet_NaN();

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <chrono>
 #include <cmath>
@@ -34,6 +35,9 @@
 namespace stickslip {
 
 namespace {
+
+// The continuation's curvature control (ArcLengthOptions.target_turn_angle), radians.
+constexpr double kContinuationTurnAngle = 0.1;
 // The warning sink (set_model_warning_sink); empty: stderr.
 WarningFn& warning_sink() {
   static WarningFn sink;
@@ -1386,8 +1390,20 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     const double range = std::abs(o.arclength.lambda_end - o.arclength.lambda_start);
     o.arclength.initial_step = hz_to_rad_s(f.step_hz);
     o.arclength.min_step = f.min_step_hz > 0 ? hz_to_rad_s(f.min_step_hz) : range * 1e-7;
-    o.arclength.max_step = f.max_step_hz > 0 ? hz_to_rad_s(f.max_step_hz)
-                                             : std::max(range / 20, o.arclength.initial_step);
+    // max_step_hz bounds the frequency's advance per step; the arc-length step itself is set by
+    // the Newton iterations and the curvature (arclength.h, 4.), so that the flanks of a
+    // resonance, where the response changes at nearly constant frequency, take few points when
+    // they are straight. STICKSLIP_TURN_ANGLE (radians) is read for measurements only.
+    o.arclength.max_lambda_step = f.max_step_hz > 0 ? hz_to_rad_s(f.max_step_hz)
+                                                    : std::max(range / 20, o.arclength.initial_step);
+    o.arclength.max_step = std::max(1e3 * range, o.arclength.initial_step);
+    o.arclength.target_turn_angle = kContinuationTurnAngle;
+    if (const char* e = std::getenv("STICKSLIP_TURN_ANGLE")) o.arclength.target_turn_angle = std::atof(e);
+    if (const char* e = std::getenv("STICKSLIP_OLD_STEPS")) {
+      o.arclength.max_step = o.arclength.max_lambda_step;
+      o.arclength.max_lambda_step = 0;
+      o.arclength.target_turn_angle = 0;
+    }
     o.arclength.max_points = an.max_points;
     o.arclength.newton = newton;
   } else {

@@ -350,6 +350,66 @@ TEST(ArcLength, FollowsACornerFold) {
   EXPECT_NEAR(r.points.back().x(0), 1.0, kRootTolerance);
 }
 
+// ---------- Step control by curvature (target_turn_angle, max_lambda_step). ----------
+
+// The forced response of a linear oscillator, m ẍ + c ẋ + k x = F cos λt, in the coefficients of
+// x = a cos λt + b sin λt: R = [(k − mλ²) a + cλ b − F; (k − mλ²) b − cλ a]. Closed form:
+// |x| = F / √D(λ), D = (k − mλ²)² + (cλ)², largest where dD/d(λ²) = 0: D* = c²k/m − c⁴/(4m²).
+// From λ = 0.5 the first point's amplitude is 1/75 of the peak (Q = 100), so in the continuation's
+// scaled variables the resonance is a spike 75 units high: with the arc-length step bounded by
+// max_step in λ units (the old control) the flanks take hundreds of points.
+TEST(ArcLength, CurvatureControlTakesLongStepsOnStraightFlanksAndShortOnesAtThePeak) {
+  const double m = 1, k = 1, c = 0.01, F = 1;
+  const FunctionSystem oscillator(
+      2, [=](const VectorXd& x, double l, VectorXd& R, MatrixXd* J, VectorXd* Rl) {
+        const double d = k - m * l * l;
+        R(0) = d * x(0) + c * l * x(1) - F;
+        R(1) = d * x(1) - c * l * x(0);
+        if (J) *J << d, c * l, -c * l, d;
+        if (Rl) (*Rl) << -2 * m * l * x(0) + c * x(1), -2 * m * l * x(1) - c * x(0);
+      });
+  const double peak = F / std::sqrt(c * c * k / m - std::pow(c, 4) / (4 * m * m));
+  const auto amplitude = [&](double l) {
+    return F / std::hypot(k - m * l * l, c * l);
+  };
+  ArcLengthOptions o;
+  o.lambda_start = 0.5;
+  o.lambda_end = 2;
+  o.initial_step = 0.01;
+  o.min_step = 1e-7;
+  o.max_step = 0.075;  // range / 20
+  const VectorXd x0{{F / (k - m * 0.25), 0.0}};
+  const ContinuationResult old_control = arclength_continuation(oscillator, x0, o);
+  ArcLengthOptions curvature = o;
+  curvature.max_lambda_step = o.max_step;
+  curvature.max_step = 1e3;
+  curvature.target_turn_angle = 0.1;
+  const ContinuationResult r = arclength_continuation(oscillator, x0, curvature);
+  ASSERT_TRUE(old_control.completed) << old_control.message;
+  ASSERT_TRUE(r.completed) << r.message;
+  EXPECT_LT(3 * r.points.size(), old_control.points.size())
+      << r.points.size() << " vs " << old_control.points.size();
+  double largest = 0;
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    const ContinuationPoint& p = r.points[i];
+    EXPECT_NEAR(p.x.norm(), amplitude(p.lambda), 1e-7 * peak);
+    largest = std::max(largest, p.x.norm());
+    if (i > 0) {  // λ never advances by more than 1.25 max_lambda_step (arclength.h)
+      EXPECT_LE(std::abs(p.lambda - r.points[i - 1].lambda),
+                1.25 * curvature.max_lambda_step * (1 + 1e-12));
+    }
+    if (i > 1 && p.tangent.size() == 3) {  // (the clipped last point carries no tangent)
+      // Each step turns the tangent by about the target, never by much more.
+      EXPECT_LT(std::acos(std::clamp(p.tangent.dot(r.points[i - 1].tangent), -1.0, 1.0)),
+                3 * curvature.target_turn_angle);
+    }
+  }
+  // The peak is sampled where the curve bends most: the largest point within 1e-3 of the
+  // closed-form peak.
+  EXPECT_GT(largest, (1 - 1e-3) * peak);
+  EXPECT_LE(largest, peak * (1 + 1e-9));
+}
+
 // Folds located by bisection on the tangent's λ-component (bisect_on_arc) against the closed form
 // of the S-curve: ξ = ∓1/√3, η = ±2/(3√3). Scaled as the continuation scaled (x_scale = ||x_0||,
 // lambda_scale = 2): the located point is within the final bracket of the exact fold in λ and in
