@@ -31,17 +31,16 @@
 //     folds); the smaller of the two factors wins. With max_lambda_step > 0 a step is also at most
 //     max_lambda_step / |t_λ| (t_λ the tangent's λ-component), and a step whose λ advanced by
 //     more than 1.25 max_lambda_step (the curve bent towards λ within it) is retried shorter:
-//     λ advances by at most that per step, so a stretch cannot jump over a feature in λ, while a step
-//     along a part of the curve that moves x at nearly constant λ (a resonance's flanks) is bounded
-//     only by max_step.
-//     Corners. A piecewise-smooth R (friction contact sampled in time: a sample that switches
-//     between stick, slip and separation is a kink) has a curve with corners, where the tangent
-//     turns by a finite angle and the correction is proportional to the step however small the
-//     step is. A step rejected by the distance or angle test is therefore accepted as crossing a
-//     corner when the retry at half the step (from the same point) fails the tests too, but its
-//     new tangent agrees with the first attempt's to within a quarter of its turn (on a smooth
-//     curve they differ by about half the turn) and its correction relative to the step has not
-//     grown (it doubles when the corrector lands on another branch).
+//     λ advances by at most that per step, so a stretch cannot jump over a feature in λ, while a
+//     step along a part of the curve that moves x at nearly constant λ (a resonance's flanks) is
+//     bounded only by max_step. Corners. A piecewise-smooth R (friction contact sampled in time: a
+//     sample that switches between stick, slip and separation is a kink) has a curve with corners,
+//     where the tangent turns by a finite angle and the correction is proportional to the step
+//     however small the step is. A step rejected by the distance or angle test is therefore
+//     accepted as crossing a corner when the retry at half the step (from the same point) fails the
+//     tests too, but its new tangent agrees with the first attempt's to within a quarter of its
+//     turn (on a smooth curve they differ by about half the turn) and its correction relative to
+//     the step has not grown (it doubles when the corrector lands on another branch).
 //  Cost per accepted step: one LU of size n+1 per corrector iteration plus one for the tangent.
 //  5. Stop when a point lands beyond lambda_end (that point is replaced by the solution at exactly
 //     lambda_end, from an interpolated guess; completed = true), when λ falls back behind

@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstdio>
 #include <chrono>
 #include <cmath>
@@ -1393,17 +1392,11 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     // max_step_hz bounds the frequency's advance per step; the arc-length step itself is set by
     // the Newton iterations and the curvature (arclength.h, 4.), so that the flanks of a
     // resonance, where the response changes at nearly constant frequency, take few points when
-    // they are straight. STICKSLIP_TURN_ANGLE (radians) is read for measurements only.
+    // they are straight.
     o.arclength.max_lambda_step = f.max_step_hz > 0 ? hz_to_rad_s(f.max_step_hz)
                                                     : std::max(range / 20, o.arclength.initial_step);
     o.arclength.max_step = std::max(1e3 * range, o.arclength.initial_step);
     o.arclength.target_turn_angle = kContinuationTurnAngle;
-    if (const char* e = std::getenv("STICKSLIP_TURN_ANGLE")) o.arclength.target_turn_angle = std::atof(e);
-    if (const char* e = std::getenv("STICKSLIP_OLD_STEPS")) {
-      o.arclength.max_step = o.arclength.max_lambda_step;
-      o.arclength.max_lambda_step = 0;
-      o.arclength.target_turn_angle = 0;
-    }
     o.arclength.max_points = an.max_points;
     o.arclength.newton = newton;
   } else {

@@ -369,9 +369,7 @@ TEST(ArcLength, CurvatureControlTakesLongStepsOnStraightFlanksAndShortOnesAtTheP
         if (Rl) (*Rl) << -2 * m * l * x(0) + c * x(1), -2 * m * l * x(1) - c * x(0);
       });
   const double peak = F / std::sqrt(c * c * k / m - std::pow(c, 4) / (4 * m * m));
-  const auto amplitude = [&](double l) {
-    return F / std::hypot(k - m * l * l, c * l);
-  };
+  const auto amplitude = [&](double l) { return F / std::hypot(k - m * l * l, c * l); };
   ArcLengthOptions o;
   o.lambda_start = 0.5;
   o.lambda_end = 2;
