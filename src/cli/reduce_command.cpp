@@ -324,6 +324,12 @@ PreparedModel prepare_stage_model(const StageRun& run, const fs::path& out_dir,
 int run_reduce(const ReduceCommand& reduce) {
   const StageCommand& command = reduce.stage;
   const CaseDefinition base = read_case_file(command.case_file);
+  for (const auto& [name, bd] : base.bodies) {
+    if (!bd.cyclic) continue;
+    throw InvalidInput(base.where("bodies." + name + ".cyclic"),
+                       "body " + name + " is a cyclic sector: `stickslip reduce` does not store "
+                       "its reductions per nodal diameter yet; `stickslip run` reduces and solves it");
+  }
   const bool quiet = command.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet);
   const fs::path out_dir = stage_output_dir(base, command.output_dir);

@@ -121,6 +121,43 @@ HarmonicSet unknown_set(const HarmonicBalanceOptions& o) {
   return HarmonicSet(h);
 }
 
+// A travelling wave's data against the diameter-0 model and the solved harmonics.
+void validate_travelling_wave(const TravellingWave& w, const LinearModel& model,
+                              const HarmonicSet& set) {
+  require(w.sectors >= 2, "TravellingWave.sectors", std::to_string(w.sectors), ">= 2");
+  require(w.engine_order >= 0, "TravellingWave.engine_order", std::to_string(w.engine_order),
+          ">= 0");
+  constexpr double kOrthogonality = 1e-12;  // a rotation built in double precision
+  require(w.rotation.allFinite() &&
+              (w.rotation.transpose() * w.rotation - Eigen::Matrix3d::Identity()).norm() <=
+                  kOrthogonality &&
+              w.rotation.determinant() > 0,
+          "TravellingWave.rotation", "not a rotation", "orthogonal with determinant 1");
+  require(model.modal_damping_matrix.size() == 0, "LinearModel.modal_damping_matrix",
+          "given with a travelling wave", "empty (diagonal modal damping only)");
+  for (int k : set.harmonics()) {
+    if (k == 0) continue;
+    require(w.harmonics.count(k) == 1, "TravellingWave.harmonics[" + std::to_string(k) + "]",
+            "missing", "a model for every dynamic harmonic");
+  }
+  for (const auto& [k, m] : w.harmonics) {
+    const std::string key = "TravellingWave.harmonics[" + std::to_string(k) + "]";
+    require(k >= 1 && set.position_of(k) >= 0, key, "not solved",
+            "one model per dynamic harmonic of the solved set");
+    const auto nm = m.omega2.size();
+    require(nm >= 1 && m.Phi.cols() == nm && m.Phi.rows() == model.Phi.rows() && m.Phi.allFinite(),
+            key + ".Phi", std::to_string(m.Phi.rows()) + " x " + std::to_string(m.Phi.cols()),
+            "finite, ndof = " + std::to_string(model.Phi.rows()) + " rows, one column per mode");
+    require(m.modal_damping.size() == nm && m.modal_damping.allFinite() &&
+                (nm == 0 || m.modal_damping.minCoeff() >= 0),
+            key + ".modal_damping", "size " + std::to_string(m.modal_damping.size()),
+            "one finite c_r >= 0 per mode");
+    require(m.omega2.allFinite() && elastic_modes(m.omega2).sum() == static_cast<double>(nm),
+            key + ".omega2", "a rigid-body mode or a non-finite entry",
+            "finite and elastic (a nodal diameter with rigid-body modes is not supported)");
+  }
+}
+
 }  // namespace
 
 void validate(const LinearModel& model) {
@@ -235,15 +272,29 @@ double estimated_memory_bytes(int contact_rows, const HarmonicBalanceOptions& op
 
 HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs,
                                              Excitation excitation, HarmonicBalanceOptions options)
+    : HarmonicBalanceSystem(std::move(model), std::move(pairs), std::move(excitation),
+                            std::move(options), std::optional<TravellingWave>()) {}
+
+HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs,
+                                             Excitation excitation, HarmonicBalanceOptions options,
+                                             TravellingWave wave)
+    : HarmonicBalanceSystem(std::move(model), std::move(pairs), std::move(excitation),
+                            std::move(options), std::optional<TravellingWave>(std::move(wave))) {}
+
+HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs,
+                                             Excitation excitation, HarmonicBalanceOptions options,
+                                             std::optional<TravellingWave> wave)
     : model_(std::move(model)),
       pairs_(std::move(pairs)),
       excitation_(std::move(excitation)),
       options_((validate(options), std::move(options))),
-      aft_(FourierBasis(unknown_set(options_), options_.time_samples), options_.aft) {
+      aft_(FourierBasis(unknown_set(options_), options_.time_samples), options_.aft),
+      wave_(std::move(wave)) {
   validate(model_);
   const int ndof = static_cast<int>(model_.Phi.rows());
   const int nm = static_cast<int>(model_.Phi.cols());
   nc_ = aft_.basis().coefficient_count();
+  if (wave_) validate_travelling_wave(*wave_, model_, unknown_harmonics());
 
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const ContactPair& c = pairs_[p];
@@ -255,6 +306,14 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
             "finite, m x k with m = element dimension " + std::to_string(m));
     require(!c.dofs_a.empty() || !c.dofs_b.empty(), idx("pairs", p) + ".dofs", "both empty",
             "at most one side is ground");
+    if (c.b_sector != 0) {
+      require(wave_.has_value() && (c.b_sector == 1 || c.b_sector == -1),
+              idx("pairs", p) + ".b_sector", std::to_string(c.b_sector),
+              "-1 or +1 (a neighbour sector) only in a travelling-wave system, else 0");
+      require(c.dofs_b.size() % 3 == 0 && !c.dofs_b.empty(), idx("pairs", p) + ".dofs_b",
+              "size " + std::to_string(c.dofs_b.size()),
+              "the x, y, z DOFs of each neighbour node (a multiple of 3)");
+    }
     for (const auto* dofs : {&c.dofs_a, &c.dofs_b}) {
       require(dofs->empty() || static_cast<int>(dofs->size()) == c.frame.cols(),
               idx("pairs", p) + (dofs == &c.dofs_a ? ".dofs_a" : ".dofs_b"),
@@ -270,7 +329,12 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
   }
 
   Psi_.setZero(rows_, nm);
-  for (size_t p = 0; p < pairs_.size(); ++p) {
+  if (wave_) {  // harmonic 0: B_0 with the neighbours' rotation, real
+    Psi_ = travelling_wave_contact_modes(pairs_, pair_rows_, rows_, model_.Phi.cast<Complex>(),
+                                         *wave_, 0)
+               .real();
+  }
+  for (size_t p = 0; p < pairs_.size() && !wave_; ++p) {
     const ContactPair& c = pairs_[p];
     for (int i = 0; i < static_cast<int>(c.dofs_a.size()); ++i)
       Psi_.middleRows(pair_rows_[p], c.frame.rows()) +=
@@ -292,21 +356,33 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
     require(load.size() == ndof && load.allFinite(),
             "excitation.harmonics[" + std::to_string(k) + "]",
             "size " + std::to_string(load.size()), "finite, size ndof = " + std::to_string(ndof));
+    if (wave_ && k > 0) continue;  // the wave's harmonic models (TravellingWaveFlexibility)
     modal_load_[k] = model_.Phi.transpose().cast<Complex>() * load;
   }
 
   static_modes_ = elastic_modes(model_.omega2);
   require(static_modes_.sum() > 0, "LinearModel.omega2", "all zero", "at least one elastic mode");
   build_static_flexibility();
-  flexibility_ = make_modal_flexibility(
-      {.omega2 = model_.omega2, .Psi = Psi_, .loads = modal_load_}, model_.modal_damping,
-      model_.modal_damping_matrix, options_.damping_matrix_method, damping_matrix_note_);
+  if (wave_) {
+    auto wave_flexibility = std::make_unique<const TravellingWaveFlexibility>(
+        ModalProjection{.omega2 = model_.omega2, .Psi = Psi_, .loads = modal_load_}, *wave_, pairs_,
+        pair_rows_, rows_, excitation_.harmonics);
+    wave_flexibility_ = wave_flexibility.get();
+    flexibility_ = std::move(wave_flexibility);
+  } else {
+    flexibility_ = make_modal_flexibility(
+        {.omega2 = model_.omega2, .Psi = Psi_, .loads = modal_load_}, model_.modal_damping,
+        model_.modal_damping_matrix, options_.damping_matrix_method, damping_matrix_note_);
+  }
 
   // Quasi-static linear response scale (see residual_scale()).
   double scale = 0.0;
   {
     const auto H0 = flexibility_->at(0, 0.0, false);  // diag(1/ω²) on the elastic modes
     for (const auto& [k, q] : modal_load_) scale += real_times(Psi_, H0->times(q)).norm();
+    for (const auto& [k, load] : excitation_.harmonics) {
+      if (wave_flexibility_ && k > 0) scale += wave_flexibility_->quasi_static_response(k).norm();
+    }
   }
   solve_static();
   const double floor = displacement_floor();
@@ -484,12 +560,21 @@ Eigen::MatrixXcd HarmonicBalanceSystem::modal_flexibility_times(int k, double om
 }
 
 Eigen::MatrixXcd HarmonicBalanceSystem::receptance(int k, double omega) const {
+  if (wave_flexibility_ && k > 0) {  // Ψ_k H_k Ψ_kᴴ: complex, not symmetric
+    Eigen::MatrixXd gr, gi;
+    flexibility_->at(k, omega, false)->receptance(gr, gi);
+    Eigen::MatrixXcd G(rows_, rows_);
+    G.real() = gr;
+    G.imag() = gi;
+    return G;
+  }
   const Eigen::MatrixXcd PsiT = Psi_.transpose().cast<Complex>();
   const Eigen::MatrixXcd G = Psi_.cast<Complex>() * modal_flexibility_times(k, omega, PsiT);
   return 0.5 * (G + G.transpose());  // complex symmetric; exact symmetry against round-off
 }
 
 Eigen::VectorXcd HarmonicBalanceSystem::linear_contact_response(int k, double omega) const {
+  if (wave_flexibility_ && k > 0) return flexibility_->at(k, omega, false)->load_response();
   const auto it = modal_load_.find(k);
   if (it == modal_load_.end()) return Eigen::VectorXcd::Zero(rows_);
   return real_times(Psi_, Eigen::VectorXcd(modal_flexibility_times(k, omega, it->second)));
@@ -830,7 +915,7 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
     op->G.emplace_back(rows_, rows_);
     op->G.back().real() = gr;
     op->G.back().imag() = gi;
-    if (modal_load_.count(k) > 0) {
+    if (modal_load_.count(k) > 0 || (wave_ && k > 0 && excitation_.harmonics.count(k) > 0)) {
       scatter_vector(op->ulin, H->load_response(), k, o);
       if (derivative && k > 0) scatter_vector(op->dulin, H->load_response_derivative(), k, o);
     }
@@ -917,6 +1002,10 @@ Eigen::MatrixXcd HarmonicBalanceSystem::master_response(
   std::vector<int> columns;
   for (int c = 0; c < nh; ++c) {
     const int k = output_harmonics_[c];
+    if (wave_flexibility_ && k > 0) {  // Φ_k H_k (q_k − Ψ_kᴴ f_k) of the wave's model
+      x.col(c) = wave_flexibility_->master_response(k, omega, contact_force.col(c));
+      continue;
+    }
     if (k == 0 && static_shift_.size() == 0) {
       const std::lock_guard<std::mutex> lock(static_response_cache_->mutex);
       const StaticResponseCache& cache = *static_response_cache_;

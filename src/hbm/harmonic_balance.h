@@ -74,6 +74,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,7 @@
 #include "hbm/aft.h"
 #include "hbm/fourier.h"
 #include "hbm/modal_flexibility.h"
+#include "hbm/travelling_wave.h"
 
 namespace stickslip {
 
@@ -114,6 +116,10 @@ struct ContactPair {
   std::vector<int> dofs_b{};  // k master-DOF indices of node B; empty = ground
   Eigen::MatrixXd frame{};    // R, m x k (m = element dimension); 3D contact rows t1, t2, n
   ElementPtr element{};
+  // Travelling-wave systems only (hbm/travelling_wave.h): node B belongs to sector b_sector
+  // (−1, 0 or +1; its DOFs dofs_b are its sector-0 copy's, in x, y, z triples when ≠ 0). 0
+  // otherwise.
+  int b_sector = 0;
 };
 
 struct Excitation {
@@ -159,6 +165,14 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   // (static_summary() says whether it converged).
   HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs, Excitation excitation,
                         HarmonicBalanceOptions options);
+  // Sector 0 of a tuned cyclic structure under a travelling wave (hbm/travelling_wave.h): `model`
+  // is the real diameter-0 model (harmonic 0 and the statics, as above), each dynamic harmonic k
+  // takes wave.harmonics[k] (same rows as model.Phi) and B_k with the pairs' b_sector; G_k is
+  // then complex and not symmetric. Only the diagonal modal damping (no modal_damping_matrix).
+  // Everything below holds with G_k, u_lin,k of the wave; linear_model() and contact_modes() are
+  // the diameter-0 model's.
+  HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs, Excitation excitation,
+                        HarmonicBalanceOptions options, TravellingWave wave);
 
   int size() const override { return rows_ * nc_; }
   void evaluate(const Eigen::VectorXd& x, double omega, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
@@ -247,6 +261,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
                                    const Eigen::MatrixXcd* contact_displacement = nullptr) const;
   // Whether harmonic 0 has rigid-body modes held by the elements (the shifted static problem).
   bool holds_rigid_modes() const { return static_shift_.size() > 0; }
+  // The travelling wave the system was built with, or null.
+  const TravellingWave* travelling_wave() const { return wave_ ? &*wave_ : nullptr; }
 
  private:
   // G_k(Ω) per unknown harmonic (complex nu x nu; 𝔾 is their real split), u_lin(Ω) (n) and,
@@ -339,6 +355,10 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
   std::unique_ptr<const ModalFlexibility> flexibility_;  // H_k(Ω), chosen at construction
   std::string damping_matrix_note_;
+  std::optional<TravellingWave> wave_;
+  const TravellingWaveFlexibility* wave_flexibility_ = nullptr;  // flexibility_ when wave_
+  HarmonicBalanceSystem(LinearModel model, std::vector<ContactPair> pairs, Excitation excitation,
+                        HarmonicBalanceOptions options, std::optional<TravellingWave> wave);
 };
 
 }  // namespace stickslip

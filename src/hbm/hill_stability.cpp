@@ -49,6 +49,9 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
     throw InvalidInput("hill_stability: " + std::to_string(x.size()) + " unknowns given, the " +
                        "system has " + std::to_string(system.size()));
   }
+  if (system.travelling_wave()) {
+    throw InvalidInput("hill_stability: a travelling-wave (cyclic) system is not supported yet");
+  }
   const LinearModel& model = system.linear_model();
   const Eigen::MatrixXd& Psi = system.contact_modes();  // nu x nm
   // The perturbation's harmonics: 0..H_max (harmonic 0 and any gaps of the solution's set added).

@@ -52,7 +52,8 @@ class ModalFlexibility {
     virtual ~Harmonic() = default;
     // H_k X for a complex nm x c X.
     virtual Eigen::MatrixXcd times(const Eigen::MatrixXcd& X) const = 0;
-    // The receptance G_k = Ψ H_k Ψᵀ (nu x nu, symmetric): its real and imaginary parts.
+    // The receptance G_k = Ψ H_k Ψᵀ (nu x nu, symmetric; a travelling wave's complex modes give
+    // Ψ_k H_k Ψ_kᴴ, not symmetric: hbm/travelling_wave.h): its real and imaginary parts.
     virtual void receptance(Eigen::MatrixXd& real, Eigen::MatrixXd& imag) const = 0;
     // u_lin,k = Ψ H_k q_k (nu; zero without a load at k).
     virtual Eigen::VectorXcd load_response() const = 0;

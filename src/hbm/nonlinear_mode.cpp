@@ -82,6 +82,9 @@ StuckModes stuck_modes(const HarmonicBalanceSystem& system) {
 
 NonlinearModeSystem::NonlinearModeSystem(const HarmonicBalanceSystem& system, Eigen::VectorXd eta)
     : system_(system), eta_(std::move(eta)) {
+  if (system.travelling_wave()) {
+    throw InvalidInput("NonlinearModeSystem: a travelling-wave (cyclic) system is not supported");
+  }
   const LinearModel& model = system.linear_model();
   n_ = system.size();
   rows_ = system.contact_rows();

@@ -1154,6 +1154,19 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
     }
 
+    // A cyclic sector's contact with its neighbour (docs/cyclic.md): the B ids are nodes of the
+    // same body, the contact joins them in the next (previous) sector.
+    if (m.has("neighbour")) {
+      m.forbid("between", "with 'neighbour' (list the pairs: 'bodies: [S, S]' and 'pairs' or "
+                          "'pairs_file', B's ids being its nodes in this sector)");
+      std::string side;
+      m.choice("neighbour", &side, {"next", "previous"});
+      d.neighbour = side == "next" ? 1 : -1;
+      p.check(d.body_a == d.body_b, m.full("neighbour"), m.line("neighbour"),
+              "a contact with the neighbour sector joins one cyclic body to itself: 'bodies: [" +
+                  d.body_a + ", " + d.body_a + "]', got [" + d.body_a + ", " + d.body_b + "]");
+    }
+
     // A law registered both along a direction (1D) and in a frame (e.g. linear: one spring k
     // along direction, or springs kt, kt, kn in the frame normal/t1), decided by the keys given,
     // never keys of both. The parameter block is only looked at here (checked below, after the
@@ -1333,6 +1346,7 @@ void parse_excitation(Parser& p, const MapView& top) {
       check_selection_on_body(p, d.body, d.nodes, m.full("node_set"), m.line("node_set"));
     }
     m.integer("harmonic", &d.harmonic, 0);
+    m.integer("engine_order", &d.engine_order, 0);  // a cyclic body's (checked by the model)
 
     m.exclusive("force", "direction");
     if (!m.has("force")) m.require("direction", "or 'force: [fx, fy, fz]'");
@@ -2282,6 +2296,8 @@ std::string describe_case(const CaseDefinition& c) {
         for (const auto& pr : d.pairs) vec(pr);
         e << YAML::EndSeq;
       }
+      if (d.neighbour != 0)
+        e << YAML::Key << "neighbour" << YAML::Value << (d.neighbour > 0 ? "next" : "previous");
     }
     e << YAML::Key << (uses_frame(d) ? "normal" : "direction") << YAML::Value;
     vec(uses_frame(d) ? d.normal : d.direction);
@@ -2316,6 +2332,7 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << "body" << YAML::Value << x.body;
     node_or_node_set(x.nodes);
     e << YAML::Key << "harmonic" << YAML::Value << x.harmonic;
+    if (x.engine_order >= 0) e << YAML::Key << "engine_order" << YAML::Value << x.engine_order;
     if (x.by_direction) {  // as given, so that a study of its amplitude still applies
       e << YAML::Key << "direction" << YAML::Value;
       vec(x.direction);

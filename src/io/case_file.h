@@ -263,6 +263,9 @@ struct ContactDefinition {
   // balancing load); the pairs' static state comes from the static contact problem under
   // `static_loads` (docs/case-file.md, "static_loads").
   bool preload_computed = false;
+  // `neighbour: next | previous` (a cyclic body, listed pairs with body_a == body_b): node B of
+  // each pair is the given node of the next (+1) or previous (−1) sector; 0: an ordinary contact.
+  int neighbour = 0;
 };
 
 struct ExcitationDefinition {
@@ -278,6 +281,9 @@ struct ExcitationDefinition {
   // amplitude A and phase φ give A cos(kΩt + φ) along the direction (docs/conventions.md
   // convention).
   std::array<std::complex<double>, 3> force{};
+  // `engine_order` (a cyclic body only, required there): EO ≥ 0, sector j loaded with this force
+  // rotated to it and times e^{+ik EO 2πj/N} (docs/cyclic.md); −1 = not given.
+  int engine_order = -1;
 };
 
 // A static (harmonic-0) load on a body given by a mesh, applied to the full body and to its reduced

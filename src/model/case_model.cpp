@@ -30,6 +30,7 @@
 #include "mesh/mortar.h"
 #include "mesh/surface_area.h"
 #include "model/body_reduction.h"
+#include "model/cyclic_forced_response.h"
 
 namespace stickslip {
 
@@ -890,18 +891,6 @@ std::vector<Eigen::Vector3d> static_load_forces(const Mesh& mesh, const std::vec
   return out;
 }
 
-void refuse_cyclic_bodies(const CaseDefinition& def, const std::string& what) {
-  for (const auto& [name, bd] : def.bodies) {
-    if (!bd.cyclic) continue;
-    throw InvalidInput(
-        def.where("bodies." + name + ".cyclic"),
-        "body " + name + " is a cyclic sector: " + what +
-            " does not take cyclic sectors yet (it would treat the sector as a whole body); "
-            "`stickslip modes` computes its modes per nodal diameter, the forced response under "
-            "engine-order excitation is still to come");
-  }
-}
-
 PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progress,
                             ModelCache* cache) {
   const auto t0 = Clock::now();
@@ -916,7 +905,16 @@ PreparedModel prepare_model(const CaseDefinition& def, const ProgressFn& progres
 PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                             const BodyReduction& reduction, const ProgressFn& progress) {
   const auto t0 = Clock::now();
-  refuse_cyclic_bodies(def, "the assembled reduced model (reduce, solve, run, a stuck-mode window)");
+  // A cyclic sector: reduced per nodal diameter, its dynamic harmonics a travelling wave.
+  const std::optional<CyclicForcedResponse> cyclic = cyclic_forced_response(def);
+  if (cyclic && dynamic_cast<const CraigBamptonReduction*>(&reduction) == nullptr) {
+    throw InvalidInput(def.where("bodies." + cyclic->body + ".cyclic"),
+                       "body " + cyclic->body +
+                           " is a cyclic sector: its forced response is computed by `stickslip "
+                           "run` (and the library) only, for now: the stage commands do not store "
+                           "a sector's reductions per nodal diameter");
+  }
+  std::map<int, CyclicReducedSector> cyclic_reductions;
   const auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
@@ -943,7 +941,11 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const int b = body_index.at(name);
     PreparedBody& body = model.bodies[b];
     const std::vector<int>& m = resolved.bodies[b].masters;
-    if (body.from_mesh) {
+    if (body.from_mesh && cyclic && name == cyclic->body) {
+      cyclic_reductions = reduce_cyclic_body(
+          def, resolved.bodies[b], body,
+          reached_nodal_diameters(def, cyclic->engine_order, cyclic->symmetry.sectors), progress);
+    } else if (body.from_mesh) {
       // The resolved body without its mesh (moved into `body`): its clamps, supports, masters.
       reduction.reduce(def, resolved.bodies[b], body, progress);
     }
@@ -1049,6 +1051,23 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
         }
       }
       pair.frame = row_frame;
+      if (cd.neighbour != 0) {  // B is the given node of the next (previous) sector
+        pair.b_sector = cd.neighbour;
+        const PreparedBody& B = model.bodies[rc.body_b];
+        const Eigen::Matrix3d Rs = sector_rotation(cyclic->symmetry.rotation(), cd.neighbour);
+        const Eigen::Vector3d p = cyclic->symmetry.axis_point;
+        const Eigen::Vector3d xb = p + Rs * (B.mesh.coordinates.col(b) - p);
+        const double distance = (xb - A.mesh.coordinates.col(a)).norm();
+        if (!(distance <= cd.tolerance)) {
+          throw InvalidInput(
+              def.where(fmt::format("contacts.{}.pairs[{}]", cd.name, i)),
+              fmt::format("contact {}: node {}'s copy in the {} sector lies at ({:.6g}, {:.6g}, "
+                          "{:.6g}), {:.3g} m from node {} (tolerance {:.3g} m): not a pair of "
+                          "neighbours",
+                          cd.name, info.node_b_id, cd.neighbour > 0 ? "next" : "previous", xb.x(),
+                          xb.y(), xb.z(), distance, info.node_a_id, cd.tolerance));
+        }
+      }
       // The initial gap of the law: the contact's, plus a mortar point's geometric gap where the
       // law has a gap and no typed preload says the surfaces are closed at rest.
       double gap = cd.gap;
@@ -1194,8 +1213,14 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       // Rᵀf(0) per frame column: the force on B (global axes), and for a mortar point's B columns
       // −Φ_k times it; A's DOFs receive +, B's −, of their columns.
       const Eigen::VectorXd g = pair.frame.transpose() * f_rest;
+      // A neighbour's B: the force of the pair of sector −s on this sector's node, R^{−s} g.
+      const Eigen::VectorXd gb =
+          pair.b_sector == 0
+              ? g
+              : Eigen::VectorXd(
+                    sector_rotation(cyclic->symmetry.rotation(), pair.b_sector).transpose() * g);
       for (int d = 0; d < static_cast<int>(g.size()); ++d) {
-        if (!pair.dofs_b.empty()) preload(pair.dofs_b[d]) -= g(d);
+        if (!pair.dofs_b.empty()) preload(pair.dofs_b[d]) -= gb(d);
         if (!pair.dofs_a.empty()) preload(pair.dofs_a[d]) += g(d);
       }
     }
@@ -1217,6 +1242,15 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.static_coupling = an.static_coupling == StaticChoice::kCoupled
                                   ? StaticCoupling::kCoupled
                                   : StaticCoupling::kUncoupled;
+  if (cyclic) {
+    model.wave = cyclic_travelling_wave(def, *cyclic, cyclic_reductions);
+    std::string diameters;
+    for (const auto& [h, r] : cyclic_reductions)
+      diameters += (diameters.empty() ? "" : ", ") + std::to_string(h);
+    say(fmt::format("cyclic sector {} of {}: engine order {}, the travelling wave of a tuned "
+                    "structure (every sector identical); nodal diameters {}",
+                    cyclic->body, cyclic->symmetry.sectors, cyclic->engine_order, diameters));
+  }
   model.seconds_prepare = seconds_since(t0);
   return model;
 }
@@ -1239,6 +1273,10 @@ Eigen::MatrixXd stuck_stiffness_matrix(const PreparedModel& model) {
 
 ModalResult stuck_modes(const PreparedModel& model, const CaseDefinition& def,
                         Eigen::MatrixXd* stiffness) {
+  if (model.wave) {
+    throw InvalidInput(def.where("analysis.frequency"),
+                       "the stuck modes of a cyclic sector's nodal diameter are not computed yet");
+  }
   Eigen::MatrixXd K_stuck = stuck_stiffness_matrix(model);
   ModalResult eig = dense_modes(K_stuck, model.M);  // Jacobi-scaled
   if (stiffness) *stiffness = std::move(K_stuck);
@@ -1341,8 +1379,13 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                        "frequencies of a stepped sweep (method: stepped, with step_hz), there is "
                        "no nonlinear curve for the continuation to follow");
   }
-  solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
-                                                          model.excitation, model.hbm);
+  if (model.wave) {  // a cyclic sector: its travelling wave (model/cyclic_forced_response.h)
+    solved.system = std::make_unique<HarmonicBalanceSystem>(
+        model.linear, model.pairs, model.excitation, model.hbm, *model.wave);
+  } else {
+    solved.system = std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
+                                                            model.excitation, model.hbm);
+  }
   if (!solved.system->static_summary().converged() &&
       model.hbm.static_coupling == StaticCoupling::kUncoupled && !model.pairs.empty()) {
     throw InvalidInput(

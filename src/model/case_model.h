@@ -211,17 +211,18 @@ struct PreparedModel {
   std::vector<PreparedPair> pair_info;
   Excitation excitation;
   HarmonicBalanceOptions hbm;
+  // A cyclic sector under engine-order excitation (model/cyclic_forced_response.h): the linear
+  // model of each dynamic harmonic; `linear` is then diameter 0's. Empty otherwise.
+  std::optional<TravellingWave> wave;
   double seconds_prepare = 0.0;
   int body_index(const std::string& name) const;  // -1 if absent
 };
 
 class BodyReduction;  // model/body_reduction.h
 
-// Cyclic sectors (bodies.B.cyclic) reach only the modal analysis per nodal diameter so far
-// (model/cyclic_modes.h, `stickslip modes`): `what` (an analysis that would treat the sector as an
-// ordinary body, a silent wrong answer) throws InvalidInput at bodies.B.cyclic of the first
-// cyclic body. The forced response under engine-order excitation is issue 13, item 3.
-void refuse_cyclic_bodies(const CaseDefinition& definition, const std::string& what);
+// Cyclic sectors (bodies.B.cyclic): the forced response under engine-order excitation is
+// model/cyclic_forced_response.h (prepare_model reduces the sector per nodal diameter and sets
+// PreparedModel::wave); the modes per nodal diameter are model/cyclic_modes.h.
 
 // Builds the reduced model of the case. `progress` (may be null) receives one line per stage.
 // `cache` (may be null): meshes and reductions of earlier analyses of the same study, reused when

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "core/errors.h"
 #include "core/types.h"
 
 namespace stickslip {
@@ -70,6 +71,11 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
 
 Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
                               const std::vector<int>& harmonics, const FrequencyPoint& p) {
+  if (model.wave) {  // the loads of harmonic k live in another nodal diameter than the body's K, M
+    throw InvalidInput("body " + body.name +
+                       " is a cyclic sector: its recovery (full displacements and stresses of "
+                       "the sector and the annulus) is still to come");
+  }
   const int nh = static_cast<int>(harmonics.size());
   const int n = body.reduced.size();
   // Excitation (and preload loads) on the master DOFs.

@@ -233,11 +233,12 @@ TEST(CyclicModesCli, BadSectorsAreRefusedAtTheirLine) {
 }
 
 TEST(CyclicModesCli, AnalysesThatDoNotTakeASectorYetRefuseIt) {
-  // The forced response (run, and the reduce stage) would treat the sector as a whole body.
+  // The forced response of a sector needs the travelling wave's engine order (line 18: the
+  // excitation entry); the reduce stage does not store a sector's reductions per diameter.
   const std::string forced = R"(excitation:
   - {body: disk, node: 3, direction: z, amplitude: 1}
 )" + kAnalysis;
-  expect_refused("cyclic_run", kCyclic, forced, 12, "is a cyclic sector", "run");
+  expect_refused("cyclic_run", kCyclic, forced, 18, "give the excitation's engine_order", "run");
   expect_refused("cyclic_reduce", kCyclic, forced, 12, "is a cyclic sector", "reduce");
   // Contacts of a sector come with the forced response too (line 18: the contact's entry).
   const std::string contact = R"(contacts:

@@ -1,0 +1,59 @@
+// The forced response of a cyclic sector under engine-order excitation (issue 13, item 3;
+// docs/cyclic.md): what prepare_model does differently for a case whose body is one sector of N.
+//
+//   the sector's Craig–Bampton per nodal diameter (reduction/cyclic_craig_bampton.h) onto its
+//   master nodes: diameter 0 is the body's ordinary (real) reduced model, the diameters of the
+//   dynamic harmonics (k·EO mod N, conjugated above N/2) give the TravellingWave
+//   (hbm/travelling_wave.h) the harmonic balance takes; contacts with `neighbour` get
+//   ContactPair::b_sector.
+//
+// Scope, each refusal an InvalidInput at the case key it is about: the case holds the cyclic body
+// only (a mesh body; clamps and supports along the global axes); every excitation entry gives the
+// same `engine_order`, and no entry of a case without a cyclic body gives one; contacts with
+// `neighbour` join the cyclic body to itself; Rayleigh damping only (no modal_damping_ratio); the
+// window in Hz (no around_mode: the stuck modes of a diameter are not computed); method stepped or
+// continuation; no recovery yet (recovery.points: none; item 5); not through the stage commands.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fe/cyclic.h"
+#include "hbm/travelling_wave.h"
+#include "io/case_file.h"
+#include "model/case_model.h"
+#include "reduction/cyclic_craig_bampton.h"
+
+namespace stickslip {
+
+struct CyclicForcedResponse {
+  std::string body;
+  int engine_order = 0;
+  CyclicSymmetry symmetry;
+};
+
+// The cyclic body of a forced-response case, checked as above, or nothing (a case without one;
+// then `engine_order` and `neighbour` are refused at their keys).
+std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition& definition);
+
+// The nodal diameters the analysis reaches: 0 and those of its dynamic harmonics.
+std::vector<int> reached_nodal_diameters(const CaseDefinition& definition, int engine_order,
+                                         int sectors);
+
+// Reduces the cyclic body per nodal diameter (`diameters`), fills `body` like a Craig–Bampton
+// reduction with diameter 0's model (reduced, constraints, K, M; no basis T) and returns every
+// diameter's reduced model (same masters, same number of modes).
+std::map<int, CyclicReducedSector> reduce_cyclic_body(const CaseDefinition& definition,
+                                                      const CaseBody& resolved, PreparedBody& body,
+                                                      const std::vector<int>& diameters,
+                                                      const ProgressFn& progress);
+
+// The wave of the analysis's dynamic harmonics from the reductions (their complex modes, damping
+// c_r = α + βω_r²).
+TravellingWave cyclic_travelling_wave(const CaseDefinition& definition,
+                                      const CyclicForcedResponse& cyclic,
+                                      const std::map<int, CyclicReducedSector>& reductions);
+
+}  // namespace stickslip
