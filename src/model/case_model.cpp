@@ -1214,6 +1214,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
   model.hbm.static_coupling = an.static_coupling == StaticChoice::kCoupled
                                   ? StaticCoupling::kCoupled
                                   : StaticCoupling::kUncoupled;
+  model.hbm.static_increments = an.static_increments;
   model.seconds_prepare = seconds_since(t0);
   return model;
 }
