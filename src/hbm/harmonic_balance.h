@@ -54,8 +54,9 @@
 // friction element's tangential spring anchored where λ_a left it, τ = radial return of
 // kt (u_t − s_a) onto |τ| ≤ μN (backward Euler: exact for slip of fixed direction); stick keeps
 // the anchor s, slip moves it to u_t − τ/kt, lift-off to u_t (the spring released). A point open at
-// λ_a and closed at λ_b closes in between: the step is cut at the earliest such touchdown (linear
-// interpolation of its normal force; N ≈ 0 there, so it starts to stick from where it touched).
+// λ_a and closed at λ_b closes in between: the step is cut at the earliest such touchdown, where
+// its normal force reaches 0 along the path's tangent at λ_a (every element in its state there:
+// exact up to the first change of state), so it starts to stick from where it touched.
 // HarmonicBalanceOptions.static_increments sets the steps (automatic: one proportional step unless
 // a friction element has an initial gap or interference: with none the static problem is
 // positively homogeneous and one step is the incremental path exactly). The anchors s the path
