@@ -1081,6 +1081,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
           }
           pair.frame.middleCols(3 * j, 3) = w * frame;
           offset -= w * A.mesh.coordinates.col(node);
+          info.point_ids_a.push_back(node_id_of(A, node));
+          info.point_weights_a.push_back(w);
         }
         for (int k = 0; k < nb; ++k) {
           const int id = node_id_of(B, point.nodes_b[static_cast<size_t>(k)]);

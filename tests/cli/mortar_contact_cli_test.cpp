@@ -323,6 +323,28 @@ TEST(MortarContactCli, NonMatchingQuadraticBarsTransmitAUniformPressure) {
     EXPECT_NEAR(row.weight_sum, 1.0, 1e-12) << pair;
   }
   EXPECT_NEAR(area, A, 1e-14);
+  // Each point's A side (nodes_a, weights_a): a corner's point is its node; a mid-edge node m's
+  // is (x_m − (x_c1 + x_c2)/5)/(3/5), weights 5/3, −1/3, −1/3 (Popp's basis, α = 1/5), m first.
+  std::map<int, size_t> a_side;  // pair -> its A nodes
+  for (const auto& r : read_csv(dir / "out" / "contact_coupling.csv")) {
+    std::istringstream ids(r.at("nodes_a")), weights(r.at("weights_a"));
+    std::vector<int> n;
+    std::vector<double> w;
+    for (int id; ids >> id;) n.push_back(id);
+    for (double x; weights >> x;) w.push_back(x);
+    ASSERT_EQ(n.size(), w.size()) << r.at("pair");
+    ASSERT_FALSE(n.empty()) << r.at("pair");
+    EXPECT_EQ(n[0], std::stoi(r.at("node_a"))) << r.at("pair");
+    a_side[std::stoi(r.at("pair"))] = n.size();
+    const std::vector<double> expected =
+        n.size() == 1 ? std::vector<double>{1.0} : std::vector<double>{5.0 / 3, -1.0 / 3, -1.0 / 3};
+    ASSERT_EQ(w.size(), expected.size()) << r.at("pair");
+    for (size_t j = 0; j < w.size(); ++j) EXPECT_NEAR(w[j], expected[j], 1e-12) << r.at("pair");
+  }
+  EXPECT_EQ(std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 1; }),
+            9);  // corners
+  EXPECT_EQ(std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 3; }),
+            12);  // mid-edge nodes
   const auto forces = static_pair_forces(dir / "out");
   ASSERT_EQ(forces.size(), 21u);
   double total = 0.0;
