@@ -565,9 +565,8 @@ void HarmonicBalanceSystem::solve_static() {
   static_anchor_ = Eigen::VectorXd::Zero(rows_);
   static_path_ = {};
 
-  // One static solve at load factor λ from u (in: the start, out: the solution), with the law
-  // offsets of the anchors s and the typed preloads' ramp (1 − λ) N0 / kn.
-  // The law offsets at λ, and their rate ∂o/∂λ (−N0/kn on the normal rows of typed preloads).
+  // The law offsets at λ: the anchors s and the typed preloads' ramp (1 − λ) N0 / kn, whose rate
+  // ∂o/∂λ is −N0/kn on their normal rows.
   Eigen::VectorXd ramp_rate = Eigen::VectorXd::Zero(rows_);
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const PathElement& e = elements[p];
@@ -576,6 +575,8 @@ void HarmonicBalanceSystem::solve_static() {
   const auto set_step = [&](double load, const Eigen::VectorXd& anchors) {
     sys.set_step(load, load < 1.0 ? Eigen::VectorXd(anchors - (1.0 - load) * ramp_rate) : anchors);
   };
+  // One static solve at load factor λ with the anchors s, from u (in: the start, out: the
+  // solution).
   const auto solve = [&](double load, const Eigen::VectorXd& anchors, Eigen::VectorXd& u) {
     set_step(load, anchors);
     NewtonSummary summary = solve_newton(sys, 0.0, u, options_.static_newton);
@@ -679,9 +680,10 @@ void HarmonicBalanceSystem::solve_static() {
     }
     ++static_path_.steps;
     if (!static_summary_.converged()) {
-      if (steps > 1)
+      if (steps > 1) {
         static_summary_.message = "load step to λ = " + format_number(target, 6) + ": " +
                                   static_summary_.message;
+      }
       break;
     }
     u = next;

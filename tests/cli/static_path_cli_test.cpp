@@ -1,12 +1,13 @@
 // End-to-end: the load-incremental static contact problem (`analysis.static_increments`, issue 23
-// item 3) through `stickslip run`, against the hand calculation of tests/hbm/static_contact_test.cpp
-// (StaticContact.TwoContactsClosingInSequenceFollowTheLoadPath): one node (a body given by its
-// matrices, K = k_s I, M = I kg) on ground springs, touching the ground through two friction
-// contacts with initial gaps g1 < g2 (`gap`), and a static load (Q along x, P along z, harmonic 0)
-// that presses it. Contact 1 closes at λ1 = g1 k_s / P, after the node moved a1 = λ1 Q / k_s along
-// x; contact 2 at λ2 = (g2 (k_s + kn) − kn g1) / P, at x = a2 = (λ2 Q + kt a1)/(k_s + kt). At
-// λ = 1: x = (Q + kt (a1 + a2))/(k_s + 2 kt), both stuck, τ_i = kt (x − a_i); one proportional
-// step (`static_increments: 1`) starts both springs at x = 0 and contact 2 slips, τ2 = μN2.
+// item 3) through `stickslip run`, against the hand calculation of
+// tests/hbm/static_contact_test.cpp (StaticContact.TwoContactsClosingInSequenceFollowTheLoadPath):
+// one node (a body given by its matrices, K = k_s I, M = I kg) on ground springs, touching the
+// ground through two friction contacts with initial gaps g1 < g2 (`gap`), and a static load (Q
+// along x, P along z, harmonic 0) that presses it. Contact 1 closes at λ1 = g1 k_s / P, after the
+// node moved a1 = λ1 Q / k_s along x; contact 2 at λ2 = (g2 (k_s + kn) − kn g1) / P, at x = a2 =
+// (λ2 Q + kt a1)/(k_s + kt). At λ = 1: x = (Q + kt (a1 + a2))/(k_s + 2 kt), both stuck, τ_i = kt (x
+// − a_i); one proportional step (`static_increments: 1`) starts both springs at x = 0 and contact 2
+// slips, τ2 = μN2.
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
@@ -61,8 +62,8 @@ recovery: {{points: none}}
 output: {{plots: false}}
 )",
                      fmt::arg("kt", kKt), fmt::arg("kn", kKn), fmt::arg("mu", kMu),
-                     fmt::arg("g1", kG1), fmt::arg("g2", kG2), fmt::arg("Q", kQ),
-                     fmt::arg("P", kP), fmt::arg("increments", increments));
+                     fmt::arg("g1", kG1), fmt::arg("g2", kG2), fmt::arg("Q", kQ), fmt::arg("P", kP),
+                     fmt::arg("increments", increments));
 }
 
 // contact -> axis -> harmonic-0 local force of point 0.
@@ -95,8 +96,10 @@ TEST(StaticPathCli, ContactsClosingInSequenceKeepTheTangentialForcesOfTheLoadPat
   ASSERT_LT(tau2, kMu * N2);
   ASSERT_GT(kKt * kQ / (kS + 2 * kKt), kMu * N2);  // one step: contact 2 slips
 
-  for (const auto& [name, increments] : std::map<std::string, std::string>{
-           {"automatic", ""}, {"three", "\n  static_increments: 3"}, {"one", "\n  static_increments: 1"}}) {
+  for (const auto& [name, increments] :
+       std::map<std::string, std::string>{{"automatic", ""},
+                                          {"three", "\n  static_increments: 3"},
+                                          {"one", "\n  static_increments: 1"}}) {
     SCOPED_TRACE(name);
     const fs::path c = write_case(dir, name, node_case(increments));
     const fs::path out = dir / ("out_" + name);
@@ -120,9 +123,10 @@ TEST(StaticPathCli, ContactsClosingInSequenceKeepTheTangentialForcesOfTheLoadPat
     EXPECT_EQ(slurp(out / "summary.json").find("static_increments") != std::string::npos,
               !increments.empty());
   }
-  std::printf("[ hand calculation ] two stops closing in sequence: path tau = %.6g, %.6g N, one "
-              "step %.6g, %.6g N\n",
-              tau1, tau2, tau1_one, tau2_one);
+  std::printf(
+      "[ hand calculation ] two stops closing in sequence: path tau = %.6g, %.6g N, one "
+      "step %.6g, %.6g N\n",
+      tau1, tau2, tau1_one, tau2_one);
 }
 
 }  // namespace
