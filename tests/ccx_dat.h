@@ -1,7 +1,7 @@
 // Reading CalculiX's own output in tests: the eigenvalue table of a *FREQUENCY step in ccx's .dat
 // file (rows "mode, eigenvalue, ω, f, Im ω" after "E I G E N V A L U E   O U T P U T", up to the
-// participation factors) and the displacements of a *STATIC step. Header-only: shared by the fe,
-// cli and validation tests.
+// participation factors), the displacements of a *STATIC step and any block of numbers by its
+// title. Header-only: shared by the fe, cli and validation tests.
 #pragma once
 
 #include <array>
@@ -77,6 +77,31 @@ inline std::map<int, std::array<double, 3>> displacements(const std::string& tex
     }
   }
   return values;
+}
+
+// The rows of numbers of the first block of `text` whose title line contains `title` (e.g.
+// "contact stress (slave node,press,tang1,tang2)" of *CONTACT PRINT CSTR, "total force (fx,fy,fz)
+// for set CLAMP1" of *NODE PRINT, TOTALS=ONLY): every line after the title up to the first blank
+// line that follows a row.
+inline std::vector<std::vector<double>> block(const std::string& text, const std::string& title) {
+  std::vector<std::vector<double>> rows;
+  const size_t at = text.find(title);
+  if (at == std::string::npos) return rows;
+  std::istringstream in(text.substr(at));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::vector<double> v;
+    double x;
+    while (fields >> x) v.push_back(x);
+    if (v.empty()) {
+      if (!rows.empty()) break;
+      continue;
+    }
+    rows.push_back(v);
+  }
+  return rows;
 }
 
 }  // namespace stickslip::ccx_dat

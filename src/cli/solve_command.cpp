@@ -354,16 +354,20 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
                                       [](const PreparedPair& info) { return info.mortar; });
   if (any_mortar) {
     write_file_atomically((dir / "contact_coupling.csv").string(), [&](std::ostream& out) {
-      out << "contact,pair,node_a,area_m2,gap_m,node_b,weight,faces_b\n";
+      out << "contact,pair,node_a,area_m2,gap_m,node_b,weight,faces_b,nodes_a,weights_a\n";
       for (size_t q = 0; q < model.pair_info.size(); ++q) {
         const PreparedPair& info = model.pair_info[q];
         if (!info.mortar) continue;
-        std::string faces;
+        std::string faces, nodes_a, weights_a;
         for (int e : info.partner_elements) faces += (faces.empty() ? "" : " ") + std::to_string(e);
+        for (size_t j = 0; j < info.point_ids_a.size(); ++j) {
+          nodes_a += (j ? " " : "") + std::to_string(info.point_ids_a[j]);
+          weights_a += fmt::format("{}{}", j ? " " : "", info.point_weights_a[j]);
+        }
         for (size_t k = 0; k < info.partner_ids.size(); ++k) {
-          fmt::print(out, "{},{},{},{},{},{},{},{}\n", def.contacts[info.contact].name,
+          fmt::print(out, "{},{},{},{},{},{},{},{},{},{}\n", def.contacts[info.contact].name,
                      pair_in_contact[q], info.node_a_id, info.area, info.gap, info.partner_ids[k],
-                     info.weights[k], faces);
+                     info.weights[k], faces, nodes_a, weights_a);
         }
       }
     });

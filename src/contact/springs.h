@@ -22,6 +22,7 @@ class UnilateralSpring final : public NonlinearElement {
   std::string name() const override { return "unilateral_spring"; }
   CycleStatistics march(const Eigen::MatrixXd& u, const Eigen::MatrixXd* du_dp, Eigen::MatrixXd& f,
                         Eigen::MatrixXd* df_dp) const override;
+  const UnilateralSpringParameters& parameters() const { return parameters_; }
 
  private:
   UnilateralSpringParameters parameters_;

@@ -13,6 +13,8 @@
 
 #include <Eigen/Dense>
 
+#include "contact/friction_contact.h"
+#include "contact/springs.h"
 #include "core/errors.h"
 #include "core/format.h"
 #include "linalg/blas.h"
@@ -56,12 +58,14 @@ Eigen::MatrixXcd real_times_matrix(const Eigen::MatrixXd& A, const Eigen::Matrix
   return out;
 }
 
-// The static problem u = u_lin,0 − G_0 f(u) on the contact rows (harmonic 0 only, AFT with a
-// constant two-sample signal: the static element law from the virgin state).
+// The static problem u = λ u_lin,0 − G_0 f(u − o) on the contact rows at one load factor λ
+// (harmonic 0 only, AFT with a constant two-sample signal: each element's law from its virgin
+// state, evaluated at u − o). The law offset o (per row, set per load step) holds the friction
+// elements' tangential anchors and the typed preloads' ramp (the loading path of the header).
 class StaticContactSystem final : public ParametrizedSystem {
  public:
-  // shift: K_s per row (empty = none): R = u − u_lin,0 + G_0 (f(u) − K_s u), the shifted form of
-  // a structure with rigid-body modes held by the elements (build_static_flexibility).
+  // shift: K_s per row (empty = none): R = u − λ u_lin,0 + G_0 (f(u − o) − K_s u), the shifted
+  // form of a structure with rigid-body modes held by the elements (build_static_flexibility).
   StaticContactSystem(const std::vector<ContactPair>& pairs, const std::vector<int>& pair_rows,
                       Eigen::MatrixXd G0, Eigen::VectorXd ulin0, double scale,
                       Eigen::VectorXd shift = Eigen::VectorXd())
@@ -70,10 +74,15 @@ class StaticContactSystem final : public ParametrizedSystem {
         G0_(std::move(G0)),
         ulin0_(std::move(ulin0)),
         shift_(std::move(shift)),
+        offset_(Eigen::VectorXd::Zero(ulin0_.size())),
         scale_(scale),
         aft_(FourierBasis(HarmonicSet({0}), 2)) {}
   int size() const override { return static_cast<int>(ulin0_.size()); }
   double residual_scale() const override { return scale_; }
+  void set_step(double load, const Eigen::VectorXd& offset) {
+    load_ = load;
+    offset_ = offset;
+  }
   void forces(const Eigen::VectorXd& u, Eigen::VectorXd& f, Eigen::MatrixXd* J) const {
     f.resize(u.size());
     if (J) J->setZero(u.size(), u.size());
@@ -81,7 +90,10 @@ class StaticContactSystem final : public ParametrizedSystem {
     Eigen::MatrixXd jp;
     for (size_t p = 0; p < pairs_.size(); ++p) {
       const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-      aft_.evaluate(*pairs_[p].element, u.segment(r, m), Eigen::VectorXd(), fp, J ? &jp : nullptr);
+      const bool offset = !offset_.segment(r, m).isZero(0.0);
+      aft_.evaluate(*pairs_[p].element, u.segment(r, m),
+                    offset ? Eigen::VectorXd(-offset_.segment(r, m)) : Eigen::VectorXd(), fp,
+                    J ? &jp : nullptr);
       f.segment(r, m) = fp;
       if (J) J->block(r, r, m, m) = jp;
     }
@@ -95,7 +107,7 @@ class StaticContactSystem final : public ParametrizedSystem {
       f -= shift_.cwiseProduct(u);
       if (dR_dx) J.diagonal() -= shift_;
     }
-    R = u - ulin0_ + G0_ * f;
+    R = u - load_ * ulin0_ + G0_ * f;
     if (dR_dx) *dR_dx = Eigen::MatrixXd::Identity(size(), size()) + G0_ * J;
     if (dR_dlambda) dR_dlambda->setZero(size());
   }
@@ -106,9 +118,42 @@ class StaticContactSystem final : public ParametrizedSystem {
   Eigen::MatrixXd G0_;
   Eigen::VectorXd ulin0_;
   Eigen::VectorXd shift_;
+  Eigen::VectorXd offset_;
+  double load_ = 1.0;
   double scale_;
   Aft aft_;
 };
+
+// What the static loading path knows of an element (the header's "Static loading path"): a
+// friction element's tangential spring (kt, the limit μN, its rows), the normal law's preload N0,
+// stiffness and gap of friction and unilateral elements (for the preload's ramp and touchdown).
+struct PathElement {
+  int tangential = 0;  // tangential rows carrying an anchor: 2 (3D friction), 1 (Jenkins), 0
+  int normal = -1;     // the row of the unilateral normal law, or −1
+  double kt = 0.0, mu = 0.0, fixed_normal = 0.0;  // Jenkins: its fixed N
+  double kn = 0.0, preload = 0.0, gap = 0.0;
+};
+
+PathElement path_element(const NonlinearElement& element) {
+  PathElement e;
+  if (const auto* c = dynamic_cast<const FrictionContact3D*>(&element)) {
+    const FrictionContactParameters& p = c->parameters();
+    e = {.tangential = 2, .normal = 2, .kt = p.kt, .mu = p.mu, .kn = p.kn,
+         .preload = p.normal_preload, .gap = p.gap};
+  } else if (const auto* j = dynamic_cast<const Jenkins1D*>(&element)) {
+    const JenkinsParameters& p = j->parameters();
+    e = {.tangential = 1, .kt = p.kt, .mu = p.mu, .fixed_normal = p.normal_load};
+  } else if (const auto* s = dynamic_cast<const UnilateralSpring*>(&element)) {
+    const UnilateralSpringParameters& p = s->parameters();
+    e = {.normal = 0, .kn = p.k, .preload = p.preload, .gap = p.gap};
+  }
+  return e;
+}
+
+// The normal law's argument before its clip, λ N0 + kn (w − g0): > 0 closed, ≤ 0 open.
+double normal_argument(const PathElement& e, double load, double w) {
+  return load * e.preload + e.kn * (w - e.gap);
+}
 
 HarmonicSet unknown_set(const HarmonicBalanceOptions& o) {
   std::vector<int> h;
@@ -385,13 +430,16 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
     }
   }
   solve_static();
-  const double floor = displacement_floor();
   for (size_t p = 0; p < pairs_.size(); ++p) {
-    pair_offset_.push_back(
-        unknown_harmonics().has_static()
-            ? Eigen::VectorXd()
-            : Eigen::VectorXd(u0_.segment(pair_rows_[p], pairs_[p].element->dimension())));
+    const int r = pair_rows_[p], m = pairs_[p].element->dimension();
+    const Eigen::VectorXd anchor = static_anchor_.segment(r, m);
+    if (unknown_harmonics().has_static()) {
+      pair_offset_.push_back(anchor.isZero(0.0) ? Eigen::VectorXd() : Eigen::VectorXd(-anchor));
+    } else {
+      pair_offset_.push_back(u0_.segment(r, m) - anchor);
+    }
   }
+  const double floor = displacement_floor();
   scale += u0_.norm();
   structured_ =
       options_.linear_solver == HbmLinearSolver::kStructured ||
@@ -414,7 +462,8 @@ double HarmonicBalanceSystem::displacement_floor() const {
   Eigen::MatrixXd jp;
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
-    tangent_aft.evaluate(*pairs_[p].element, u0_.segment(r, m), Eigen::VectorXd(), fp, &jp);
+    tangent_aft.evaluate(*pairs_[p].element, u0_.segment(r, m),
+                         Eigen::VectorXd(-static_anchor_.segment(r, m)), fp, &jp);
     if (jp.allFinite()) stiffness = std::max(stiffness, jp.norm());
   }
   const double compliance = receptance(0, 0.0).real().norm();
@@ -587,23 +636,152 @@ void HarmonicBalanceSystem::solve_static() {
   // scale is unknown here: use ||G0||·1 N as a displacement per newton of contact force.
   const double scale = ulin0.norm() > 0 ? ulin0.norm() : G0.norm();
   StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0, static_shift_);
-  u0_ = Eigen::VectorXd::Zero(rows_);
-  static_summary_ = solve_newton(sys, 0.0, u0_, options_.static_newton);
-  if (!static_summary_.converged() && ulin0.norm() > 0) {
-    // A contact without a preload sits at its kink at rest (w = 0: N = max(0, kn w)), where its
-    // tangent is the open one; the first Newton step then goes to the response without contacts
-    // and no fraction of it decreases ||R|| (a joint pressed by static loads, preload: computed).
-    // From the linear response u_lin,0 instead, the pressed pairs penetrate and their closed
-    // (stuck or slipping) tangents give a first step to the closed joint: a semismooth Newton
-    // whose active set starts from the loads' own direction.
-    Eigen::VectorXd u = ulin0;
-    const NewtonSummary from_linear = solve_newton(sys, 0.0, u, options_.static_newton);
-    if (from_linear.converged()) {
-      u0_ = u;
-      static_summary_ = from_linear;
-    }
+
+  std::vector<PathElement> elements;
+  bool gaps = false;  // a friction element with an initial gap or interference
+  for (const ContactPair& pair : pairs_) {
+    elements.push_back(path_element(*pair.element));
+    gaps = gaps || (elements.back().tangential == 2 && elements.back().mu > 0.0 &&
+                    elements.back().gap != 0.0);
   }
+  const int steps = options_.static_increments > 0 ? options_.static_increments
+                    : gaps                         ? kStaticIncrements
+                                                   : 1;
+  static_anchor_ = Eigen::VectorXd::Zero(rows_);
+  static_path_ = {};
+
+  // The law offsets at λ: the anchors s and the typed preloads' ramp (1 − λ) N0 / kn, whose rate
+  // ∂o/∂λ is −N0/kn on their normal rows.
+  Eigen::VectorXd ramp_rate = Eigen::VectorXd::Zero(rows_);
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const PathElement& e = elements[p];
+    if (e.normal >= 0 && e.preload > 0.0) ramp_rate[pair_rows_[p] + e.normal] = -e.preload / e.kn;
+  }
+  const auto set_step = [&](double load, const Eigen::VectorXd& anchors) {
+    sys.set_step(load, load < 1.0 ? Eigen::VectorXd(anchors - (1.0 - load) * ramp_rate) : anchors);
+  };
+  // One static solve at load factor λ with the anchors s, from u (in: the start, out: the
+  // solution).
+  const auto solve = [&](double load, const Eigen::VectorXd& anchors, Eigen::VectorXd& u) {
+    set_step(load, anchors);
+    NewtonSummary summary = solve_newton(sys, 0.0, u, options_.static_newton);
+    if (!summary.converged() && ulin0.norm() > 0) {
+      // A contact without a preload sits at its kink at rest (w = 0: N = max(0, kn w)), where its
+      // tangent is the open one; the first Newton step then goes to the response without contacts
+      // and no fraction of it decreases ||R|| (a joint pressed by static loads, preload:
+      // computed). From the linear response λ u_lin,0 instead, the pressed pairs penetrate and
+      // their closed (stuck or slipping) tangents give a first step to the closed joint: a
+      // semismooth Newton whose active set starts from the loads' own direction.
+      Eigen::VectorXd v = load * ulin0;
+      const NewtonSummary from_linear = solve_newton(sys, 0.0, v, options_.static_newton);
+      if (from_linear.converged()) {
+        u = v;
+        summary = from_linear;
+      }
+    }
+    return summary;
+  };
+
+  // The anchors after a solved step at λ (in: the step's anchors s_a; the header's rules): stick
+  // keeps s, slip moves it to u_t − τ/kt, an open normal law releases it to u_t.
+  const auto advance = [&](double load, const Eigen::VectorXd& u, Eigen::VectorXd& anchors) {
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const PathElement& e = elements[p];
+      if (e.tangential == 0) continue;
+      const int r = pair_rows_[p];
+      const double normal = e.normal >= 0
+                                ? std::max(0.0, normal_argument(e, load, u[r + e.normal]))
+                                : e.fixed_normal;
+      const Eigen::VectorXd ut = u.segment(r, e.tangential);
+      const Eigen::VectorXd predictor = e.kt * (ut - anchors.segment(r, e.tangential));
+      if (e.normal >= 0 && normal <= 0.0) {
+        anchors.segment(r, e.tangential) = ut;
+      } else if (predictor.norm() > e.mu * normal) {
+        anchors.segment(r, e.tangential) =
+            ut - (e.mu * normal / (e.kt * predictor.norm())) * predictor;
+      }
+    }
+  };
+  // The earliest touchdown in (λ_a, λ_b] as a fraction of the step, for friction elements open
+  // at λ_a (u_a, anchors s_a) and closed at λ_b (u_b): where the normal argument ν(λ) reaches 0
+  // along the path's tangent at λ_a, du/dλ = −(∂R/∂u)⁻¹ ∂R/∂λ with every element's state of λ_a
+  // (exact up to the first change of state; the solution at λ_b has the point closed, a slope
+  // that would put the touchdown too late).
+  const auto touchdown = [&](double la, const Eigen::VectorXd& ua, const Eigen::VectorXd& sa,
+                             double lb, const Eigen::VectorXd& ub) {
+    std::vector<size_t> closing;
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const PathElement& e = elements[p];
+      if (e.tangential != 2) continue;
+      const int r = pair_rows_[p] + e.normal;
+      if (normal_argument(e, la, ua[r]) <= 0.0 && normal_argument(e, lb, ub[r]) > 0.0)
+        closing.push_back(p);
+    }
+    if (closing.empty()) return 1.0;
+    set_step(la, sa);
+    Eigen::VectorXd R, f;
+    Eigen::MatrixXd dR, J;
+    sys.evaluate(ua, 0.0, R, &dR, nullptr);
+    sys.forces(ua, f, &J);
+    // R = u − λ u_lin,0 + G_0 (f(u − o(λ)) − K_s u):  ∂R/∂λ = −u_lin,0 − G_0 J ∂o/∂λ.
+    const Eigen::VectorXd dR_dl = -ulin0 - G0 * (J * ramp_rate);
+    const Eigen::VectorXd du = dR.partialPivLu().solve(-dR_dl);
+    double first = 1.0;
+    for (size_t p : closing) {
+      const PathElement& e = elements[p];
+      const int r = pair_rows_[p] + e.normal;
+      const double nu = normal_argument(e, la, ua[r]), rate = e.preload + e.kn * du[r];
+      if (rate > 0.0 && std::isfinite(rate)) first = std::min(first, -nu / (rate * (lb - la)));
+    }
+    return std::max(first, 0.0);
+  };
+  // A touchdown this close to its step's start closes at the start: the tangential motion it
+  // leaves out is below 1e-9 of the step's.
+  constexpr double kTouchdownResolution = 1e-9;
+
+  Eigen::VectorXd anchors = Eigen::VectorXd::Zero(rows_);  // of the step being solved
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(rows_);
+  double load = 0.0;
+  static_path_ = {.steps = 0, .touchdown_cuts = 0};
+  if (steps > 1) {  // λ = 0: the geometry alone (interferences pressed in one step: the parts' fit)
+    static_summary_ = solve(0.0, anchors, u);
+    advance(0.0, u, anchors);
+  } else {
+    static_summary_.termination = NewtonTermination::kConverged;
+  }
+  for (int i = 1; i <= steps && static_summary_.converged();) {
+    double target = static_cast<double>(i) / steps;
+    Eigen::VectorXd next = u;
+    static_summary_ = solve(target, anchors, next);
+    if (static_summary_.converged() && steps > 1) {
+      const double theta = touchdown(load, u, anchors, target, next);
+      if (theta < 1.0 && theta * (target - load) > kTouchdownResolution &&
+          static_path_.touchdown_cuts < kMaxTouchdownCuts) {
+        ++static_path_.touchdown_cuts;
+        target = load + theta * (target - load);
+        next = u;
+        static_summary_ = solve(target, anchors, next);
+      }
+    }
+    ++static_path_.steps;
+    if (!static_summary_.converged()) {
+      if (steps > 1) {
+        static_summary_.message = "load step to λ = " + format_number(target, 6) + ": " +
+                                  static_summary_.message;
+      }
+      break;
+    }
+    u = next;
+    load = target;
+    if (load == static_cast<double>(i) / steps) ++i;
+    if (i <= steps) advance(load, u, anchors);
+  }
+  u0_ = u;
+  // f0: the last step's law (sys keeps its offsets); then its anchors advanced past it are the
+  // state the AFT starts from.
   sys.forces(u0_, f0_, nullptr);
+  advance(1.0, u0_, anchors);
+  static_anchor_ = anchors;
 }
 
 void HarmonicBalanceSystem::contact_forces(const Eigen::VectorXd& x, Eigen::VectorXd& forces,
@@ -665,7 +843,9 @@ CycleStatistics HarmonicBalanceSystem::evaluate_pair(size_t p, const Eigen::Vect
                                                      Eigen::VectorXd& f, Eigen::MatrixXd* J,
                                                      AftSamples* samples) const {
   if (aft_.method() != AftMethod::kEventPlanar) {
-    return aft_.evaluate(*pairs_[p].element, c, offset, f, J, samples);
+    const CycleStatistics s = aft_.evaluate(*pairs_[p].element, c, offset, f, J, samples);
+    restore_anchor(p, samples);
+    return s;
   }
   AftWarmStart warm;
   {
@@ -674,9 +854,17 @@ CycleStatistics HarmonicBalanceSystem::evaluate_pair(size_t p, const Eigen::Vect
     warm = warm_starts_->pairs[p];
   }
   const CycleStatistics s = aft_.evaluate(*pairs_[p].element, c, offset, f, J, samples, &warm);
+  restore_anchor(p, samples);
   const std::lock_guard<std::mutex> lock(warm_starts_->mutex);
   warm_starts_->pairs[p] = std::move(warm);
   return s;
+}
+
+void HarmonicBalanceSystem::restore_anchor(size_t p, AftSamples* samples) const {
+  if (!samples || samples->u.size() == 0) return;
+  const int m = pairs_[p].element->dimension();
+  const Eigen::VectorXd anchor = static_anchor_.segment(pair_rows_[p], m);
+  if (!anchor.isZero(0.0)) samples->u.colwise() += anchor;
 }
 
 AftSamples HarmonicBalanceSystem::pair_cycle(const Eigen::VectorXd& x, int pair) const {
@@ -688,6 +876,7 @@ AftSamples HarmonicBalanceSystem::pair_cycle(const Eigen::VectorXd& x, int pair)
   Eigen::VectorXd fp;
   aft_.evaluate(*pairs_[pair].element, x.segment(r * nc_, m * nc_), pair_offset_[pair], fp, nullptr,
                 &samples);
+  restore_anchor(static_cast<size_t>(pair), &samples);
   return samples;
 }
 
@@ -813,8 +1002,7 @@ void HarmonicBalanceSystem::build_stuck_tangent() {
     if (!frozen) {
       for (int i = 0; i < m; ++i) xp[i * nc_ + set.offset(0)] = u0_[r + i];
     }
-    aft_.evaluate(*pairs_[p].element, xp,
-                  frozen ? Eigen::VectorXd(u0_.segment(r, m)) : Eigen::VectorXd(), fp, &jp);
+    aft_.evaluate(*pairs_[p].element, xp, pair_offset_[p], fp, &jp);
     for (int pos = 0; pos < set.size(); ++pos) {
       const int o = set.offset(pos);
       for (int i = 0; i < m; ++i) {

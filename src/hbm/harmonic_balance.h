@@ -44,9 +44,24 @@
 // (pair p's rows are r_p .. r_p + m_p − 1, so each pair's unknowns are contiguous).
 //   coupled:   S = {0} ∪ dynamic harmonics; harmonic 0 solved with the others.
 //   uncoupled: S = dynamic harmonics; first the static problem u0 = u_lin,0 − G_0 f(u0) is solved
-//              (static element laws, from the virgin state), then u0 is frozen as the mean of
-//              u(t) in the AFT and f_0 is frozen for the recovery; the harmonic-0 balance is not
-//              part of R.
+//              (static element laws along the loading path below), then u0 is frozen as the mean
+//              of u(t) in the AFT and f_0 is frozen for the recovery; the harmonic-0 balance is
+//              not part of R.
+// Static loading path (both formulations solve it; coupled starts its harmonic balance from it):
+// a load factor λ from 0 to 1 multiplies u_lin,0 (static loads, harmonic-0 excitation, the loads
+// balancing typed preloads) and the typed preloads N0 themselves; gaps and interferences are
+// geometry, there at λ = 0. Each step λ_a → λ_b solves the static problem at λ_b with each
+// friction element's tangential spring anchored where λ_a left it, τ = radial return of
+// kt (u_t − s_a) onto |τ| ≤ μN (backward Euler: exact for slip of fixed direction); stick keeps
+// the anchor s, slip moves it to u_t − τ/kt, lift-off to u_t (the spring released). A point open at
+// λ_a and closed at λ_b closes in between: the step is cut at the earliest such touchdown, where
+// its normal force reaches 0 along the path's tangent at λ_a (every element in its state there:
+// exact up to the first change of state), so it starts to stick from where it touched.
+// HarmonicBalanceOptions.static_increments sets the steps (automatic: one proportional step unless
+// a friction element has an initial gap or interference: with none the static problem is
+// positively homogeneous and one step is the incremental path exactly). The anchors s the path
+// ends with carry each point's tangential state into the AFT: friction elements march u − (s, 0)
+// (pair_offset), so the cycle starts from the static τ0 at u0, not from the virgin state at u0.
 //
 // Residual (units m), per harmonic k of S with complex U_k = a_k − i b_k, F_k = fa_k − i fb_k
 // (AFT force coefficients) and G_k = G_r + i G_i = B D_k⁻¹ Bᵀ:
@@ -135,6 +150,15 @@ enum class StaticCoupling { kUncoupled, kCoupled };
 // factored once per Ω. Auto: structured when n >= kStructuredSolverThreshold.
 enum class HbmLinearSolver { kAuto, kDense, kStructured };
 inline constexpr int kStructuredSolverThreshold = 2000;
+// Automatic static load steps with initial gaps: the touchdown cuts make the path exact for
+// slip of fixed direction whatever the steps; the steps bound the error of backward Euler for slip
+// whose direction turns (and of touchdowns beyond kMaxTouchdownCuts) and keep each Newton solve
+// near its start.
+inline constexpr int kStaticIncrements = 10;
+// Touchdown cuts of a static loading path, at most (each costs one more static solve); touchdowns
+// beyond them close within their step (backward Euler: their tangential motion in that step
+// before touchdown counted as elastic).
+inline constexpr int kMaxTouchdownCuts = 200;
 
 struct HarmonicBalanceOptions {
   int harmonics = 1;                 // H: dynamic harmonics 1..H
@@ -145,7 +169,11 @@ struct HarmonicBalanceOptions {
                                       // kSampled per cycle otherwise, flagged in the statistics)
   StaticCoupling static_coupling = StaticCoupling::kUncoupled;
   double residual_scale = 0.0;  // > 0: Newton's scale (m); 0: automatic (see residual_scale())
-  NewtonOptions static_newton;  // for the uncoupled static problem
+  NewtonOptions static_newton;  // for the static problem (each load step)
+  // Load steps of the static problem (header comment, "Static loading path"): 0 automatic (1, or
+  // kStaticIncrements when a friction element has an initial gap or interference), n ≥ 1: n equal
+  // steps (1: one proportional step from the unloaded state), plus the touchdown cuts.
+  int static_increments = 0;
   HbmLinearSolver linear_solver = HbmLinearSolver::kAuto;
   DampingMatrixMethod damping_matrix_method = DampingMatrixMethod::kStateSpace;
 };
@@ -230,6 +258,17 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   const std::string& damping_matrix_note() const { return damping_matrix_note_; }
 
   const NewtonSummary& static_summary() const { return static_summary_; }
+  // The static loading path taken: load steps solved (equal steps plus touchdown cuts; 1 for the
+  // one proportional step) and the cuts among them.
+  struct StaticPath {
+    int steps = 1;
+    int touchdown_cuts = 0;
+  };
+  const StaticPath& static_path() const { return static_path_; }
+  // The constant the AFT adds to pair p's motion: (uncoupled) u0's segment minus (s, 0), s the
+  // friction element's tangential anchor at the end of the static path (empty when both are 0,
+  // coupled without an anchor). A tangent "at the static state" is the element's at this offset.
+  const Eigen::VectorXd& pair_offset(int pair) const { return pair_offset_[pair]; }
   const Eigen::VectorXd& static_displacement() const { return u0_; }  // uncoupled u0 (nu)
   const Eigen::VectorXd& static_force() const { return f0_; }         // uncoupled f0 (nu)
 
@@ -320,7 +359,9 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::VectorXd static_shift_;
   Eigen::MatrixXd static_G_, static_shift_G_;
   Eigen::VectorXd u0_, f0_;
+  Eigen::VectorXd static_anchor_;  // per contact row: the anchor s (tangential rows), else 0
   NewtonSummary static_summary_;
+  StaticPath static_path_;
   double residual_scale_ = 1.0;
   bool structured_ = false;
   std::vector<Eigen::MatrixXd> stuck_tangent_;  // per harmonic position: K_0, nu x nu
@@ -340,6 +381,9 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::vector<AftWarmStart> pairs;
   };
   std::shared_ptr<WarmStarts> warm_starts_ = std::make_shared<WarmStarts>();
+  // The AFT marches a friction pair's motion minus its anchor (pair_offset): its samples' u get
+  // the anchor back, so they are the pair's relative displacement.
+  void restore_anchor(size_t p, AftSamples* samples) const;
   // aft_.evaluate of pair p's coefficients c with its warm start.
   CycleStatistics evaluate_pair(size_t p, const Eigen::VectorXd& c, const Eigen::VectorXd& offset,
                                 Eigen::VectorXd& f, Eigen::MatrixXd* J,
@@ -352,7 +396,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   };
   std::shared_ptr<StaticResponseCache> static_response_cache_ =
       std::make_shared<StaticResponseCache>();
-  std::vector<Eigen::VectorXd> pair_offset_;  // per pair: u0 segment (uncoupled) or empty
+  std::vector<Eigen::VectorXd> pair_offset_;  // per pair: see pair_offset()
   std::unique_ptr<const ModalFlexibility> flexibility_;  // H_k(Ω), chosen at construction
   std::string damping_matrix_note_;
   std::optional<TravellingWave> wave_;

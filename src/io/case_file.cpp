@@ -1574,6 +1574,8 @@ void parse_analysis(Parser& p, const MapView& top) {
   a.aft_given = m.has("aft");
   m.choice("aft", &a.aft);
   m.choice("static", &a.static_coupling);
+  m.integer("static_increments", &a.static_increments, 1, kMaxStaticIncrements,
+            "load steps of the static problem, each a Newton solve");
   m.boolean("stability", &a.stability);
   if (m.has("tolerance")) {
     a.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
@@ -2402,6 +2404,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::Key << "time_samples" << YAML::Value << a.time_samples;
   if (a.aft_given) e << YAML::Key << "aft" << YAML::Value << case_name(a.aft);
   e << YAML::Key << "static" << YAML::Value << case_name(a.static_coupling);
+  if (a.static_increments > 0) e << YAML::Key << "static_increments" << YAML::Value << a.static_increments;
   if (!nonlinear_mode) e << YAML::Key << "stability" << YAML::Value << a.stability;
   e << YAML::Key << "tolerance" << YAML::Value << num(a.tolerance);
   e << YAML::Key << "max_iterations" << YAML::Value << a.max_iterations;

@@ -55,6 +55,8 @@ inline constexpr int kTimeSamplesFloor = 4096;
 inline constexpr int kMaxTimeSamples = 65536;
 // analysis.max_points, and the points of a stepped sweep (window / step_hz + 1).
 inline constexpr int kMaxFrequencyPoints = 1000000;
+// Load steps of the static contact problem at most (analysis.static_increments).
+inline constexpr int kMaxStaticIncrements = 10000;
 // recovery.modes (full-model modes of the modal recovery).
 inline constexpr int kMaxRecoveryModes = 10000;
 // Elements of one generated beam (box plus end block).
@@ -339,6 +341,7 @@ struct AnalysisDefinition {
   AftChoice aft = AftChoice::kEvent;  // event | sampled | event_planar (hbm/aft.h AftMethod)
   bool aft_given = false;  // `aft` written in the file (then event warns where it falls back)
   StaticChoice static_coupling = StaticChoice::kUncoupled;  // key `static`: uncoupled | coupled
+  int static_increments = 0;  // load steps of the static problem (≥ 1); 0: automatic
   double tolerance = 1.0e-8;                                // Newton, relative residual (> 0)
   int max_iterations = 30;                                  // Newton iterations per point (≥ 1)
   int max_points = 10000;                                   // continuation: points at most (≥ 2)

@@ -24,6 +24,11 @@ constexpr double kInverseMapTolerance = 1e-15;
 // A clipped overlap of two faces below 1e-12 of the clip face's area is a touching edge or a
 // corner, not a shared surface: no coupling from it.
 constexpr double kSliverOverlap = 1e-12;
+// Partner weights |Φ_ik| = |M_ik| / D_i below 1e-14 are the round-off of integrals that vanish
+// (ψ_i against the shape function of a B node whose support only touches the point's: on
+// conforming faces every partner but the coincident node): dropped, so that such a node is not
+// made a master of B for nothing. The weights' sum moves by less than that per dropped node.
+constexpr double kNegligiblePartner = 1e-14;
 
 // Quadratic faces (6-node triangles, 8-node quadrilaterals): their corner integrals ∫ N_c dA are
 // zero or negative, so the dual basis is built on the transformed basis Ñ_c = N_c + α Σ N_m (the
@@ -391,7 +396,7 @@ MortarCoupling mortar_coupling(const Mesh& mesh_a, std::span<const ElementFace> 
     double sum = 0;  // Σ_k Φ_ik
     if (const auto it = M.find(node); it != M.end()) {
       for (const auto& [k, m] : it->second) {
-        if (m == 0.0) continue;
+        if (std::abs(m) < kNegligiblePartner * d) continue;
         p.nodes_b.push_back(k);
         p.weights_b.push_back(m / d);
         sum += m / d;

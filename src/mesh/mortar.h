@@ -23,7 +23,8 @@
 //     Σ_k Φ_ik f(x_Bk) = Σ_j a_ij f(x_Aj) for every field f linear in space on flat coplanar
 //     surfaces (rigid rotations too);
 //   - on conforming meshes (coincident nodes, the same faces) Φ_ik = a_ik: linear faces are
-//     node-to-node.
+//     node-to-node (the other partners' weights are round-off, below 1e-14, and dropped: each
+//     point keeps only the B nodes whose |Φ_ik| ≥ 1e-14).
 //
 // Geometry: each A face defines a plane (its centroid, its outward normal). B faces that face it
 // (normals opposed) within `search_distance` along that normal are projected onto the plane and

@@ -1103,6 +1103,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
           }
           pair.frame.middleCols(3 * j, 3) = w * frame;
           offset -= w * A.mesh.coordinates.col(node);
+          info.point_ids_a.push_back(node_id_of(A, node));
+          info.point_weights_a.push_back(w);
         }
         for (int k = 0; k < nb; ++k) {
           const int id = node_id_of(B, point.nodes_b[static_cast<size_t>(k)]);
@@ -1251,6 +1253,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                     "structure (every sector identical); nodal diameters {}",
                     cyclic->body, cyclic->symmetry.sectors, cyclic->engine_order, diameters));
   }
+  model.hbm.static_increments = an.static_increments;
   model.seconds_prepare = seconds_since(t0);
   return model;
 }

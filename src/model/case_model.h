@@ -196,6 +196,10 @@ struct PreparedPair {
   std::vector<int> partner_ids;   // mortar: B's node ids, increasing
   std::vector<double> weights;    // mortar: Φ_k of each partner
   std::vector<int> partner_elements;  // mortar: element ids of the B faces it overlaps
+  // mortar: the point's A nodes (ids, node A first) and their weights a_j: node A with 1 on
+  // linear faces; on quadratic faces a mid-edge node's point also has its edge's corners.
+  std::vector<int> point_ids_a;
+  std::vector<double> point_weights_a;
   double gap = 0.0;  // mortar: the point's geometric gap, m (> 0 open; the law's initial gap
                      // with the contact's `gap` unless a preload is typed)
   ContactParametersDefinition parameters;  // this pair's parameters (totals already split)

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "../ccx_dat.h"
 #include "../required_tool.h"
 
 namespace {
@@ -125,29 +126,6 @@ Surface surface(const Inp& inp, const std::set<int>& set) {
   return s;
 }
 
-// The rows of a ccx .dat block that starts with `title`: the numbers of each line until a blank
-// line after the first row.
-std::vector<std::vector<double>> dat_block(const std::string& dat, const std::string& title) {
-  std::vector<std::vector<double>> rows;
-  const size_t at = dat.find(title);
-  if (at == std::string::npos) return rows;
-  std::istringstream in(dat.substr(at));
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    std::vector<double> v;
-    double x;
-    while (fields >> x) v.push_back(x);
-    if (v.empty()) {
-      if (!rows.empty()) break;
-      continue;
-    }
-    rows.push_back(v);
-  }
-  return rows;
-}
-
 TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) {
   STICKSLIP_REQUIRE_TOOL(find_ccx().has_value(), "CalculiX ccx");
   const fs::path dir = fresh_dir("preloaded_joint_ccx");
@@ -186,11 +164,11 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
   ASSERT_EQ(shell("cd '" + dir.string() + "' && OMP_NUM_THREADS=1 ccx -i job", dir / "ccx.log"), 0)
       << slurp(dir / "ccx.log");
   const std::string dat = slurp(dir / "job.dat");
-  const auto reaction = dat_block(dat, "total force (fx,fy,fz) for set CLAMP1");
+  const auto reaction = stickslip::ccx_dat::block(dat, "total force (fx,fy,fz) for set CLAMP1");
   ASSERT_EQ(reaction.size(), 1u) << dat;
   const double ccx_total = kPress + reaction[0][0];  // beam 1: F + R − N = 0
   std::map<int, double> ccx_normal;                  // slave node -> N
-  for (const auto& row : dat_block(dat, "contact stress (slave node,press,tang1,tang2)")) {
+  for (const auto& row : stickslip::ccx_dat::block(dat, "contact stress (slave node,press,tang1,tang2)")) {
     ccx_normal[static_cast<int>(row[0])] =
         row[1] > 0 ? row[1] * slave.area.at(static_cast<int>(row[0])) : 0.0;
     EXPECT_LT(std::hypot(row[2], row[3]) * slave.area.at(static_cast<int>(row[0])),
@@ -223,3 +201,132 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
 }
 
 }  // namespace
+
+// The same butt joint pressed so that the whole force crosses it (issue 23 item 4: the total
+// contact force F and the mean axial stress −F/A, closed forms). Beam 1 is not clamped: it is
+// guided (every node but its loaded end face, its contact face and its forced node held in y and
+// z, so nothing but the joint holds it along x) and pushed towards beam 2 by F = 4500 N spread
+// over its far end face x = 0 (`total_force`); beam 2 stays clamped at its far end. Equilibrium
+// of beam 1 along x: the joint's normal forces sum to F (the supports react in y and z only), and
+// every cross-section of either beam carries −F, so its mean axial stress is −F/A, A = 0.05 × 0.03
+// m² the big box's section. Checked at x = 0.12 m in beam 1 (12 elements from the loaded face and
+// 13 from the step to the half-thickness end block) and at x = 0.48 m in beam 2 (13 from its
+// step, 12 from its clamp): 2.4 section widths (0.05 m) from every disturbance, where Saint-Venant's
+// decay (∝ exp(−π d / 0.05 m) at least) leaves the section's mean exact and its distribution
+// nearly that of plain compression plus the eccentric joint's bending (linear across the section,
+// mean 0). The mean is the area integral of the recovered nodal σ_xx over the section (trapezoid
+// weights on its node grid, exact for the section's bilinear field).
+TEST(PreloadedJoint, WholeForceCrossesAGuidedBeamMeanAxialStressIsMinusFOverA) {
+  const fs::path dir = fresh_dir("preloaded_joint_guided");
+  const fs::path generated =
+      write_case(dir, "generate", fmt::format(fmt::runtime(kCase), kKtPerArea, kKnPerArea, kMu,
+                                              kPress, -kPress));
+  ASSERT_EQ(run("mesh " + generated.string() + " -o " + (dir / "mesh").string(), dir / "mesh.log"),
+            0)
+      << slurp(dir / "mesh.log");
+  const Inp beam1 = read_inp(dir / "mesh" / "mesh" / "beam1.inp");
+  const Inp beam2 = read_inp(dir / "mesh" / "mesh" / "beam2.inp");
+  constexpr double kL = 0.25, kE = 0.05;  // big box, end block along x (m)
+  std::ostringstream inp;
+  inp << beam1.text << beam2.text << "*NSET, NSET=GUIDE1\n";
+  int guided = 0;
+  for (const auto& [id, x] : beam1.nodes) {
+    if (x.x() < 1e-9 || x.x() > kL + kE - 1e-9 || beam1.sets.at("FORCE1").count(id)) continue;
+    inp << id << ",\n";
+    ++guided;
+  }
+  ASSERT_GT(guided, 100);
+  std::ofstream(dir / "joint.inp") << inp.str();
+  const std::string text = fmt::format(R"(stickslip: 1
+materials:
+  steel: {{youngs_modulus: 2.0e11, poisson_ratio: 0.3, density: 7800}}
+meshes:
+  joint: {{file: joint.inp}}
+bodies:
+  beam1: {{mesh: joint, element_set: BEAM1, material: steel, masters: [FORCE1], modes: 40,
+          supports: [{{nodes: GUIDE1, directions: [y, z]}}]}}
+  beam2: {{mesh: joint, element_set: BEAM2, material: steel, clamp: CLAMP2, masters: [FORCE2], modes: 40}}
+contacts:
+  - name: joint
+    law: friction
+    between: {{beam1: CONTACT1, beam2: CONTACT2}}
+    normal: [1, 0, 0]
+    per_area: {{kt: {}, kn: {}, mu: {}, preload: computed}}
+static_loads:
+  - {{body: beam1, node_set: CLAMP1, total_force: [{}, 0, 0]}}
+excitation:
+  - {{body: beam1, node_set: FORCE1, direction: z, amplitude: 1.0e-3}}
+damping: {{alpha: 5.0}}
+analysis:
+  frequency: {{start_hz: 1400, stop_hz: 1410, step_hz: 10}}
+  harmonics: 1
+recovery: {{points: peak, method: direct, fields: [stress]}}
+output: {{plots: false, vtu: true}}
+)",
+                                       kKtPerArea, kKnPerArea, kMu, kPress);
+  const fs::path c = write_case(dir, "guided", text);
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+
+  // Equilibrium of beam 1 along x: the joint carries F (Newton's static tolerance, 1e-8).
+  double total = 0.0;
+  int carrying = 0;
+  for (const auto& r : read_csv(dir / "out" / "contact_forces.csv")) {
+    if (r.at("harmonic") != "0" || r.at("frame") != "local" || r.at("point") != "0" ||
+        r.at("axis") != "n")
+      continue;
+    total += std::stod(r.at("real_n"));
+    carrying += std::stod(r.at("real_n")) > 0;
+  }
+  EXPECT_NEAR(total, kPress, 1e-7 * kPress);
+
+  // The mean σ_xx over a cross-section of each beam's big box (trapezoid weights on the section's
+  // node grid), read from the recovered VTU by VTK.
+  std::ofstream(dir / "section.py") << R"(import glob, sys
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+path = glob.glob(sys.argv[1] + '/recovery/' + sys.argv[2] + '/p*.vtu')[0]
+r = vtk.vtkXMLUnstructuredGridReader()
+r.SetFileName(path)
+r.Update()
+g = r.GetOutput()
+x = vtk_to_numpy(g.GetPoints().GetData())
+s = vtk_to_numpy(g.GetPointData().GetArray('stress_h0_real'))[:, 0]
+sel = np.abs(x[:, 0] - float(sys.argv[3])) < 1e-9
+def weights(c):
+    grid = np.unique(np.round(c, 12))
+    w = np.zeros(len(grid))
+    w[1:] += 0.5 * np.diff(grid)
+    w[:-1] += 0.5 * np.diff(grid)
+    return w[np.searchsorted(grid, np.round(c, 12))]
+w = weights(x[sel, 1]) * weights(x[sel, 2])
+print(int(sel.sum()), repr(float(w.sum())), repr(float((w * s[sel]).sum() / w.sum())),
+      repr(float(s[sel].min())), repr(float(s[sel].max())))
+)";
+  const double area = 0.05 * 0.03, sigma = -kPress / area;
+  // The section's mean is exact for its (bilinear) nodal field; what is left is the static
+  // contact solve's tolerance (Newton to 1e-8 of the linear static response): measured 7.5e-12 in
+  // beam 1 (uniform compression, nodes within 8e-4 of −F/A) and 4.9e-8 in beam 2 (the eccentric
+  // joint bends it: nodes from 0.76 to 1.24 times −F/A).
+  constexpr double kMeanStress = 1e-6;
+  for (const auto& [body, x] : {std::pair<std::string, double>{"beam1", 0.12}, {"beam2", 0.48}}) {
+    const fs::path log = dir / ("section_" + body + ".log");
+    ASSERT_EQ(shell("/usr/bin/python3 " + (dir / "section.py").string() + " " +
+                        (dir / "out").string() + " " + body + " " + fmt::format("{}", x),
+                    log),
+              0)
+        << slurp(log);
+    int count = 0;
+    double weight = 0, mean = 0, lo = 0, hi = 0;
+    std::istringstream(slurp(log)) >> count >> weight >> mean >> lo >> hi;
+    EXPECT_EQ(count, 6 * 9) << body;  // 5 x 8 elements across
+    EXPECT_NEAR(weight, area, 1e-12) << body;
+    EXPECT_NEAR(mean, sigma, kMeanStress * std::abs(sigma)) << body;
+    std::printf("[ closed form ] guided butt joint, %s at x = %.2f m: mean sigma_xx %.10g Pa "
+                "(-F/A %.10g Pa, nodes %.4g..%.4g Pa)\n",
+                body.c_str(), x, mean, sigma, lo, hi);
+  }
+  std::printf("[ closed form ] guided butt joint: %d of 30 nodes carry %.9g N (F = %.6g N)\n",
+              carrying, total, kPress);
+}
