@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -582,6 +583,12 @@ py::array_t<T> array1(const std::vector<T>& v) {
   return a;
 }
 
+void require_stability(const PySolution& s, const std::string& what) {
+  if (!s.definition->analysis.stability)
+    value_error(what + ": the case was solved without analysis.stability (set_analysis(" +
+                "stability=True) before solve())");
+}
+
 py::array_t<double> per_point(const PySolution& s, double (*f)(const FrequencyPoint&)) {
   std::vector<double> v;
   for (const FrequencyPoint& p : s.points()) v.push_back(f(p));
@@ -685,7 +692,8 @@ harmonics in `harmonics`, harmonic 0 first):
   fills row 0, NaN elsewhere), stick, slip, separation (P, Q: fractions of the cycle),
   pair_energy (P, Q, J per cycle; raw: a stuck pair's round-off of about 1e-21 J is kept,
   which the program's CSV files write as 0), static_mismatch, static_warning and
-  aft_fallback_pairs (P: as points.csv).
+  aft_fallback_pairs (P: as points.csv), and with analysis.stability stable (P, bool) and
+  floquet_multiplier (P).
 pairs lists each pair's contact, pair (index within its contact), node_a, node_b.
 to_dict() gives the per-point columns as a dict of 1-D arrays (pandas.DataFrame(s.to_dict())).)";
 
@@ -786,6 +794,7 @@ PYBIND11_MODULE(stickslip, m) {
             d["max_points"] = a.max_points;
             d["initial_guess"] = case_name(a.initial_guess);
             d["predictor"] = case_name(a.predictor);
+            d["stability"] = a.stability;
             return d;
           },
           "The analysis settings as a dict (a copy: change them with set_analysis or set).")
@@ -880,6 +889,9 @@ PYBIND11_MODULE(stickslip, m) {
                                   : PredictorChoice::kSecant;
               } else if (key == "sweep") {
                 a.frequency.downward = text({"up", "down"}) == "down";
+              } else if (key == "stability") {
+                if (!py::isinstance<py::bool_>(v)) type_error(path + ": expected True or False");
+                a.stability = v.cast<bool>();
               } else if (key == "harmonics" && py::isinstance<py::sequence>(v)) {
                 std::vector<int> h;
                 for (const py::handle x : v) {
@@ -898,7 +910,8 @@ PYBIND11_MODULE(stickslip, m) {
                          kAnalysisKeys.end()) {
                 set_analysis_value(def, key, number_argument(v, path), path);
               } else {
-                std::string keys = "method, aft, static, initial_guess, predictor, sweep";
+                std::string keys =
+                    "method, aft, static, initial_guess, predictor, sweep, stability";
                 for (const std::string& x : kAnalysisKeys) keys += ", " + x;
                 type_error("set_analysis() got an unexpected keyword argument '" + key +
                            "' (keywords: " + keys + ")");
@@ -913,8 +926,9 @@ Changes the analysis settings (docs/case-file.md `analysis`): start_hz, stop_hz,
 'down'), method ('stepped' | 'continuation'), min_step_hz, max_step_hz, max_points
 (continuation), harmonics (H: 1..H, or a list of increasing harmonics), time_samples (>= 2(2H+1)),
 aft ('event' | 'sampled' | 'event_planar'), static ('uncoupled' | 'coupled'), tolerance,
-max_iterations, initial_guess ('stuck' | 'free'), predictor ('secant' | 'previous').
-All or nothing: a bad value raises and leaves the case unchanged.)")
+max_iterations, initial_guess ('stuck' | 'free'), predictor ('secant' | 'previous'),
+stability (True: Hill's method at every converged point, Solution.stable and
+floquet_multiplier). All or nothing: a bad value raises and leaves the case unchanged.)")
       .def(
           "set_damping",
           [](PyCase& c, double alpha, double beta) {
@@ -1206,6 +1220,32 @@ Solution.converged); bad input raises InvalidInput.)");
           },
           "||R|| over the point's residual scale (P): below analysis.tolerance when converged.")
       .def_property_readonly(
+          "stable",
+          [](const PySolution& s) {
+            require_stability(s, "stable");
+            std::vector<bool> v;
+            for (const FrequencyPoint& p : s.points())
+              v.push_back(p.stability_computed && p.floquet.stable);
+            py::array_t<bool> a(static_cast<py::ssize_t>(v.size()));
+            std::copy(v.begin(), v.end(), a.mutable_data());
+            return a;
+          },
+          "Whether Hill's method finds each point stable, every Floquet exponent's real part <= "
+          "1e-7 Omega (P, bool; False at points that did not converge: see floquet_multiplier). "
+          "Needs analysis.stability (set_analysis(stability=True)), else raises ValueError.")
+      .def_property_readonly(
+          "floquet_multiplier",
+          [](const PySolution& s) {
+            require_stability(s, "floquet_multiplier");
+            return per_point(s, [](const FrequencyPoint& p) {
+              return p.stability_computed ? p.floquet.max_multiplier
+                                          : std::numeric_limits<double>::quiet_NaN();
+            });
+          },
+          "The largest Floquet multiplier's modulus exp(max Re mu 2 pi/Omega) at each point (P; "
+          "> 1: a perturbation grows each period; NaN at points that did not converge), as "
+          "points.csv. Needs analysis.stability, else raises ValueError.")
+      .def_property_readonly(
           "dissipated_energy", [](const PySolution& s) { return per_point(s, &point_energy); },
           "Friction energy per cycle summed over the pairs, J (P).")
       .def_property_readonly(
@@ -1417,6 +1457,9 @@ Solution.converged); bad input raises InvalidInput.)");
             for (const char* key : {"frequencies_hz", "converged", "iterations", "residual",
                                     "residual_relative", "dissipated_energy"})
               d[key] = self.attr(key);
+            if (s.definition->analysis.stability) {
+              for (const char* key : {"stable", "floquet_multiplier"}) d[key] = self.attr(key);
+            }
             const size_t nq = s.model->pairs.size();
             for (const char* key : {"stick", "slip", "separation"}) {
               const py::object a = self.attr(key);
@@ -1440,7 +1483,8 @@ Solution.converged); bad input raises InvalidInput.)");
           },
           "to_dict() -> dict\n\nThe per-point columns as 1-D arrays of equal length, for "
           "pandas.DataFrame: frequencies_hz, converged, iterations, residual, residual_relative, "
-          "dissipated_energy, mean_stick, mean_slip, mean_separation (over the pairs), and "
+          "dissipated_energy, stable and floquet_multiplier (with analysis.stability), "
+          "mean_stick, mean_slip, mean_separation (over the pairs), and "
           "amplitude_<body>_<node>_<axis> (|X_1|, m) of each output.frf DOF of the case.")
       .def(
           "recover",

@@ -8,11 +8,10 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
-
 #include "core/errors.h"
 #include "core/format.h"
+#include "linalg/blas.h"
+#include "linalg/blas_threads.h"
 
 namespace stickslip {
 
@@ -26,6 +25,57 @@ constexpr double kSameIndex = 0.25;
 // by 2 |Im ρ| (kept apart down to angles of 5e-7 rad).
 constexpr double kOtherMember = 0.5;
 constexpr double kSameMultiplier = 1e-6;
+
+// Eigenvalues and the first `rows` entries of the right eigenvectors (columns) of a real square
+// matrix A (overwritten), by LAPACK's dgeev: balanced (permutation and diagonal scaling), blocked
+// Hessenberg reduction, multishift QR. False when dgeev fails.
+bool eigenpairs(Eigen::MatrixXd& A, int rows, Eigen::VectorXcd& values, Eigen::MatrixXcd& heads) {
+  const int n = static_cast<int>(A.rows());
+  Eigen::VectorXd wr(n), wi(n);
+  Eigen::MatrixXd vr(n, n);
+  const char jobvl = 'N', jobvr = 'V';
+  const int one = 1;
+  int lwork = -1, info = 0;
+  double query = 0, vl = 0;
+  dgeev_(&jobvl, &jobvr, &n, A.data(), &n, wr.data(), wi.data(), &vl, &one, vr.data(), &n, &query,
+         &lwork, &info);
+  if (info != 0) return false;
+  lwork = static_cast<int>(query);
+  std::vector<double> work(std::max(lwork, 1));
+  dgeev_(&jobvl, &jobvr, &n, A.data(), &n, wr.data(), wi.data(), &vl, &one, vr.data(), &n,
+         work.data(), &lwork, &info);
+  if (info != 0) return false;
+  values.resize(n);
+  heads.resize(rows, n);
+  // A complex pair is j (Im > 0) and j + 1 (its conjugate), vectors VR(:,j) ± i VR(:,j+1).
+  for (int j = 0; j < n; ++j) {
+    values[j] = {wr[j], wi[j]};
+    heads.col(j).real() = vr.col(j).head(rows);
+    if (wi[j] == 0) {
+      heads.col(j).imag().setZero();
+      continue;
+    }
+    if (!(wi[j] > 0 && j + 1 < n && wi[j + 1] == -wi[j])) return false;
+    values[j + 1] = {wr[j + 1], wi[j + 1]};
+    heads.col(j).imag() = vr.col(j + 1).head(rows);
+    heads.col(j + 1) = heads.col(j).conjugate();
+    ++j;
+  }
+  return true;
+}
+
+// X ← A⁻¹ X for a real square A (overwritten by its LU), by LAPACK's dgetrf/dgetrs. False when A
+// is exactly singular.
+bool solve_in_place(Eigen::MatrixXd& A, Eigen::MatrixXd& X) {
+  const int n = static_cast<int>(A.rows()), nrhs = static_cast<int>(X.cols());
+  std::vector<int> pivots(n);
+  int info = 0;
+  dgetrf_(&n, &n, A.data(), &n, pivots.data(), &info);
+  if (info != 0) return false;
+  const char trans = 'N';
+  dgetrs_(&trans, &n, &nrhs, A.data(), &n, pivots.data(), X.data(), &n, &info);
+  return info == 0;
+}
 }  // namespace
 
 void validate(const HillOptions& options) {
@@ -123,7 +173,9 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
     }
     Eigen::MatrixXd IJG = times_J(Gbig);
     IJG.diagonal().array() += 1.0;
-    JPsi = Eigen::PartialPivLU<Eigen::MatrixXd>(IJG).solve(JPsi);
+    const ScopedBlasThreads one_thread(1);  // threads only spin at these sizes (blas_threads.h)
+    STICKSLIP_VERIFY(solve_in_place(IJG, JPsi),
+                     "hill_stability: I + J G_s is singular (the quasi-static modes' fold)");
   }
   const Eigen::MatrixXd D = FourierBasis(S, S.min_time_samples()).derivative() * omega;  // d/dt
   const Eigen::MatrixXd D2 = D * D;
@@ -142,11 +194,18 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
       M0.block(i * nc, j * nc, nc, nc) += c * D;
     }
   }
-  // Companion form: [p; μp]' = A [p; μp], A = [0 I; −M0 −M1].
+  // Companion form of the scaled problem (μ = γ λ, γ² = ‖M0‖∞): [p; λp]' = A [p; λp],
+  // A = [0 I; −M0/γ² −M1/γ]. Unscaled, ‖A‖ ≈ ‖M0‖ ≈ ω_max² (10¹⁰ on the reference joint) against
+  // exponents of |μ| ≈ 10⁵: the eigen-solver's backward error ε‖A‖ then moved the two exponents of
+  // a nearly double pair (the identical beams' modes that the joint barely couples) by
+  // √(ε‖A‖|μ|) ≈ 0.3 1/s (docs/performance.md).
+  const double gamma2 =
+      std::max(M0.cwiseAbs().rowwise().sum().maxCoeff(), std::numeric_limits<double>::min());
+  const double gamma = std::sqrt(gamma2);
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
   A.topRightCorner(m, m).setIdentity();
-  A.bottomLeftCorner(m, m) = -M0;
-  A.bottomRightCorner(m, m) = -M1;
+  A.bottomLeftCorner(m, m) = -M0 / gamma2;
+  A.bottomRightCorner(m, m) = -M1 / gamma;
   // Mean harmonic index of an eigenvector's periodic part p(t) (its first m entries) in complex
   // exponentials: a harmonic k ≥ 1 with (complex) coefficients a, b is
   // (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
@@ -169,12 +228,16 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   };
 
   {
-    const Eigen::EigenSolver<Eigen::MatrixXd> solver(A, /*computeEigenvectors=*/true);
-    STICKSLIP_VERIFY(solver.info() == Eigen::Success, "hill_stability: the eigen-solver failed");
-    const Eigen::VectorXcd& all = solver.eigenvalues();
+    Eigen::VectorXcd all;
+    Eigen::MatrixXcd vectors;  // the eigenvectors' first m entries: p
+    {
+      const ScopedBlasThreads one_thread(1);
+      STICKSLIP_VERIFY(eigenpairs(A, m, all, vectors), "hill_stability: the eigen-solver failed");
+    }
+    all *= gamma;
     const int ns = static_cast<int>(all.size());
     std::vector<double> index(ns);
-    for (int e = 0; e < ns; ++e) index[e] = mean_index(solver.eigenvectors().col(e).head(m));
+    for (int e = 0; e < ns; ++e) index[e] = mean_index(vectors.col(e));
     std::vector<int> order(ns);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {

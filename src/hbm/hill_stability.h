@@ -16,7 +16,7 @@
 // eigenvalue problem
 //   [μ² I + μ (2Ω D + C_m) + (Ω² D² + Ω C_m D + diag(ω²) + Ψ_Sᵀ J_eff Ψ_S)] p = 0
 // over the modes' coefficients (Ψ_S = Ψ ⊗ I_nc), solved through its companion linearisation
-// (real, 2·n_d·nc) by a dense eigen-solver.
+// (real, 2·n_d·nc), scaled to unit size (μ = γλ, γ² = ‖M0‖∞), by LAPACK's dgeev (balanced).
 //
 // Modes. The modes with ω_r ≤ dynamic_mode_factor · (H_max + 1) · Ω are dynamic (all of them when
 // the factor is 0); the others respond quasi-statically to the perturbation: their flexibility

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
@@ -272,6 +273,55 @@ TEST(HillStability, QuasiStaticHighModesChangeTheExponentsLittle) {
     for (int j = 0; j < 4; ++j)
       nearest = std::min(nearest, std::abs(split.exponents[i] - all.exponents[j]));
     EXPECT_LE(nearest, 0.01 * std::abs(split.exponents[i]) + 1e-3) << split.exponents[i];
+  }
+}
+
+// Modes from 100 rad/s to 1e5 rad/s, one of them double, a linear spring between two DOFs and
+// mass-proportional damping c: the system is time-invariant and C = c I in any basis, so every
+// exponent is −c/2 ± i √(λ − c²/4), λ the eigenvalues of K_stuck = diag(ω²) + k ψψᵀ (closed form:
+// the real part is −c/2 exactly). The companion matrix of the unscaled problem has a norm of
+// ω_max² = 1e10, and an eigen-solver that neither scales nor balances it (Eigen's, used before)
+// gave real parts off by up to 6e-8 1/s; scaled and balanced (dgeev): 2e-12.
+TEST(HillStability, WidelySpreadModesKeepTheirDampingRateToRoundOff) {
+  constexpr int n = 6;
+  constexpr double c = 5.0, k = 3e6, omega = 300.0;
+  LinearModel model;
+  model.omega2 = (VectorXd(n) << 1e4, 1e6, 1e6, 1e7, 1e8, 1e10).finished();
+  MatrixXd seed(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) seed(i, j) = std::cos(1.0 + 3.7 * i + 1.3 * j * j);
+  }
+  model.Phi = Eigen::HouseholderQR<MatrixXd>(seed).householderQ() * MatrixXd::Identity(n, n);
+  model.modal_damping = VectorXd::Constant(n, c);
+  ContactPair pair{.dofs_a = {0},
+                   .dofs_b = {1},
+                   .frame = MatrixXd::Constant(1, 1, 1.0),
+                   .element = std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = k})};
+  Excitation e;
+  e.harmonics[1] = VectorXd::Unit(n, 0).cast<std::complex<double>>();
+  HarmonicBalanceOptions o;
+  o.harmonics = 1;
+  o.static_coupling = StaticCoupling::kCoupled;
+  const HarmonicBalanceSystem sys(model, {pair}, e, o);
+  const VectorXd x = sys.linear_guess(omega, true);
+  const FloquetSummary f = hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
+  ASSERT_EQ(f.exponents.size(), 2 * n);
+
+  const VectorXd psi = (model.Phi.row(0) - model.Phi.row(1)).transpose();
+  const MatrixXd K = MatrixXd(model.omega2.asDiagonal()) + k * psi * psi.transpose();
+  const VectorXd lambda = Eigen::SelfAdjointEigenSolver<MatrixXd>(K).eigenvalues();
+  for (int i = 0; i < 2 * n; ++i) {
+    const std::complex<double> mu = f.exponents[i];
+    EXPECT_NEAR(mu.real(), -c / 2, 1e-9) << mu;
+    // Im μ = ±√(λ − c²/4) (the centred member: no multiple of Ω added), each λ twice.
+    int match = -1;
+    for (int j = 0; j < n && match < 0; ++j) {
+      if (std::abs(std::abs(mu.imag()) - std::sqrt(lambda[j] - c * c / 4)) <=
+          1e-9 * std::sqrt(lambda[j])) {
+        match = j;
+      }
+    }
+    ASSERT_GE(match, 0) << mu;
   }
 }
 
