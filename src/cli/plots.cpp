@@ -329,6 +329,38 @@ std::vector<PlotSeries> frf_phase_series(const SolveResults& results) {
   return out;
 }
 
+// The forced response predicted from the nonlinear mode (snmt.csv; analysis.nonlinear_mode) for
+// each FRF DOF, dashed, and the backbone it rests on (the mode's frequency against the same
+// amplitude), dotted: x = frequency (Hz), y = |harmonic 1| (m).
+std::vector<PlotSeries> predicted_frf_series(const SolveResults& results) {
+  static const char* kAxes[3] = {"x", "y", "z"};
+  std::vector<PlotSeries> out;
+  const SolveResults::Prediction& pr = results.prediction;
+  for (const ResponseDofDefinition& r : results.frf) {
+    const auto it = pr.master.find(MasterDofKey{r.body, r.node, r.direction});
+    if (it == pr.master.end()) continue;
+    const std::string dof = fmt::format("{} node {} {}", r.body, r.node, kAxes[r.direction]);
+    PlotSeries curve{"nonlinear mode prediction: " + dof, {}, {}, "lines lw 2 dt 2"};
+    PlotSeries backbone{"backbone: " + dof, {}, {}, "lines lw 1 dt 3"};
+    std::vector<std::pair<double, double>> along;  // (amplitude, mode frequency), sorted below
+    for (size_t i = 0; i < pr.frequency_hz.size(); ++i) {
+      const double a = std::abs(it->second[i]);
+      curve.x.push_back(pr.frequency_hz[i]);
+      curve.y.push_back(a);
+      along.emplace_back(a, pr.mode_frequency_hz[i]);
+    }
+    std::sort(along.begin(), along.end());
+    for (const auto& [a, hz] : along) {
+      if (!backbone.y.empty() && a == backbone.y.back()) continue;  // both roots of one amplitude
+      backbone.x.push_back(hz);
+      backbone.y.push_back(a);
+    }
+    out.push_back(std::move(curve));
+    out.push_back(std::move(backbone));
+  }
+  return out;
+}
+
 // The bifurcation markers of the FRF plot: one series per bifurcation type (black symbols), at the
 // bifurcation's frequency and, for each FRF curve, its amplitude there.
 std::vector<PlotSeries> bifurcation_markers(const SolveResults& results, size_t curves) {
@@ -431,6 +463,7 @@ void plot_solve_results(const std::filesystem::path& dir, const SolveResults& re
   if (!frf.empty()) {
     std::vector<PlotSeries> curves = frf_by_stability(results, frf);
     for (PlotSeries& m : bifurcation_markers(results, frf.size())) curves.push_back(std::move(m));
+    for (PlotSeries& m : predicted_frf_series(results)) curves.push_back(std::move(m));
     plot_curves(dir, "frf", title, "frequency (Hz)", "amplitude of harmonic 1 (m)", curves, log,
                 options.log_amplitude);
     plot_curves(dir, "frf_phase", title, "frequency (Hz)", "phase of harmonic 1 (deg)",

@@ -494,6 +494,36 @@ SolveResults read_solve_results(const fs::path& dir, const std::string& hint) {
     it->second(r.point, column_of_harmonic.at(r.harmonic)) = r.value;
   }
   fr.completed = true;
+  if (fs::exists(dir / "snmt.csv")) {
+    SolveResults::Prediction& pr = out.prediction;
+    CsvReader csv(dir / "snmt.csv", {"row", "frequency_hz", "mode_frequency_hz"}, hint);
+    const int c_row = csv.column("row"), c_f = csv.column("frequency_hz"),
+              c_mode = csv.column("mode_frequency_hz");
+    while (csv.next()) {
+      if (csv.integer(c_row) != static_cast<int>(pr.frequency_hz.size())) {
+        csv.fail("rows must be numbered 0, 1, 2, ... in order");
+      }
+      pr.frequency_hz.push_back(csv.number(c_f));
+      pr.mode_frequency_hz.push_back(csv.number(c_mode));
+    }
+    const int rows = static_cast<int>(pr.frequency_hz.size());
+    CsvReader response(dir / "snmt_response.csv",
+                       {"row", "body", "node", "axis", "harmonic", "real_m", "imag_m"}, hint);
+    const int r_row = response.column("row"), r_body = response.column("body"),
+              r_node = response.column("node"), r_axis = response.column("axis"),
+              r_h = response.column("harmonic"), r_re = response.column("real_m"),
+              r_im = response.column("imag_m");
+    while (response.next()) {
+      if (response.integer(r_h) != 1) continue;
+      const int row = response.integer(r_row);
+      if (row < 0 || row >= rows) response.fail("row not in snmt.csv");
+      const int d = axis_row(response.text(r_axis), true);
+      if (d < 0) response.fail("axis must be x, y or z");
+      auto& v = pr.master[MasterDofKey{response.text(r_body), response.integer(r_node), d}];
+      if (v.empty()) v.assign(rows, std::complex<double>(std::nan(""), 0.0));
+      v[row] = {response.number(r_re), response.number(r_im)};
+    }
+  }
   return out;
 }
 

@@ -71,6 +71,14 @@ struct SolveResults {
   FrequencyResponse response;
   std::vector<SolvedPairId> pairs;  // in the order of the solve (the model's pair order)
   std::map<MasterDofKey, Eigen::MatrixXcd> master;  // points x harmonics
+  // snmt.csv and snmt_response.csv, when the folder has them (analysis.nonlinear_mode): per row
+  // of the predicted curve, in its order, the excitation frequency, the mode's frequency (Hz) and
+  // harmonic 1 of each physical master DOF.
+  struct Prediction {
+    std::vector<double> frequency_hz, mode_frequency_hz;
+    std::map<MasterDofKey, std::vector<std::complex<double>>> master;
+  };
+  Prediction prediction;
 };
 
 SolveResults read_solve_results(const std::filesystem::path& dir, const std::string& hint);

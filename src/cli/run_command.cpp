@@ -43,6 +43,7 @@ int run_case(const StageCommand& command) {
   std::vector<std::pair<double, std::vector<PlotSeries>>> overlay;
   PlotLog plots;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
+  NonlinearModeOverlay mode_overlay;  // a study of nonlinear modes: backbones and damping ratios
   for (const StageRun& run : runs) {
     const CaseDefinition& def = run.definition;
     if (!run.folder.empty()) progress("study: " + run.folder);
@@ -51,7 +52,8 @@ int run_case(const StageCommand& command) {
     interruption_doing("reducing and solving for " + where);
     const PreparedModel model = prepare_model(def, progress, &cache);
     if (def.analysis.method == SweepMethod::kNonlinearMode) {  // its own files, no recovery
-      outcome += run_nonlinear_mode_stage(run, model, progress, &reporter, &plots, t_run);
+      outcome +=
+          run_nonlinear_mode_stage(run, model, progress, &reporter, &plots, t_run, &mode_overlay);
       continue;
     }
     const SolvedCase solved = solve_case(model, def, progress, &reporter);
@@ -95,6 +97,11 @@ int run_case(const StageCommand& command) {
     for (auto& entry : overlay) per_value.push_back(std::move(entry.second));
     plot_study(out_dir, base.title, base.study.parameter, per_value, &plots,
                PlotOptions{base.output.log_amplitude});
+  }
+  if (runs.size() > 1 && base.output.plots && !mode_overlay.backbone.empty()) {
+    interruption_doing("plotting the study overlay in " + out_dir.string());
+    plot_nonlinear_mode_study(out_dir, base.title, base.study.parameter, std::move(mode_overlay),
+                              &plots);
   }
   const int solved_code = solve_exit_code(
       std::chrono::duration<double>(Clock::now() - t0).count(), outcome, progress);

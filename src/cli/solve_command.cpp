@@ -435,6 +435,8 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     });
   }
 
+  if (def.analysis.predict_from_mode) write_prediction_tables(run, model, solved);
+
   // Results of an earlier run in this folder: gone before this run's summary is written.
   const std::vector<std::string> removed = remove_stale_results(dir, ResultFamily::kEverything);
 
@@ -490,6 +492,9 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     summary["stability"] = nullptr;
   }
   summary["bifurcations"] = bifurcations_json(def, model, fr);
+  if (def.analysis.predict_from_mode) {
+    summary["nonlinear_mode"] = prediction_summary(def, model, solved);
+  }
   finish_summary(summary, run, model, solved.seconds_solve, seconds_total, removed);
   write_summary(dir, summary);
   return removed;

@@ -19,10 +19,11 @@ bool is_result_name(const std::string& relative, ResultFamily family) {
       "frf_full_vs_reduced\\.(png|svg|dat|gp)");
   static const std::regex everything(
       "(points|master_response|contact_forces|contact_state|contact_coupling|histories|"
-      "nonlinear_modes|nonlinear_mode_shapes)\\.csv|"
+      "nonlinear_modes|nonlinear_mode_shapes|snmt|snmt_response)\\.csv|"
       "summary\\.json|"
       "(frf|frf_phase|contact_state|dissipation|hysteresis|hysteresis_t2|"
-      "nonlinear_mode_backbone|nonlinear_mode_damping)\\.(png|svg|dat|gp)|"
+      "nonlinear_mode_backbone|nonlinear_mode_damping|nonlinear_mode_contact_state)\\.(png|svg|dat|"
+      "gp)|"
       "contact_map\\.vtu|loads_p[0-9]+_[^/]+\\.mac|"
       "recovery_p[0-9]+_[^/]+\\.inp");
   if (std::regex_match(relative, recovery)) return true;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include "contact/friction_contact.h"
 #include "core/errors.h"
 #include "core/format.h"
 
@@ -22,6 +24,13 @@ constexpr Complex kI{0.0, 1.0};
 // modal coordinate (max_r ||Ψ_r||) does not move the contacts: its nonlinear mode is the linear one
 // and the condensed unknowns cannot carry it (the amplitude equation would be 0 = a).
 constexpr double kNoContactMotion = 1e-10;
+// Where Newton fails at an amplitude even after the step halvings, the stepped sweep follows the
+// branch by arc-length continuation (in y and ln a) from the last solved amplitude until it reaches
+// the requested one, with at most this many points (SteppedSweepOptions.jump_max_points). On the
+// reference joint the mode leaves the stuck range abruptly when the last pairs stop sticking
+// (1758 → 1350 Hz within 12 % of amplitude at 80 N per pair): halving the step in ln a was not
+// enough there at 150 N (4 of 101 amplitudes failed), the arc-length path is.
+constexpr int kArcLengthPoints = 200;
 }  // namespace
 
 void validate(const NonlinearModeOptions& options) {
@@ -50,22 +59,87 @@ void validate(const NonlinearModeOptions& options) {
   }
 }
 
+namespace {
+// Each pair's force f_s (m) and tangent K_p (m x m) at the static state: the AFT of a constant
+// signal (harmonic 0 only) maps the constant of one row to the constant of the others.
+struct PairTangent {
+  Eigen::VectorXd force;
+  Eigen::MatrixXd stiffness;
+};
+std::vector<PairTangent> static_tangents(const HarmonicBalanceSystem& system) {
+  const Aft tangent_aft(FourierBasis(HarmonicSet({0}), 2));
+  Eigen::VectorXd u0 = system.static_displacement();
+  if (u0.size() != system.contact_rows()) u0 = Eigen::VectorXd::Zero(system.contact_rows());
+  std::vector<PairTangent> out(system.pairs().size());
+  for (size_t p = 0; p < system.pairs().size(); ++p) {
+    const int m = system.pairs()[p].element->dimension(), r = system.pair_row(static_cast<int>(p));
+    tangent_aft.evaluate(*system.pairs()[p].element, u0.segment(r, m), Eigen::VectorXd(),
+                         out[p].force, &out[p].stiffness);
+  }
+  return out;
+}
+
+// The smallest c > 0 with q(c) = A c² + 2 B c + C = 0 or q(−c) = 0 (+∞ without a real root).
+double smallest_root_magnitude(double A, double B, double C) {
+  double best = std::numeric_limits<double>::infinity();
+  auto consider = [&best](double c) {
+    if (std::isfinite(c)) best = std::min(best, std::abs(c));
+  };
+  const double scale = std::max({std::abs(A), std::abs(B), std::abs(C)});
+  if (!(scale > 0)) return best;
+  if (std::abs(A) <= 1e-14 * scale) {
+    if (B != 0) consider(-C / (2 * B));
+    return best;
+  }
+  const double disc = B * B - A * C;
+  if (disc < 0) return best;
+  const double q = -(B + std::copysign(std::sqrt(disc), B));  // no cancellation
+  consider(q / A);
+  if (q != 0) consider(C / q);
+  return best;
+}
+}  // namespace
+
+double first_slip_amplitude(const HarmonicBalanceSystem& system, const Eigen::VectorXd& eta) {
+  const std::vector<PairTangent> tangents = static_tangents(system);
+  const Eigen::VectorXd motion = system.contact_modes() * eta;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < system.pairs().size(); ++p) {
+    const NonlinearElement& element = *system.pairs()[p].element;
+    const int m = element.dimension(), r = system.pair_row(static_cast<int>(p));
+    const Eigen::VectorXd fs = tangents[p].force;
+    const Eigen::VectorXd f1 = tangents[p].stiffness * motion.segment(r, m);
+    if (const auto* contact = dynamic_cast<const FrictionContact3D*>(&element)) {
+      const double mu = contact->parameters().mu;
+      const Eigen::Vector2d ts = fs.head<2>(), t1 = f1.head<2>();
+      const double ns = fs[2], n1 = f1[2];
+      if (!(ns > 0)) return 0.0;  // open at rest
+      // |τ_s + c τ_1|² − μ² (N_s + c N_1)² = 0, and N_s + c N_1 = 0 (lift-off).
+      best = std::min(best, smallest_root_magnitude(t1.squaredNorm() - mu * mu * n1 * n1,
+                                                    ts.dot(t1) - mu * mu * ns * n1,
+                                                    ts.squaredNorm() - mu * mu * ns * ns));
+      if (n1 != 0) best = std::min(best, std::abs(ns / n1));
+    } else if (const auto* jenkins = dynamic_cast<const Jenkins1D*>(&element)) {
+      const double limit = jenkins->parameters().mu * jenkins->parameters().normal_load;
+      // τ_s + c τ_1 = ±μN.
+      if (f1[0] != 0) {
+        best = std::min(
+            best, std::min(std::abs((limit - fs[0]) / f1[0]), std::abs((-limit - fs[0]) / f1[0])));
+      }
+    }
+  }
+  return best;
+}
+
 StuckModes stuck_modes(const HarmonicBalanceSystem& system) {
   const LinearModel& model = system.linear_model();
   const Eigen::MatrixXd& Psi = system.contact_modes();
   const int nu = system.contact_rows();
-  // Element tangents at the static state: the AFT Jacobian of a constant signal (harmonic 0 only)
-  // maps the constant of one row to the constant of the others.
-  const Aft tangent_aft(FourierBasis(HarmonicSet({0}), 2));
-  Eigen::VectorXd u0 = system.static_displacement();
-  if (u0.size() != nu) u0 = Eigen::VectorXd::Zero(nu);
+  const std::vector<PairTangent> tangents = static_tangents(system);
   Eigen::MatrixXd Kt = Eigen::MatrixXd::Zero(nu, nu);
-  Eigen::VectorXd fp;
-  Eigen::MatrixXd jp;
   for (size_t p = 0; p < system.pairs().size(); ++p) {
     const int m = system.pairs()[p].element->dimension(), r = system.pair_row(static_cast<int>(p));
-    tangent_aft.evaluate(*system.pairs()[p].element, u0.segment(r, m), Eigen::VectorXd(), fp, &jp);
-    Kt.block(r, r, m, m) = jp;
+    Kt.block(r, r, m, m) = tangents[p].stiffness;
   }
   Eigen::MatrixXd K = Psi.transpose() * (0.5 * (Kt + Kt.transpose())) * Psi;
   K.diagonal() += model.omega2;
@@ -177,8 +251,11 @@ void NonlinearModeSystem::evaluate(const Eigen::VectorXd& y, double lambda, Eige
   if (dR_dlambda) dR_dlambda->setZero(size());
   Eigen::MatrixXd Gbig;  // 𝔾 over the harmonics ≥ 1 (zero rows for harmonic 0)
   if (dR_dy) Gbig.setZero(n_, n_);
+  // z = ηᵀ Q_1 (phase) and q = ||Q_1|| (amplitude), Q_1 = −H_1 Ψᵀ F_1; their derivatives in Ω, ξ.
   Complex z = 0, dz_domega = 0, dz_dxi = 0;
-  Eigen::VectorXcd v;  // Ψ H_1 η: z = −vᵀ F_1
+  double q = 0, dq_domega = 0, dq_dxi = 0;
+  Eigen::VectorXcd v;  // Ψ H_1 η: dz = −vᵀ dF_1
+  Eigen::VectorXcd w;  // Ψ H_1 conj(Q_1): Q_1ᴴ dQ_1 = −wᵀ dF_1 (H_1 symmetric)
   int offset1 = -1;
   for (int pos = 0; pos < set.size(); ++pos) {
     const int k = set.harmonics()[pos], o = set.offset(pos);
@@ -202,6 +279,7 @@ void NonlinearModeSystem::evaluate(const Eigen::VectorXd& y, double lambda, Eige
     if (k == 1) {
       offset1 = o;
       z = -eta_.cast<Complex>().dot(HY.col(0));  // dot conjugates its first argument: η is real
+      q = HY.col(0).norm();
     }
     if (!dR_dy) continue;
     const Eigen::VectorXcd Ww = PsiC * dHY_dw, Wx = PsiC * dHY_dxi;
@@ -214,9 +292,18 @@ void NonlinearModeSystem::evaluate(const Eigen::VectorXd& y, double lambda, Eige
     if (k == 1) {
       dz_domega = -eta_.cast<Complex>().dot(dHY_dw.col(0));
       dz_dxi = -eta_.cast<Complex>().dot(dHY_dxi.col(0));
+      // q dq = Re(Q_1ᴴ dQ_1), Q_1 = −HY: Q_1ᴴ dQ_1 = HYᴴ d(HY).
+      if (q > 0) {
+        dq_domega = HY.col(0).dot(dHY_dw.col(0)).real() / q;
+        dq_dxi = HY.col(0).dot(dHY_dxi.col(0)).real() / q;
+      }
       Eigen::MatrixXcd Heta;
-      flexibility(1, omega, xi, eta_.cast<Complex>(), &Heta, nullptr, nullptr);
+      Eigen::MatrixXcd rhs(nm_, 2);
+      rhs.col(0) = eta_.cast<Complex>();
+      rhs.col(1) = (-HY.col(0)).conjugate();
+      flexibility(1, omega, xi, rhs, &Heta, nullptr, nullptr);
       v = PsiC * Heta.col(0);
+      w = PsiC * Heta.col(1);
     }
     // G_k = Ψ H_k Ψᵀ, real split: (fa, fb) → (Re, −Im) of G_k (fa − i fb).
     Eigen::MatrixXcd HPt;
@@ -234,7 +321,7 @@ void NonlinearModeSystem::evaluate(const Eigen::VectorXd& y, double lambda, Eige
     }
   }
   STICKSLIP_VERIFY(offset1 >= 0, "NonlinearModeSystem: harmonic 1 is not solved");
-  R[n_] = s_ * (z.real() - a);
+  R[n_] = s_ * (q - a);
   R[n_ + 1] = s_ * z.imag();
   if (dR_dlambda) (*dR_dlambda)[n_] = -s_ * a;
   if (!dR_dy) return;
@@ -253,17 +340,20 @@ void NonlinearModeSystem::evaluate(const Eigen::VectorXd& y, double lambda, Eige
       (*dR_dy)(r * nc_ + o + 1, r * nc_ + o + 1) += 1.0;
     }
   }
-  // dz/dx = −Σ_r v_r (∂fa_r/∂x − i ∂fb_r/∂x).
+  // dz/dx = −Σ_r v_r (∂fa_r/∂x − i ∂fb_r/∂x); q dq/dx = Re(−Σ_r w_r (∂fa_r/∂x − i ∂fb_r/∂x)).
   Eigen::RowVectorXcd dz_dx = Eigen::RowVectorXcd::Zero(n_);
+  Eigen::RowVectorXcd qdq_dx = Eigen::RowVectorXcd::Zero(n_);
   for (int r = 0; r < rows_; ++r) {
-    dz_dx -= v[r] * (J.row(r * nc_ + offset1).cast<Complex>() -
-                     kI * J.row(r * nc_ + offset1 + 1).cast<Complex>());
+    const Eigen::RowVectorXcd dF = J.row(r * nc_ + offset1).cast<Complex>() -
+                                   kI * J.row(r * nc_ + offset1 + 1).cast<Complex>();
+    dz_dx -= v[r] * dF;
+    qdq_dx -= w[r] * dF;
   }
-  dR_dy->row(n_).head(n_) = s_ * dz_dx.real();
+  if (q > 0) dR_dy->row(n_).head(n_) = (s_ / q) * qdq_dx.real();
   dR_dy->row(n_ + 1).head(n_) = s_ * dz_dx.imag();
-  (*dR_dy)(n_, n_) = s_ * dz_domega.real();
+  (*dR_dy)(n_, n_) = s_ * dq_domega;
   (*dR_dy)(n_ + 1, n_) = s_ * dz_domega.imag();
-  (*dR_dy)(n_, n_ + 1) = s_ * dz_dxi.real();
+  (*dR_dy)(n_, n_ + 1) = s_ * dq_dxi;
   (*dR_dy)(n_ + 1, n_ + 1) = s_ * dz_dxi.imag();
 }
 
@@ -283,14 +373,14 @@ Eigen::VectorXd NonlinearModeSystem::linear_guess(double amplitude) const {
   return y;
 }
 
-std::complex<double> NonlinearModeSystem::modal_amplitude(const Eigen::VectorXd& y) const {
+double NonlinearModeSystem::modal_amplitude(const Eigen::VectorXd& y) const {
   Eigen::VectorXd R;
   evaluate(y, 0.0, R, nullptr, nullptr);
-  // R[n] = s (Re z − 1) at a = 1, R[n + 1] = s Im z.
-  return {R[n_] / s_ + 1.0, R[n_ + 1] / s_};
+  return R[n_] / s_ + 1.0;  // R[n] = s (q − 1) at a = 1
 }
 
-Eigen::MatrixXcd NonlinearModeSystem::master_response(const Eigen::VectorXd& y) const {
+Eigen::MatrixXcd NonlinearModeSystem::master_response(const Eigen::VectorXd& y,
+                                                      double* modal_norm) const {
   const Eigen::VectorXd x = y.head(n_);
   const double omega = y[n_], xi = y[n_ + 1];
   Eigen::VectorXd F;
@@ -306,6 +396,7 @@ Eigen::MatrixXcd NonlinearModeSystem::master_response(const Eigen::VectorXd& y) 
     Eigen::MatrixXcd HY;
     flexibility(hs[j], omega, xi, Y, &HY, nullptr, nullptr);
     X.col(j) = model.Phi.cast<Complex>() * HY.col(0);
+    if (hs[j] == 1 && modal_norm) *modal_norm = HY.col(0).norm();
   }
   return X;
 }
@@ -343,6 +434,7 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
   result.mode = options.mode;
   result.linear_omega = sys.linear_omega();
   result.linear_xi = sys.linear_xi();
+  result.first_slip_amplitude = first_slip_amplitude(system, eta);
   result.harmonics = system.output_harmonics();
 
   std::vector<double> lambdas;
@@ -351,7 +443,7 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
   sweep.newton = options.newton;
   sweep.max_step_halvings = options.max_step_halvings;
   sweep.secant_predictor = true;
-  sweep.jump_max_points = 0;  // an amplitude-parametrised mode does not fold: no jumps to follow
+  sweep.jump_max_points = kArcLengthPoints;
   sweep.on_point = options.on_point;
   const ContinuationResult c =
       stepped_sweep(sys, sys.linear_guess(options.amplitudes.front()), lambdas, sweep);
@@ -371,11 +463,20 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
     q.residual_scale = sys.residual_scale_at(p.lambda);
     q.message = p.newton.message;
     if (q.converged) {
-      q.master = sys.master_response(p.x);
+      q.master = sys.master_response(p.x, &q.modal_norm);
       Eigen::VectorXd F;
       std::vector<CycleStatistics> stats;
       system.contact_forces(p.x.head(n), F, &stats);
-      for (const CycleStatistics& s : stats) q.dissipated_energy += s.dissipated_energy;
+      for (const CycleStatistics& s : stats) {
+        q.dissipated_energy += s.dissipated_energy;
+        q.pairs_slipping += s.slip_fraction > 0 ? 1.0 : 0.0;
+        q.pairs_separating += s.separation_fraction > 0 ? 1.0 : 0.0;
+        q.mean_slip_fraction += s.slip_fraction;
+      }
+      const double pairs = std::max<double>(1.0, static_cast<double>(stats.size()));
+      q.pairs_slipping /= pairs;
+      q.pairs_separating /= pairs;
+      q.mean_slip_fraction /= pairs;
     }
     failed += q.converged ? 0 : 1;
     result.points.push_back(std::move(q));
@@ -386,6 +487,44 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
                        : std::to_string(failed) + " of " + std::to_string(result.points.size()) +
                              " amplitudes did not converge";
   return result;
+}
+
+std::vector<ForcedResponsePrediction> predict_forced_response(const NonlinearModeResult& mode,
+                                                              const Eigen::VectorXcd& force) {
+  const auto h1 = std::find(mode.harmonics.begin(), mode.harmonics.end(), 1);
+  STICKSLIP_VERIFY(h1 != mode.harmonics.end(), "predict_forced_response: no harmonic 1");
+  const int c1 = static_cast<int>(h1 - mode.harmonics.begin());
+  std::vector<ForcedResponsePrediction> below, above;
+  for (size_t i = 0; i < mode.points.size(); ++i) {
+    const NonlinearModePoint& p = mode.points[i];
+    if (!p.converged || !(p.modal_norm > 0) || p.master.rows() != force.size()) continue;
+    const double q = p.modal_norm, w2 = p.omega * p.omega, xi = p.xi;
+    // ψᴴF̂ = X_1ᴴ F̂ / q (dot conjugates its first argument).
+    const Complex projected = p.master.col(c1).dot(force) / q;
+    const double P = std::abs(projected) / q;
+    const double centre = w2 - 0.5 * xi * xi;
+    const double disc = P * P - xi * xi * w2 + 0.25 * xi * xi * xi * xi;
+    if (!(disc >= 0) || !(P > 0)) continue;
+    const double root = std::sqrt(disc);
+    for (const bool upper : {false, true}) {
+      const double s2 = upper ? centre + root : centre - root;
+      if (!(s2 > 0)) continue;
+      ForcedResponsePrediction r;
+      r.point = static_cast<int>(i);
+      r.above = upper;
+      r.omega = std::sqrt(s2);
+      // e^{iθ} = ψᴴF̂ / ((ω² − Ω² + i ξ Ω) q): of modulus 1 by the choice of Ω.
+      r.phase = std::arg(projected / Complex(w2 - s2, xi * r.omega));
+      r.master = p.master;
+      for (size_t j = 0; j < mode.harmonics.size(); ++j) {
+        r.master.col(j) *= std::polar(1.0, mode.harmonics[j] * r.phase);
+      }
+      (upper ? above : below).push_back(std::move(r));
+    }
+  }
+  std::reverse(above.begin(), above.end());
+  for (ForcedResponsePrediction& r : above) below.push_back(std::move(r));
+  return below;
 }
 
 }  // namespace stickslip

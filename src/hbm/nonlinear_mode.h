@@ -18,12 +18,16 @@
 // closed preloaded contacts; the assembly `stickslip modes` lists when every contact is closed
 // there): K_stuck η = ω̃² η in modal coordinates, K_stuck = diag(ω_r²) + Ψᵀ K_t Ψ, ηᵀη = 1 (so the
 // master-DOF shape φ = Φ η is mass-normalised), its largest component positive.
-// Its modal amplitude is the fundamental's projection z = ηᵀ Q_1 (Q_1 = −H_1 Ψᵀ F_1, the complex
-// modal coordinates of harmonic 1; z = φᵀ M X_1 on the master DOFs), in √kg·m. Two more
-// equations close the system (unknowns: the contact harmonics, Ω in rad/s, ξ in 1/s):
-//   amplitude  s (Re z − a) = 0,   phase  s Im z = 0   (the mode's coordinate is a cos Ωt + …),
+// Its modal amplitude is the mass norm of the fundamental, q = ||Q_1|| (Q_1 = −H_1 Ψᵀ F_1, the
+// complex modal coordinates of harmonic 1; q² = X_1ᴴ M X_1 on the master DOFs), in √kg·m, and its
+// phase that of the projection on the stuck mode, z = ηᵀ Q_1 = φᵀ M X_1. Two more equations close
+// the system (unknowns: the contact harmonics, Ω in rad/s, ξ in 1/s):
+//   amplitude  s (q − a) = 0,   phase  s Im z = 0,
 // scaled by s = ||Ψ η|| (the contact motion per unit modal amplitude; ||Φ η|| if the mode does not
-// move the contacts) so that every row is in metres.
+// move the contacts) so that every row is in metres. The norm, not the projection z, measures the
+// amplitude because the shape can leave the stuck mode: on the reference joint, when every pair
+// slips, mode 4's motion grows eightfold per unit of z (the beams' ends slide apart) and z is no
+// longer monotonic along the branch, where q is (Krack 2015 normalises the same way).
 //
 // Limitation of the condensed form: the mode's force must pass through the elements. A mode of the
 // structure without its elements (ω̃ = some ω_r, the elements' tangent 0 in the mode, e.g. a cubic
@@ -66,6 +70,19 @@ struct StuckModes {
 };
 StuckModes stuck_modes(const HarmonicBalanceSystem& system);
 
+// Where the followed mode's nonlinear range starts, estimated from the linear stuck mode η: the
+// smallest modal amplitude a at which some friction pair (FrictionContact3D, Jenkins1D) reaches
+// its Coulomb limit or opens. Each pair's force along the mode is f(c) = f_s + c K_p u_p
+// (c = a cos Ωt ∈ [−a, a]; f_s its static force, K_p its tangent at the static state, u_p = (Ψη)_p
+// its relative motion per unit modal amplitude): 3D contact, the smallest |c| with
+// |τ_s + c τ_1| = μ (N_s + c N_1) or N_s + c N_1 = 0; Jenkins, |τ_s + c τ_1| = μN. Exact for the
+// first slip of the one-harmonic mode growing from rest (a real mode shape moves the forces along
+// lines); +∞ when no friction pair moves in the mode, 0 when one is open at rest. Where the normal
+// load varies along the mode (N_1 ≠ 0) a periodic cycle can stick above it with a tangential
+// offset the slip left (shakedown, up to a |τ_1| = μN_s): the EPMC, which computes periodic cycles,
+// may then find the pair stuck there.
+double first_slip_amplitude(const HarmonicBalanceSystem& system, const Eigen::VectorXd& eta);
+
 // The extended system R(y, λ) with y = [U; Ω; ξ] (size system.size() + 2) and λ = ln a.
 class NonlinearModeSystem final : public ParametrizedSystem {
  public:
@@ -79,11 +96,12 @@ class NonlinearModeSystem final : public ParametrizedSystem {
 
   // The linear mode at amplitude a (the first guess).
   Eigen::VectorXd linear_guess(double amplitude) const;
-  // Complex modal coordinate z = ηᵀ Q_1 of the followed mode at y.
-  std::complex<double> modal_amplitude(const Eigen::VectorXd& y) const;
+  // The modal amplitude q = ||Q_1|| at y.
+  double modal_amplitude(const Eigen::VectorXd& y) const;
   // Master-DOF harmonics (ndof x output harmonics) at y: harmonic 0 from the system's static
-  // balance, harmonics ≥ 1 X_k = Φ H_k(Ω, ξ) (−Ψᵀ F_k).
-  Eigen::MatrixXcd master_response(const Eigen::VectorXd& y) const;
+  // balance, harmonics ≥ 1 X_k = Φ H_k(Ω, ξ) (−Ψᵀ F_k). modal_norm (may be null): ||Q_1||₂,
+  // Q_1 the modal coordinates of harmonic 1 (X_1 = Φ Q_1).
+  Eigen::MatrixXcd master_response(const Eigen::VectorXd& y, double* modal_norm = nullptr) const;
   double linear_omega() const { return omega_lin_; }  // ω̃, rad/s
   double linear_xi() const { return xi_lin_; }        // ηᵀ C_m η, 1/s
   double scale() const { return s_; }                 // s (m per √kg·m)
@@ -112,20 +130,56 @@ struct NonlinearModePoint {
   double residual_norm = 0.0;   // ||R||₂ (m)
   double residual_scale = 1.0;  // Newton's scale at a (m)
   std::string message;
-  Eigen::VectorXd unknowns;        // y = [U; Ω; ξ]
-  Eigen::MatrixXcd master;         // ndof x nh master-DOF harmonics
+  Eigen::VectorXd unknowns;  // y = [U; Ω; ξ]
+  Eigen::MatrixXcd master;   // ndof x nh master-DOF harmonics
+  // q = ||Q_1||₂ (√kg·m): the amplitude of the fundamental X_1 = Φ Q_1 in the mass norm,
+  // q² = X_1ᴴ M X_1 (a, the projection on the stuck mode, is ≤ q; equal for a linear mode).
+  double modal_norm = 0.0;
   double dissipated_energy = 0.0;  // per cycle, summed over the pairs, J
+  // The contact state over the cycle (converged points): the share of the pairs that slip, and
+  // that separate, over part of the cycle, and the mean over the pairs of the cycle's fraction in
+  // slip (CycleStatistics).
+  double pairs_slipping = 0.0;
+  double pairs_separating = 0.0;
+  double mean_slip_fraction = 0.0;
 };
 
 struct NonlinearModeResult {
   int mode = 1;
-  double linear_omega = 0.0;               // ω̃ of the stuck mode, rad/s
-  double linear_xi = 0.0;                  // its ξ at the linear limit, 1/s
-  std::vector<int> harmonics;              // output harmonics (columns of master)
+  double linear_omega = 0.0;          // ω̃ of the stuck mode, rad/s
+  double linear_xi = 0.0;             // its ξ at the linear limit, 1/s
+  double first_slip_amplitude = 0.0;  // first_slip_amplitude(system, η), √kg·m (may be ∞)
+  std::vector<int> harmonics;         // output harmonics (columns of master)
   std::vector<NonlinearModePoint> points;  // one per requested amplitude, in order
   bool completed = false;                  // every point converged
   std::string message;
 };
+
+// The forced response predicted from a nonlinear mode (single nonlinear mode theory, SNMT:
+// Szemplińska-Stupnicka 1979, Krack et al. 2013/2015). The response to the harmonic-1 excitation
+// F̂ (x_F(t) = Re(F̂ e^{iΩt}), master DOFs, N) is taken as the nonlinear mode at some amplitude,
+// shifted in time, x(t) ≈ Σ_k Re(X_k(a) e^{ikθ} e^{ikΩt}), and projected on the mode's
+// fundamental ψ = X_1/q (ψᴴMψ = 1, q = modal_norm):
+//   (ω(a)² − Ω² + i ξ(a) Ω) q e^{iθ} = ψᴴ F̂        (ξ = 2 D ω: the mode's damping, 1/s).
+// Its modulus gives, per amplitude, (ω² − Ω²)² + ξ²Ω² = P², P = |ψᴴF̂|/q, a quadratic in Ω²:
+//   Ω² = ω² − ξ²/2 ± √(P² − ξ²ω² + ξ⁴/4),
+// so two excitation frequencies (below and above ω(a)), one (the lower root Ω² ≤ 0), or none (the
+// amplitude is above the forced peak, or ψᴴF̂ = 0). The mode's damping ξ(a) is the energy balance
+// of the free mode at its own frequency ω(a): a friction loss, independent of the frequency in
+// the forced response, enters here as ξΩ, so the prediction is exact (for one mode, one
+// harmonic) where Ω = ω(a), at the backbone, and off by the factor Ω/ω in that loss elsewhere.
+struct ForcedResponsePrediction {
+  int point = 0;            // the mode's point (NonlinearModeResult.points)
+  bool above = false;       // the root Ω above ω(a) (else below)
+  double omega = 0.0;       // excitation frequency Ω, rad/s
+  double phase = 0.0;       // θ, rad: the response is the mode shifted by θ/Ω in time
+  Eigen::MatrixXcd master;  // ndof x nh: X_k(a) e^{ikθ}, the predicted master-DOF harmonics
+};
+// One prediction per root along the response curve: the roots below ω(a) by increasing
+// amplitude, then those above by decreasing amplitude (the curve over the peak); converged mode
+// points only. force: F̂ on the master DOFs (size ndof). Needs harmonic 1 in mode.harmonics.
+std::vector<ForcedResponsePrediction> predict_forced_response(const NonlinearModeResult& mode,
+                                                              const Eigen::VectorXcd& force);
 
 // Throws InvalidInput on bad options (mode out of range, amplitudes), or when the system's
 // harmonics do not include 1, or has held rigid-body modes with static: coupled.

@@ -1435,13 +1435,13 @@ void parse_static_loads(Parser& p, const MapView& top) {
   }
 }
 
-// analysis.mode and analysis.amplitude (method nonlinear_mode); analysis.frequency is not used.
-void parse_nonlinear_mode(Parser& p, const MapView& m, AnalysisDefinition& a) {
-  m.forbid("frequency", "with method nonlinear_mode (the frequency is an unknown of the mode)");
+// `mode` and `amplitude` of a nonlinear mode, in `m`: analysis itself (method nonlinear_mode) or
+// the analysis.nonlinear_mode block of a forced response (its prediction from the mode).
+void parse_mode_and_amplitude(Parser& p, const MapView& m, AnalysisDefinition& a) {
   m.require("mode", "the mode of the stuck assembly to follow");
   m.integer("mode", &a.mode, 1);
   m.require("amplitude", "{start, stop}: the modal amplitudes");
-  MapView am(p, m.value("amplitude"), "analysis.amplitude", m.line("amplitude"),
+  MapView am(p, m.value("amplitude"), m.full("amplitude"), m.line("amplitude"),
              case_keys_in("analysis.amplitude"));
   AmplitudeDefinition& r = a.amplitude;
   am.require("start");
@@ -1464,10 +1464,21 @@ void parse_analysis(Parser& p, const MapView& top) {
   m.choice("method", &a.method);
   const bool nonlinear_mode = a.method == SweepMethod::kNonlinearMode;
   if (nonlinear_mode) {
-    parse_nonlinear_mode(p, m, a);
+    m.forbid("frequency", "with method nonlinear_mode (the frequency is an unknown of the mode)");
+    m.forbid("nonlinear_mode",
+             "with method nonlinear_mode (its mode and amplitude are keys of analysis itself)");
+    parse_mode_and_amplitude(p, m, a);
   } else {
-    m.forbid("mode", "without method nonlinear_mode");
-    m.forbid("amplitude", "without method nonlinear_mode");
+    m.forbid("mode", "without method nonlinear_mode (a forced response predicted from a "
+                     "nonlinear mode takes it in analysis.nonlinear_mode)");
+    m.forbid("amplitude", "without method nonlinear_mode (a forced response predicted from a "
+                          "nonlinear mode takes it in analysis.nonlinear_mode)");
+    if (m.has("nonlinear_mode")) {
+      MapView nm(p, m.value("nonlinear_mode"), "analysis.nonlinear_mode",
+                 m.line("nonlinear_mode"), case_keys_in("analysis.nonlinear_mode"));
+      parse_mode_and_amplitude(p, nm, a);
+      a.predict_from_mode = true;
+    }
   }
   if (!nonlinear_mode) {
   m.require("frequency");
@@ -2379,6 +2390,15 @@ std::string describe_case(const CaseDefinition& c) {
     e << YAML::Key << "stop" << YAML::Value << num(a.amplitude.stop);
     e << YAML::Key << "points" << YAML::Value << a.amplitude.points << YAML::EndMap;
   } else {
+  if (a.predict_from_mode) {
+    e << YAML::Key << "nonlinear_mode" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "mode" << YAML::Value << a.mode;
+    e << YAML::Key << "amplitude" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    e << YAML::Key << "start" << YAML::Value << num(a.amplitude.start);
+    e << YAML::Key << "stop" << YAML::Value << num(a.amplitude.stop);
+    e << YAML::Key << "points" << YAML::Value << a.amplitude.points << YAML::EndMap;
+    e << YAML::EndMap;
+  }
   e << YAML::Key << "frequency" << YAML::Value << YAML::Flow << YAML::BeginMap;
   if (a.frequency.kind == FrequencyDefinition::Kind::kRange) {
     e << YAML::Key << "start_hz" << YAML::Value << num(a.frequency.start_hz);

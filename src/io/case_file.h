@@ -335,6 +335,10 @@ struct AnalysisDefinition {
   SweepMethod method = SweepMethod::kStepped;  // stepped | continuation | nonlinear_mode
   int mode = 0;                                // nonlinear_mode: 1-based mode of the stuck assembly
   AmplitudeDefinition amplitude;               // nonlinear_mode
+  // stepped/continuation with analysis.nonlinear_mode {mode, amplitude} (in `mode` and
+  // `amplitude` above): the nonlinear mode is computed too and the forced response predicted
+  // from it (single nonlinear mode theory, hbm/nonlinear_mode.h predict_forced_response).
+  bool predict_from_mode = false;
   std::vector<int> harmonics{1};      // the dynamic harmonics (≥ 1, increasing); `harmonics: H`
                                       // gives 1..H. Harmonic 0 is always kept (static part).
   int time_samples = 64;              // N per period, ≥ 2(2 H_max + 1)

@@ -31,6 +31,7 @@
 #include "mesh/surface_area.h"
 #include "model/body_reduction.h"
 #include "model/cyclic_forced_response.h"
+#include "model/nonlinear_mode_case.h"
 
 namespace stickslip {
 
@@ -1376,6 +1377,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
                        "(model/nonlinear_mode_case.h), not as a frequency response");
   }
   check_memory(model, def);
+  check_mode_prediction(model, def);
   if (model.pairs.empty() && def.analysis.method == SweepMethod::kContinuation) {
     throw InvalidInput(def.where("analysis.method"),
                        "a model without contacts is linear: its response is computed at the "
@@ -1463,6 +1465,7 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
   if (sweep && sweep->on_point) o.sweep.on_point = o.arclength.on_point = sweep->on_point;
   solved.response = frequency_response(*solved.system, o);
   if (sweep && sweep->finish) sweep->finish();
+  if (an.predict_from_mode) predict_from_nonlinear_mode(model, def, progress, sweep, solved);
   solved.seconds_solve = seconds_since(t0);
   return solved;
 }

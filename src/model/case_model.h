@@ -48,6 +48,7 @@
 #include "fe/material.h"
 #include "hbm/frequency_response.h"
 #include "hbm/harmonic_balance.h"
+#include "hbm/nonlinear_mode.h"
 #include "io/case_file.h"
 #include "linalg/modal.h"
 #include "mesh/mesh.h"
@@ -287,6 +288,12 @@ struct SolvedCase {
   SweepWindow window;
   double seconds_solve = 0.0;
   bool warn_aft_fallback = false;  // `analysis.aft: event` given: warn where it fell back
+  // analysis.nonlinear_mode (model/nonlinear_mode_case.h): the nonlinear mode, solved without the
+  // dynamic excitation, and the forced response predicted from it (hbm/nonlinear_mode.h
+  // predict_forced_response); empty otherwise. seconds_solve includes the mode's time.
+  NonlinearModeResult mode;
+  std::vector<ForcedResponsePrediction> prediction;
+  double seconds_mode = 0.0;
 };
 
 // What the sweep reports as it goes (each may be empty): start(label, points) once (points: the

@@ -22,21 +22,63 @@ std::vector<double> nonlinear_mode_amplitudes(const AmplitudeDefinition& amplitu
   return a;
 }
 
+namespace {
+// The case key of the mode's `mode`, `amplitude`: in analysis itself (method nonlinear_mode) or
+// in analysis.nonlinear_mode (a forced response's prediction).
+std::string mode_key(const CaseDefinition& def, const std::string& key) {
+  return def.analysis.method == SweepMethod::kNonlinearMode ? "analysis." + key
+                                                            : "analysis.nonlinear_mode." + key;
+}
+}  // namespace
+
+void check_mode_prediction(const PreparedModel& model, const CaseDefinition& def) {
+  if (!def.analysis.predict_from_mode) return;
+  const auto it = model.excitation.harmonics.find(1);
+  if (it == model.excitation.harmonics.end() || it->second.cwiseAbs().maxCoeff() == 0) {
+    throw InvalidInput(def.where("analysis.nonlinear_mode"),
+                       "the case has no excitation of harmonic 1: there is no forced response to "
+                       "predict from the nonlinear mode (add an `excitation` entry, or use "
+                       "`method: nonlinear_mode` for the mode alone)");
+  }
+}
+
+void predict_from_nonlinear_mode(const PreparedModel& model, const CaseDefinition& def,
+                                 const ProgressFn& progress, const SweepProgress* sweep,
+                                 SolvedCase& solved) {
+  SolvedNonlinearMode mode = solve_nonlinear_mode(model, def, progress, sweep);
+  solved.prediction = predict_forced_response(mode.result, model.excitation.harmonics.at(1));
+  solved.mode = std::move(mode.result);
+  solved.seconds_mode = mode.seconds_solve;
+  if (progress) {
+    int converged = 0;
+    for (const NonlinearModePoint& p : solved.mode.points) converged += p.converged ? 1 : 0;
+    progress(
+        fmt::format("forced response predicted from the nonlinear mode: {} points from {} "
+                    "converged amplitudes in {:.2f} s",
+                    solved.prediction.size(), converged, solved.seconds_mode));
+  }
+}
+
 SolvedNonlinearMode solve_nonlinear_mode(const PreparedModel& model, const CaseDefinition& def,
                                          const ProgressFn& progress, const SweepProgress* sweep) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const AnalysisDefinition& an = def.analysis;
+  const bool prediction = an.method != SweepMethod::kNonlinearMode;
   if (model.pairs.empty()) {
-    throw InvalidInput(def.where("analysis.method"),
+    throw InvalidInput(def.where(prediction ? "analysis.nonlinear_mode" : "analysis.method"),
                        "a model without contacts is linear: its modes are those `stickslip modes` "
                        "lists, there is no nonlinear mode to follow");
   }
   for (size_t e = 0; e < def.excitation.size(); ++e) {
-    if (def.excitation[e].harmonic == 0) continue;
+    const int k = def.excitation[e].harmonic;
+    if (k == 0 || (prediction && k == 1)) continue;
     model_warning(format_location(def.where(fmt::format("excitation[{}]", e))) +
-                  ": not used by analysis.method nonlinear_mode (a nonlinear mode is a free "
-                  "vibration; static forces, harmonic 0, are kept)");
+                  (prediction
+                       ? ": not used by the prediction from the nonlinear mode "
+                         "(analysis.nonlinear_mode), which takes the excitation of harmonic 1"
+                       : ": not used by analysis.method nonlinear_mode (a nonlinear mode is a "
+                         "free vibration; static forces, harmonic 0, are kept)"));
   }
   Excitation excitation;  // static loads only
   const auto it = model.excitation.harmonics.find(0);
@@ -52,7 +94,7 @@ SolvedNonlinearMode solve_nonlinear_mode(const PreparedModel& model, const CaseD
   }
   const StuckModes modes = stuck_modes(*solved.system);
   if (an.mode > modes.omega2.size()) {
-    throw InvalidInput(def.where("analysis.mode"),
+    throw InvalidInput(def.where(mode_key(def, "mode")),
                        fmt::format("mode {} out of range: the stuck assembly has {} modes", an.mode,
                                    modes.omega2.size()));
   }
@@ -72,10 +114,18 @@ SolvedNonlinearMode solve_nonlinear_mode(const PreparedModel& model, const CaseD
   }
   if (sweep && sweep->start) sweep->start("nonlinear mode", an.amplitude.points);
   if (sweep && sweep->on_point) options.on_point = sweep->on_point;
+  if (progress) {
+    const double a_slip = first_slip_amplitude(*solved.system, modes.eta.col(an.mode - 1));
+    progress(std::isfinite(a_slip)
+                 ? fmt::format("the first contact pair slips at a modal amplitude of about {:.4g} "
+                               "(estimated from the stuck mode)",
+                               a_slip)
+                 : std::string("no friction pair moves in this mode"));
+  }
   try {
     solved.result = nonlinear_mode(*solved.system, options);
   } catch (const InvalidInput& e) {  // the library names its option: say the case's key
-    throw InvalidInput(def.where("analysis.mode"), e.message());
+    throw InvalidInput(def.where(mode_key(def, "mode")), e.message());
   }
   if (sweep && sweep->finish) sweep->finish();
   solved.seconds_solve = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -9,6 +9,8 @@
 #include "cli_test_support.h"
 
 #include <cmath>
+#include <complex>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -66,6 +68,19 @@ analysis:
          R"(recovery: {points: none}
 output: {directory: results, plots: false}
 )";
+}
+
+void replace_once(std::string& text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+}
+
+// printf-style formatting of a case text fragment (two numbers).
+std::string fmt_case(const char* format, double a, double b) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, format, a, b);
+  return buffer;
 }
 
 fs::path example_dir(const std::string& name) {
@@ -176,6 +191,181 @@ TEST(NonlinearModeCli, BadInputNamesTheKeyAndLine) {
   const fs::path file = write_case(dir, "stepped", stepped);
   EXPECT_EQ(run("run -q " + file.string() + " -o " + (dir / "out").string(), dir / "s.log"), 2);
   EXPECT_NE(slurp(dir / "s.log").find("analysis.mode"), std::string::npos) << slurp(dir / "s.log");
+}
+
+// A forced response with analysis.nonlinear_mode: the same oscillator forced along x by F at
+// H = 1. The prediction (single nonlinear mode theory, hbm/nonlinear_mode.h) solves, per modal
+// amplitude a = x (m = 1, ψ = 1), (ω(x)² − Ω² + i ξ(x) Ω) x e^{iθ} = F: with s = Ω², the quadratic
+// (ω² − s)² + ξ² s = (F/x)², whose positive roots are the rows of snmt.csv. F is chosen so that the
+// largest amplitude x* sits on the backbone (F = ξ(x*) ω(x*) x*: s = ω² is a root there), and the
+// sweep starts at f* = ω(x*)/2π: the harmonic balance at that frequency balances the describing
+// function |i(cω + E/(πx²))| x = F, whose solution is x* too, with the same phase (−90°: the
+// response lags the force by a quarter period at the backbone).
+TEST(NonlinearModeCli, ForcedResponsePredictionFromTheMode) {
+  constexpr double kTolerance = 1e-8;  // Newton to 1e-12, exact AFT: as above
+  const double x_star = 1e-4;          // 10 a_s
+  const Reference star = jenkins_mode(x_star);
+  const double F = star.xi * star.omega * x_star;
+  const double f_star = star.omega / (2 * M_PI);
+  const fs::path dir = example_dir("nonlinear_mode_prediction");
+  std::string text = mode_case("");
+  replace_once(text, "  method: nonlinear_mode\n",
+               fmt_case("  method: stepped\n  frequency: {start_hz: %.17g, stop_hz: %.17g, "
+                        "step_hz: 1}\n  nonlinear_mode:\n    mode: 3\n    amplitude: {start: "
+                        "2.0e-6, stop: 1.0e-4, points: 30}\n",
+                        f_star, f_star + 2));
+  replace_once(text, "damping:",
+               fmt_case("excitation:\n  - {body: oscillator, node: 1, direction: x, "
+                        "amplitude: %.17g}\n",
+                        F, 0.0) +
+                   "damping:");
+  replace_once(text, "output: {directory: results, plots: false}",
+               "output:\n  directory: results\n  plots: true\n  frf:\n    - {body: oscillator, "
+               "node: 1, direction: x}");
+  const fs::path file = write_case(dir, "forced", text);
+  const fs::path out = dir / "out";
+  // 4: every result written, pictures missing (no gnuplot here); the .dat files are written.
+  const int code = run("run " + file.string() + " -o " + out.string(), dir / "log");
+  ASSERT_TRUE(code == 0 || code == 4) << code << "\n" << slurp(dir / "log") << text;
+
+  const auto modes = read_csv(out / "nonlinear_modes.csv");
+  ASSERT_EQ(modes.size(), 30u);
+  const auto rows = read_csv(out / "snmt.csv");
+  std::map<std::pair<int, std::string>, std::complex<double>> response;  // (row, axis) → X_1
+  for (const auto& r : read_csv(out / "snmt_response.csv")) {
+    if (r.at("node") == "1" && r.at("harmonic") == "1") {
+      response[{std::stoi(r.at("row")), r.at("axis")}] = {std::stod(r.at("real_m")),
+                                                          std::stod(r.at("imag_m"))};
+    }
+  }
+  size_t expected_rows = 0;
+  for (const auto& m : modes) {
+    const double x = std::stod(m.at("modal_amplitude"));
+    const Reference ref = jenkins_mode(x);
+    const double w2 = ref.omega * ref.omega, P2 = (F / x) * (F / x);
+    const double disc = P2 - ref.xi * ref.xi * w2 + 0.25 * std::pow(ref.xi, 4);
+    if (disc >= 0) expected_rows += w2 - 0.5 * ref.xi * ref.xi - std::sqrt(disc) > 0 ? 2 : 1;
+  }
+  ASSERT_EQ(rows.size(), expected_rows);
+  ASSERT_GE(rows.size(), 20u);
+  int at_backbone = -1;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    SCOPED_TRACE(::testing::Message() << "row " << i);
+    ASSERT_EQ(r.at("row"), std::to_string(i));
+    const int point = std::stoi(r.at("point"));
+    const double x = std::stod(modes.at(point).at("modal_amplitude"));
+    EXPECT_EQ(std::stod(r.at("modal_amplitude")), x);
+    const Reference ref = jenkins_mode(x);
+    const double w2 = ref.omega * ref.omega, P2 = (F / x) * (F / x);
+    const double root = std::sqrt(P2 - ref.xi * ref.xi * w2 + 0.25 * std::pow(ref.xi, 4));
+    const bool above = r.at("branch") == "above";
+    const double omega = std::sqrt(w2 - 0.5 * ref.xi * ref.xi + (above ? root : -root));
+    EXPECT_NEAR(2 * M_PI * std::stod(r.at("frequency_hz")), omega, kTolerance * omega);
+    EXPECT_NEAR(2 * M_PI * std::stod(r.at("mode_frequency_hz")), ref.omega, kTolerance * ref.omega);
+    const std::complex<double> X = F / std::complex<double>(w2 - omega * omega, ref.xi * omega);
+    EXPECT_NEAR(std::abs(response.at({static_cast<int>(i), "x"}) - X), 0.0, kTolerance * x);
+    EXPECT_EQ(std::abs(response.at({static_cast<int>(i), "y"})), 0.0);
+    if (point == 29 && above) at_backbone = static_cast<int>(i);
+  }
+  ASSERT_GE(at_backbone, 0);
+  EXPECT_NEAR(std::stod(rows[at_backbone].at("frequency_hz")), f_star, 1e-10 * f_star);
+  // The harmonic balance at f*: point 0 of the sweep.
+  const auto points = read_csv(out / "points.csv");
+  ASSERT_EQ(points.at(0).at("converged"), "1");
+  EXPECT_NEAR(std::stod(points.at(0).at("frequency_hz")), f_star, 1e-14 * f_star);
+  std::complex<double> hb;
+  for (const auto& r : read_csv(out / "master_response.csv")) {
+    if (r.at("point") == "0" && r.at("node") == "1" && r.at("axis") == "x" &&
+        r.at("harmonic") == "1")
+      hb = {std::stod(r.at("real_m")), std::stod(r.at("imag_m"))};
+  }
+  EXPECT_NEAR(std::abs(hb - response.at({at_backbone, "x"})), 0.0, kTolerance * x_star);
+  EXPECT_NEAR(std::abs(hb), x_star, kTolerance * x_star);
+  // summary.json and the FRF plot's data.
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  const auto& nm = s.at("nonlinear_mode");
+  EXPECT_EQ(nm.at("mode"), 3);
+  EXPECT_EQ(nm.at("prediction_points"), rows.size());
+  EXPECT_NEAR(nm.at("first_slip_amplitude").get<double>(), kFs / kKt, 1e-12);
+  EXPECT_EQ(nm.at("predicted_peak").at("point"), 29);
+  EXPECT_NEAR(nm.at("predicted_peak").at("frf").at(0).at("amplitude_m").get<double>(), x_star,
+              kTolerance * x_star);
+  const std::string dat = slurp(out / "frf.dat");
+  EXPECT_NE(dat.find("# nonlinear mode prediction: oscillator node 1 x"), std::string::npos);
+  EXPECT_NE(dat.find("# backbone: oscillator node 1 x"), std::string::npos);
+  // `stickslip plot` draws the same from the files.
+  fs::remove(out / "frf.dat");
+  const int plot_code = run("plot " + out.string(), dir / "plot.log");
+  ASSERT_TRUE(plot_code == 0 || plot_code == 4) << slurp(dir / "plot.log");
+  EXPECT_EQ(slurp(out / "frf.dat"), dat);
+}
+
+TEST(NonlinearModeCli, BadPredictionInputNamesTheKeyAndLine) {
+  const fs::path dir = example_dir("nonlinear_mode_prediction_bad");
+  const std::string forced = R"(stickslip: 1
+bodies:
+  oscillator:
+    reduced: {stiffness: K.hb, mass: M.hb}
+contacts:
+  - name: jenkins
+    law: jenkins
+    bodies: [oscillator, ground]
+    pairs: [1]
+    direction: x
+    per_pair: {kt: 1.0e6, mu: 0.5, preload: 20}
+EXCITATION
+analysis:
+  method: stepped
+  frequency: {start_hz: 200, stop_hz: 210, step_hz: 5}
+  harmonics: 1
+TAIL
+recovery: {points: none}
+output: {directory: results, plots: false}
+)";
+  const std::string excitation =
+      "excitation:\n  - {body: oscillator, node: 1, direction: x, amplitude: 5}";
+  struct Bad {
+    std::string excitation, tail, key, line;
+  };
+  // With the excitation (lines 12-13), analysis starts on line 14: method 15, frequency 16,
+  // harmonics 17, the tail from 18. Without it, analysis starts on line 12 (the tail on 16).
+  const std::vector<Bad> cases{
+      {"", "  nonlinear_mode:\n    mode: 3\n    amplitude: {start: 1.0e-6, stop: 1.0e-4}",
+       "analysis.nonlinear_mode", ":16"},
+      {excitation, "  nonlinear_mode:\n    mode: 4\n    amplitude: {start: 1.0e-6, stop: 1.0e-4}",
+       "analysis.nonlinear_mode.mode", ":19"},
+      {excitation, "  nonlinear_mode:\n    mode: 3\n    amplitude: {start: 1.0e-4, stop: 1.0e-6}",
+       "analysis.nonlinear_mode.amplitude.stop", ":20"},
+      {excitation, "  nonlinear_mode:\n    amplitude: {start: 1.0e-6, stop: 1.0e-4}",
+       "analysis.nonlinear_mode.mode", ""},
+      {excitation,
+       "  nonlinear_mode:\n    mode: 3\n    amplitude: {start: 1.0e-6, stop: 1.0e-4}\n"
+       "    points: 3",
+       "analysis.nonlinear_mode", ":21"},
+      {excitation, "  mode: 3", "analysis.mode", ":18"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    SCOPED_TRACE(cases[i].tail);
+    std::string text = forced;
+    text.replace(text.find("EXCITATION"), 10, cases[i].excitation);
+    if (cases[i].excitation.empty()) text.erase(text.find("\nanalysis:"), 1);
+    text.replace(text.find("TAIL"), 4, cases[i].tail);
+    const fs::path file = write_case(dir, "bad" + std::to_string(i), text);
+    const fs::path log = dir / ("bad" + std::to_string(i) + ".log");
+    EXPECT_EQ(run("run -q " + file.string() + " -o " + (dir / "out").string(), log), 2)
+        << slurp(log);
+    EXPECT_NE(slurp(log).find(cases[i].key), std::string::npos) << slurp(log);
+    EXPECT_NE(slurp(log).find(cases[i].line), std::string::npos) << slurp(log);
+  }
+  // With method nonlinear_mode the block is refused: its keys belong to analysis itself.
+  const fs::path file = write_case(
+      dir, "mode",
+      mode_case("  mode: 3\n  amplitude: {start: 1.0e-6, stop: 1.0e-3}\n  nonlinear_mode:\n"
+                "    mode: 3\n    amplitude: {start: 1.0e-6, stop: 1.0e-3}\n"));
+  EXPECT_EQ(run("run -q " + file.string() + " -o " + (dir / "out").string(), dir / "m.log"), 2);
+  EXPECT_NE(slurp(dir / "m.log").find("analysis.nonlinear_mode"), std::string::npos)
+      << slurp(dir / "m.log");
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "../derivative_check.h"
 #include "contact/friction_contact.h"
 #include "contact/springs.h"
+#include "continuation/newton.h"
 #include "core/errors.h"
 #include "hbm/harmonic_balance.h"
 #include "hbm/nonlinear_mode.h"
@@ -351,6 +352,257 @@ TEST(NonlinearMode, JenkinsFreeDecayMatchesSevenHarmonics) {
     ++checked;
   }
   EXPECT_GE(checked, 5);
+}
+
+// The onset of slip estimated from the stuck mode (first_slip_amplitude): for the Jenkins
+// oscillator the stuck limit a_s = μN/kt in displacement, √m a_s in modal amplitude; for a 3D
+// friction contact whose stuck mode moves it along t1 and n (the structure couples x and z), the
+// force along the mode f(c) = (kt c φ_x, 0, N0 + kn c φ_z) reaches |τ| = μN first on the side
+// where N falls: a = μN0 / (kt |φ_x| + μ kn |φ_z|), φ the mass-normalised stuck mode (from
+// Eigen's generalized eigen-solver here). And the EPMC itself: every pair sticks below the
+// estimate. Above it a periodic cycle may still stick with a tangential offset τ₀ left by the
+// slip (shakedown: the line τ = τ₀ + kt c φ_x fits between ±μ(N0 + kn c φ_z) at c = ±a while
+// a kt |φ_x| ≤ μN0), so the EPMC is asked to slip only beyond a = min(μN0/(kt|φ_x|), N0/(kn|φ_z|)).
+TEST(NonlinearMode, FirstSlipAmplitudeIsWhereTheStuckModeReachesTheCoulombLimit) {
+  {
+    const Oscillator o;
+    const double kt = 1200.0, slip_force = 0.6;
+    HarmonicBalanceOptions hb;
+    const HarmonicBalanceSystem sys(o.model(),
+                                    {grounded(std::make_shared<Jenkins1D>(JenkinsParameters{
+                                        .kt = kt, .mu = 0.5, .normal_load = slip_force / 0.5}))},
+                                    Excitation{}, hb);
+    const double expected = std::sqrt(o.m) * slip_force / kt;
+    EXPECT_NEAR(first_slip_amplitude(sys, VectorXd::Ones(1)), expected, 1e-12 * expected);
+  }
+  const double m = 0.7, kt = 3000, kn = 5000, mu = 0.4, n0 = 2.0;
+  const MatrixXd K = (MatrixXd(3, 3) << 4000, 0, 1500, 0, 3000, 0, 1500, 0, 2500).finished();
+  const MatrixXd M = MatrixXd::Identity(3, 3) * m;
+  std::vector<ContactPair> pairs;
+  pairs.push_back(
+      ContactPair{.dofs_a = {0, 1, 2},
+                  .dofs_b = {},
+                  .frame = MatrixXd::Identity(3, 3),  // t1 = x, t2 = y, n = z
+                  .element = std::make_shared<FrictionContact3D>(FrictionContactParameters{
+                      .kt = kt, .kn = kn, .mu = mu, .normal_preload = n0})});
+  // The preload pushes the node along −n (the force on A is −[τ; N]); a static load +N0 along z
+  // balances it, so the static state is u = 0 with N = N0.
+  Excitation statics;
+  statics.harmonics[0] = Eigen::Vector3cd(0, 0, n0);
+  HarmonicBalanceOptions hb;
+  hb.static_newton.tolerance = 1e-13;
+  const HarmonicBalanceSystem sys(linear_model_from_matrices(K, M, 0.5, 0.0), pairs, statics, hb);
+  ASSERT_LE(sys.static_displacement().norm(), 1e-12);
+  MatrixXd Ks = K;
+  Ks.diagonal() += Eigen::Vector3d(kt, kt, kn);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> eig(Ks, M);
+  const StuckModes modes = stuck_modes(sys);
+  int checked = 0;
+  for (int mode = 1; mode <= 3; ++mode) {
+    const VectorXd phi = eig.eigenvectors().col(mode - 1);  // φᵀMφ = 1
+    if (std::abs(phi[0]) < 1e-6) continue;                  // the y mode: t2 only
+    const double expected = mu * n0 / (kt * std::abs(phi[0]) + mu * kn * std::abs(phi[2]));
+    const VectorXd eta = modes.eta.col(mode - 1);
+    EXPECT_NEAR(first_slip_amplitude(sys, eta), expected, 1e-9 * expected) << "mode " << mode;
+    NonlinearModeOptions options;
+    options.mode = mode;
+    const double shakedown =
+        std::min(mu * n0 / (kt * std::abs(phi[0])), n0 / (kn * std::abs(phi[2])));
+    options.amplitudes = {0.5 * expected, 0.98 * expected, 1.05 * shakedown};
+    options.newton.tolerance = 1e-11;
+    const NonlinearModeResult r = nonlinear_mode(sys, options);
+    ASSERT_TRUE(r.completed) << r.message;
+    EXPECT_NEAR(r.first_slip_amplitude, expected, 1e-9 * expected);
+    EXPECT_EQ(r.points[0].pairs_slipping, 0.0) << "mode " << mode;
+    EXPECT_EQ(r.points[1].pairs_slipping, 0.0) << "mode " << mode;
+    EXPECT_EQ(r.points[2].pairs_slipping, 1.0) << "mode " << mode;
+    EXPECT_GT(r.points[2].mean_slip_fraction, 0.0);
+    EXPECT_EQ(r.points[2].pairs_separating, 0.0);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
+}
+
+// Single nonlinear mode theory on the Jenkins oscillator at H = 1. Reference: with the closed
+// forms ω(x), ξ(x) of the describing function (jenkins_reference) and ψ = 1/√m, q = √m x, the
+// SNMT equation is (k + k_eq(x) − mΩ² + i m ξ(x) Ω) X = F for |X| = x: its roots Ω are found here
+// by bisection of |Z|² x² − F² on [0, ω] and [ω, 10ω], and X = F / Z.
+// Against the forced harmonic balance (H = 1): the describing function gives, for the same x,
+//   HB:   (k + k_eq − mΩ² + i (cΩ + e)) X = F,           e = E/(π x²) (friction: rate independent)
+//   SNMT: (k + k_eq − mΩ² + i (cΩ + e Ω/ω)) X = F        (m ξ = c + e/ω: the loss taken at ω)
+// so the predicted point is the forced response to ρF, ρ = |Z_HB| / |Z_SNMT|, and |ρ − 1| ≤
+// |1 − Ω/ω| (the imaginary parts differ by a factor between 1 and Ω/ω, the real parts agree).
+// Exactly at the backbone, Ω = ω(x), ρ = 1: the prediction is the forced response.
+TEST(NonlinearMode, ForcedResponsePredictionOfTheJenkinsOscillator) {
+  const Oscillator o;
+  const double kt = 1200.0, slip_force = 0.6, as = slip_force / kt;
+  const auto element = std::make_shared<Jenkins1D>(
+      JenkinsParameters{.kt = kt, .mu = 0.5, .normal_load = slip_force / 0.5});
+  HarmonicBalanceOptions hb;
+  hb.harmonics = 1;
+  const HarmonicBalanceSystem free_sys(o.model(), {grounded(element)}, Excitation{}, hb);
+  const std::vector<double> x_amplitudes = geometric(0.2 * as, 100 * as, 41);
+  NonlinearModeOptions options;
+  for (double a : x_amplitudes) options.amplitudes.push_back(std::sqrt(o.m) * a);
+  options.newton.tolerance = 1e-12;
+  const NonlinearModeResult mode = nonlinear_mode(free_sys, options);
+  ASSERT_TRUE(mode.completed) << mode.message;
+  // The force that puts the 30th amplitude (slipping, x = 24 a_s) on the backbone: |Z(ω)| x = F
+  // with Z(ω) = i m ξ ω.
+  const int backbone = 30;
+  const double xb = x_amplitudes[backbone];
+  const JenkinsReference rb = jenkins_reference(o, kt, slip_force, xb);
+  const double F = o.m * rb.xi * rb.omega * xb;
+  const std::vector<ForcedResponsePrediction> prediction =
+      predict_forced_response(mode, Eigen::VectorXcd::Constant(1, F));
+  ASSERT_FALSE(prediction.empty());
+
+  using Complex = std::complex<double>;
+  auto snmt_impedance = [&](double x, double omega) {
+    const JenkinsReference r = jenkins_reference(o, kt, slip_force, x);
+    return Complex(o.m * (r.omega * r.omega - omega * omega), o.m * r.xi * omega);
+  };
+  auto bisect = [](auto g, double lo, double hi) {
+    for (int i = 0; i < 200; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      ((g(lo) < 0) == (g(mid) < 0) ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  // Where each amplitude has roots: two when g(ω) ≤ 0 < g(0), one (above ω) when g(0) ≤ 0 too
+  // (the stuck amplitudes here, whose static deflection F/(k + kt) is larger), none above the peak.
+  size_t expected = 0;
+  for (double x : x_amplitudes) {
+    const JenkinsReference r = jenkins_reference(o, kt, slip_force, x);
+    auto g = [&](double w) { return std::norm(snmt_impedance(x, w)) * x * x - F * F; };
+    if (g(r.omega * (1 - 1e-6)) < 0) expected += g(0.0) > 0 ? 2 : 1;
+  }
+  EXPECT_EQ(prediction.size(), expected);
+  int below = 0, above = 0;
+  bool previous_above = false;
+  for (const ForcedResponsePrediction& p : prediction) {
+    SCOPED_TRACE(::testing::Message() << "point " << p.point << (p.above ? " above" : " below"));
+    EXPECT_TRUE(!previous_above || p.above) << "the roots below come first";
+    previous_above = p.above;
+    const double x = x_amplitudes[p.point];
+    const JenkinsReference r = jenkins_reference(o, kt, slip_force, x);
+    auto g = [&](double w) { return std::norm(snmt_impedance(x, w)) * x * x - F * F; };
+    // Just below ω, g < 0 between the roots (at the backbone point g(ω) = 0 is the root above).
+    const double inside = r.omega * (1 - 1e-6);
+    ASSERT_LT(g(inside), 0.0);  // the amplitude is below the peak
+    if (!p.above) {
+      ASSERT_GT(g(0.0), 0.0);
+    }
+    const double omega = p.above ? bisect(g, inside, 10 * r.omega) : bisect(g, 0.0, inside);
+    EXPECT_NEAR(p.omega, omega, 1e-9 * omega);
+    const Complex X = F / snmt_impedance(x, omega);
+    ASSERT_EQ(p.master.cols(), 2);
+    EXPECT_NEAR(std::abs(p.master(0, 1) - X), 0.0, 1e-9 * x);
+    (p.above ? above : below) += 1;
+  }
+  EXPECT_GE(below, 10);
+  EXPECT_GE(above, 20);
+
+  // The forced harmonic balance at the predicted frequencies, with the force scaled by ρ.
+  int at_backbone = 0;
+  for (const ForcedResponsePrediction& p : prediction) {
+    SCOPED_TRACE(::testing::Message() << "point " << p.point << (p.above ? " above" : " below"));
+    const double x = x_amplitudes[p.point];
+    const JenkinsReference r = jenkins_reference(o, kt, slip_force, x);
+    const double e = r.energy / (kPi * x * x);
+    const Complex z_hb(o.m * r.omega * r.omega - o.m * p.omega * p.omega,
+                       o.c * p.omega + e);  // k + k_eq = m ω²
+    const double rho = std::abs(z_hb) / std::abs(snmt_impedance(x, p.omega));
+    EXPECT_LE(std::abs(rho - 1), std::abs(1 - p.omega / r.omega) + 1e-12);
+    Excitation ex;
+    ex.harmonics[1] = Eigen::VectorXcd::Constant(1, rho * F);
+    const HarmonicBalanceSystem forced(o.model(), {grounded(element)}, ex, hb);
+    VectorXd u(2);
+    u << p.master(0, 1).real(), -p.master(0, 1).imag();  // X = a − i b
+    NewtonOptions newton;
+    newton.tolerance = 1e-12;
+    const NewtonSummary s = solve_newton(forced, p.omega, u, newton);
+    ASSERT_TRUE(s.converged()) << s.message;
+    // Newton to 1e-12 and the event AFT exact at H = 1: 1e-8 covers the conditioning.
+    EXPECT_NEAR(std::hypot(u[0], u[1]), x, 1e-8 * x);
+    if (p.point == backbone && p.above) {
+      EXPECT_NEAR(p.omega, r.omega, 1e-10 * r.omega);
+      EXPECT_NEAR(rho, 1.0, 1e-10);
+      ++at_backbone;
+    }
+  }
+  EXPECT_EQ(at_backbone, 1);
+}
+
+// A linear 2-DOF chain (a Jenkins element that never slips to the ground at DOF 0: μN = 1e9 N)
+// with well-separated modes and C = αM: the nonlinear mode is the linear mode r (ω_r, ξ = α,
+// ψ = φ_r), so the prediction is the single-mode FRF X = φ_r φ_rᵀF / (ω_r² − Ω² + iαΩ) at the
+// roots of |ω_r² − Ω² + iαΩ| q = |φ_rᵀF|, and what the full FRF (K_s − Ω²M + iΩαM)⁻¹F adds is
+// exactly the other mode's term. Modes in closed form: λ from det(K_s − λM) = 0, φ ∝ [−k₁₂,
+// k₁₁ − λ m₁], mass-normalised.
+TEST(NonlinearMode, ForcedResponsePredictionOfALinearModeIsItsModalFrf) {
+  const double m1 = 1.0, m2 = 0.3, k1 = 2000, k2 = 6000, kt = 500, alpha = 0.8;
+  MatrixXd K(2, 2);
+  K << k1 + k2, -k2, -k2, k2;
+  const MatrixXd M = Eigen::Vector2d(m1, m2).asDiagonal();
+  const HarmonicBalanceSystem sys(linear_model_from_matrices(K, M, alpha, 0.0),
+                                  {grounded(std::make_shared<Jenkins1D>(
+                                      JenkinsParameters{.kt = kt, .mu = 0.5, .normal_load = 2e9}))},
+                                  Excitation{}, HarmonicBalanceOptions{});
+  const double k11 = k1 + k2 + kt, k12 = -k2, k22 = k2;
+  const double b = k11 * m2 + k22 * m1, c = k11 * k22 - k12 * k12, d = m1 * m2;
+  const double lambda[2] = {(b - std::sqrt(b * b - 4 * d * c)) / (2 * d),
+                            (b + std::sqrt(b * b - 4 * d * c)) / (2 * d)};
+  ASSERT_GT(lambda[1], 10 * lambda[0]);  // well separated
+  Eigen::Vector2d phi[2];
+  for (int r = 0; r < 2; ++r) {
+    phi[r] = Eigen::Vector2d(-k12, k11 - lambda[r] * m1);
+    phi[r] /= std::sqrt(phi[r].dot(M * phi[r]));
+  }
+  const Eigen::Vector2cd F(std::complex<double>(3.0, 1.0), std::complex<double>(-2.0, 0.5));
+  using Complex = std::complex<double>;
+  for (int r = 0; r < 2; ++r) {
+    SCOPED_TRACE(::testing::Message() << "mode " << r + 1);
+    const double w = std::sqrt(lambda[r]);
+    const double peak = std::abs(phi[r].cast<Complex>().dot(F)) / (alpha * w);  // q at Ω ≈ ω
+    NonlinearModeOptions options;
+    options.mode = r + 1;
+    options.amplitudes = geometric(0.05 * peak, 0.95 * peak, 15);
+    options.newton.tolerance = 1e-12;
+    const NonlinearModeResult mode = nonlinear_mode(sys, options);
+    ASSERT_TRUE(mode.completed) << mode.message;
+    const std::vector<ForcedResponsePrediction> prediction = predict_forced_response(mode, F);
+    ASSERT_EQ(prediction.size(), 30u);  // both roots at every amplitude below the peak
+    for (const ForcedResponsePrediction& p : prediction) {
+      const double W = p.omega;
+      const Complex modal = phi[r].cast<Complex>().dot(F) / Complex(lambda[r] - W * W, alpha * W);
+      EXPECT_NEAR(std::abs(modal), options.amplitudes[p.point], 1e-9 * peak);
+      const Eigen::Vector2cd X = phi[r].cast<Complex>() * modal;
+      EXPECT_LE((p.master.col(1) - X).norm(), 1e-9 * X.norm()) << "point " << p.point;
+      const Eigen::Matrix2cd Z =
+          (K + kt * Eigen::Vector2d(1, 0) * Eigen::RowVector2d(1, 0) - W * W * M).cast<Complex>() +
+          Complex(0, W * alpha) * M.cast<Complex>();
+      const Eigen::Vector2cd full = Z.lu().solve(F);
+      const int s = 1 - r;
+      const Eigen::Vector2cd other = phi[s].cast<Complex>() * phi[s].cast<Complex>().dot(F) /
+                                     Complex(lambda[s] - W * W, alpha * W);
+      EXPECT_LE((full - X - other).norm(), 1e-9 * full.norm()) << "point " << p.point;
+    }
+  }
+}
+
+// Without a force on the mode (ψᴴF = 0) there is no forced response to predict.
+TEST(NonlinearMode, ForcedResponsePredictionWithoutModalForceIsEmpty) {
+  const Oscillator o;
+  const HarmonicBalanceSystem sys(o.model(),
+                                  {grounded(std::make_shared<Jenkins1D>(JenkinsParameters{
+                                      .kt = 100, .mu = 0.5, .normal_load = 1.0}))},
+                                  Excitation{}, HarmonicBalanceOptions{});
+  NonlinearModeOptions options;
+  options.amplitudes = {1e-3, 1e-2};
+  const NonlinearModeResult mode = nonlinear_mode(sys, options);
+  ASSERT_TRUE(mode.completed);
+  EXPECT_TRUE(predict_forced_response(mode, Eigen::VectorXcd::Zero(1)).empty());
 }
 
 TEST(NonlinearMode, BadOptionsAreRefused) {
