@@ -346,9 +346,9 @@ struct AnalysisDefinition {
   bool aft_given = false;  // `aft` written in the file (then event warns where it falls back)
   StaticChoice static_coupling = StaticChoice::kUncoupled;  // key `static`: uncoupled | coupled
   int static_increments = 0;  // load steps of the static problem (≥ 1); 0: automatic
-  double tolerance = 1.0e-8;                                // Newton, relative residual (> 0)
-  int max_iterations = 30;                                  // Newton iterations per point (≥ 1)
-  int max_points = 10000;                                   // continuation: points at most (≥ 2)
+  double tolerance = 1.0e-8;  // Newton, relative residual (> 0)
+  int max_iterations = 30;    // Newton iterations per point (≥ 1)
+  int max_points = 10000;     // continuation: points at most (≥ 2)
   InitialGuessChoice initial_guess = InitialGuessChoice::kStuck;  // stuck | free
   PredictorChoice predictor = PredictorChoice::kSecant;  // stepped: secant | previous (guess
                                                          // per point)

@@ -341,10 +341,12 @@ TEST(MortarContactCli, NonMatchingQuadraticBarsTransmitAUniformPressure) {
     ASSERT_EQ(w.size(), expected.size()) << r.at("pair");
     for (size_t j = 0; j < w.size(); ++j) EXPECT_NEAR(w[j], expected[j], 1e-12) << r.at("pair");
   }
-  EXPECT_EQ(std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 1; }),
-            9);  // corners
-  EXPECT_EQ(std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 3; }),
-            12);  // mid-edge nodes
+  EXPECT_EQ(
+      std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 1; }),
+      9);  // corners
+  EXPECT_EQ(
+      std::count_if(a_side.begin(), a_side.end(), [](const auto& e) { return e.second == 3; }),
+      12);  // mid-edge nodes
   const auto forces = static_pair_forces(dir / "out");
   ASSERT_EQ(forces.size(), 21u);
   double total = 0.0;
@@ -647,10 +649,10 @@ TEST(MortarContactCli, NodeToSurfaceStaticContactIsCalculixNodeToSurface) {
   constexpr double kMu = 0.5;
   const std::string inp = two_bars_inp(kNs1, kNs2);
   std::ofstream(dir / "bars.inp") << inp;
-  std::string text = pressed_bars_case(
-      fmt::format("    law: friction\n    coupling: node_to_surface\n"
-                  "    per_area: {{kt: {}, kn: {}, mu: {}, preload: computed}}\n",
-                  kKtPerArea, kKnPerArea, kMu));
+  std::string text =
+      pressed_bars_case(fmt::format("    law: friction\n    coupling: node_to_surface\n"
+                                    "    per_area: {{kt: {}, kn: {}, mu: {}, preload: computed}}\n",
+                                    kKtPerArea, kKnPerArea, kMu));
   for (const auto& [from, to] :
        {std::pair<std::string, std::string>{"poisson_ratio: 0.0", "poisson_ratio: 0.3"},
         {"recovery: {points: peak, method: direct, fields: [displacement, stress]}",
@@ -706,7 +708,8 @@ TEST(MortarContactCli, NodeToSurfaceStaticContactIsCalculixNodeToSurface) {
       slave_area[node1(kNx, j, k)] =
           ds * ds * (j == 0 || j == kNs1 ? 0.5 : 1.0) * (k == 0 || k == kNs1 ? 0.5 : 1.0);
   std::map<int, std::array<double, 3>> ccx;  // slave node -> (N, |τ|, area)
-  for (const auto& row : stickslip::ccx_dat::block(dat, "contact stress (slave node,press,tang1,tang2)")) {
+  for (const auto& row :
+       stickslip::ccx_dat::block(dat, "contact stress (slave node,press,tang1,tang2)")) {
     const int node = static_cast<int>(row[0]);
     ASSERT_TRUE(slave_area.count(node)) << node;
     ccx[node] = {std::max(row[1], 0.0) * slave_area.at(node),
@@ -726,8 +729,9 @@ TEST(MortarContactCli, NodeToSurfaceStaticContactIsCalculixNodeToSurface) {
     const double reference = it == ccx.end() ? 0.0 : it->second[0];
     EXPECT_NEAR(f.at("n"), reference, 1e-4 * ccx_total) << "node " << node;
     worst = std::max(worst, std::abs(f.at("n") - reference) / ccx_total);
-    off_uniform = std::max(off_uniform, std::abs(f.at("n") / (ccx_total * slave_area.at(node) /
-                                                              (kSide * kSide)) - 1.0));
+    off_uniform =
+        std::max(off_uniform,
+                 std::abs(f.at("n") / (ccx_total * slave_area.at(node) / (kSide * kSide)) - 1.0));
     const double tau = std::hypot(f.at("t1"), f.at("t2"));
     largest_tau = std::max(largest_tau, tau);
     if (it != ccx.end()) {
@@ -736,10 +740,11 @@ TEST(MortarContactCli, NodeToSurfaceStaticContactIsCalculixNodeToSurface) {
   }
   EXPECT_NEAR(total, ccx_total, 1e-5 * ccx_total);
   EXPECT_GT(off_uniform, 0.05);  // node-to-surface misses the uniform pressure
-  std::printf("[ CalculiX ] node-to-surface bars 2x2 | 3x3: joint %.6g N (ccx %.6g N), per node "
-              "within %.2e of the joint's force, up to %.0f %% off the uniform pressure, largest "
-              "tangential force %.3g N\n",
-              total, ccx_total, worst, 100 * off_uniform, largest_tau);
+  std::printf(
+      "[ CalculiX ] node-to-surface bars 2x2 | 3x3: joint %.6g N (ccx %.6g N), per node "
+      "within %.2e of the joint's force, up to %.0f %% off the uniform pressure, largest "
+      "tangential force %.3g N\n",
+      total, ccx_total, worst, 100 * off_uniform, largest_tau);
 }
 
 // The default coupling (auto) is node-to-node where the surfaces match node for node and mortar

@@ -168,7 +168,8 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
   ASSERT_EQ(reaction.size(), 1u) << dat;
   const double ccx_total = kPress + reaction[0][0];  // beam 1: F + R − N = 0
   std::map<int, double> ccx_normal;                  // slave node -> N
-  for (const auto& row : stickslip::ccx_dat::block(dat, "contact stress (slave node,press,tang1,tang2)")) {
+  for (const auto& row :
+       stickslip::ccx_dat::block(dat, "contact stress (slave node,press,tang1,tang2)")) {
     ccx_normal[static_cast<int>(row[0])] =
         row[1] > 0 ? row[1] * slave.area.at(static_cast<int>(row[0])) : 0.0;
     EXPECT_LT(std::hypot(row[2], row[3]) * slave.area.at(static_cast<int>(row[0])),
@@ -211,16 +212,16 @@ TEST(PreloadedJointCcx, NormalForcePerNodeIsCalculixContactOnTheConformingMesh) 
 // every cross-section of either beam carries −F, so its mean axial stress is −F/A, A = 0.05 × 0.03
 // m² the big box's section. Checked at x = 0.12 m in beam 1 (12 elements from the loaded face and
 // 13 from the step to the half-thickness end block) and at x = 0.48 m in beam 2 (13 from its
-// step, 12 from its clamp): 2.4 section widths (0.05 m) from every disturbance, where Saint-Venant's
-// decay (∝ exp(−π d / 0.05 m) at least) leaves the section's mean exact and its distribution
-// nearly that of plain compression plus the eccentric joint's bending (linear across the section,
-// mean 0). The mean is the area integral of the recovered nodal σ_xx over the section (trapezoid
-// weights on its node grid, exact for the section's bilinear field).
+// step, 12 from its clamp): 2.4 section widths (0.05 m) from every disturbance, where
+// Saint-Venant's decay (∝ exp(−π d / 0.05 m) at least) leaves the section's mean exact and its
+// distribution nearly that of plain compression plus the eccentric joint's bending (linear across
+// the section, mean 0). The mean is the area integral of the recovered nodal σ_xx over the section
+// (trapezoid weights on its node grid, exact for the section's bilinear field).
 TEST(PreloadedJoint, WholeForceCrossesAGuidedBeamMeanAxialStressIsMinusFOverA) {
   const fs::path dir = fresh_dir("preloaded_joint_guided");
   const fs::path generated =
-      write_case(dir, "generate", fmt::format(fmt::runtime(kCase), kKtPerArea, kKnPerArea, kMu,
-                                              kPress, -kPress));
+      write_case(dir, "generate",
+                 fmt::format(fmt::runtime(kCase), kKtPerArea, kKnPerArea, kMu, kPress, -kPress));
   ASSERT_EQ(run("mesh " + generated.string() + " -o " + (dir / "mesh").string(), dir / "mesh.log"),
             0)
       << slurp(dir / "mesh.log");
@@ -323,9 +324,10 @@ print(int(sel.sum()), repr(float(w.sum())), repr(float((w * s[sel]).sum() / w.su
     EXPECT_EQ(count, 6 * 9) << body;  // 5 x 8 elements across
     EXPECT_NEAR(weight, area, 1e-12) << body;
     EXPECT_NEAR(mean, sigma, kMeanStress * std::abs(sigma)) << body;
-    std::printf("[ closed form ] guided butt joint, %s at x = %.2f m: mean sigma_xx %.10g Pa "
-                "(-F/A %.10g Pa, nodes %.4g..%.4g Pa)\n",
-                body.c_str(), x, mean, sigma, lo, hi);
+    std::printf(
+        "[ closed form ] guided butt joint, %s at x = %.2f m: mean sigma_xx %.10g Pa "
+        "(-F/A %.10g Pa, nodes %.4g..%.4g Pa)\n",
+        body.c_str(), x, mean, sigma, lo, hi);
   }
   std::printf("[ closed form ] guided butt joint: %d of 30 nodes carry %.9g N (F = %.6g N)\n",
               carrying, total, kPress);

@@ -116,9 +116,8 @@ TEST(StaticContact, TwoContactsClosingInSequenceFollowTheLoadPath) {
     for (const int increments : {0, 3, 1}) {
       SCOPED_TRACE(testing::Message() << "increments " << increments << ", coupled "
                                       << (coupling == StaticCoupling::kCoupled));
-      const LinearModel model =
-          linear_model_from_matrices(ks * Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity(),
-                                     1.0, 0.0);
+      const LinearModel model = linear_model_from_matrices(ks * Eigen::Matrix3d::Identity(),
+                                                           Eigen::Matrix3d::Identity(), 1.0, 0.0);
       std::vector<ContactPair> pairs;
       for (const double g : {g1, g2}) {
         pairs.push_back({.dofs_a = {0, 1, 2},
@@ -166,8 +165,8 @@ TEST(StaticContact, TwoContactsClosingInSequenceFollowTheLoadPath) {
       }
     }
   }
-  std::printf("[ hand calculation ] incremental tau = %.6g, %.6g N; one step %.6g, %.6g N\n",
-              tau1, tau2, tau1_one, tau2_one);
+  std::printf("[ hand calculation ] incremental tau = %.6g, %.6g N; one step %.6g, %.6g N\n", tau1,
+              tau2, tau1_one, tau2_one);
 }
 
 }  // namespace
