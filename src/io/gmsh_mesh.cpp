@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "fe/element.h"
+#include "io/msh_element_types.h"
 
 // The Gmsh-free part of gmsh_mesh.h (node orders, options). GmshSession, read_gmsh and
 // mesh_from_gmsh_model are in gmsh_plugin.cpp, which loads the Gmsh plugin (io/gmsh_plugin.h);
@@ -9,16 +10,6 @@
 
 namespace stickslip {
 namespace {
-
-// MSH element types (Gmsh reference manual, "MSH file format").
-constexpr int kGmshTet4 = 4;
-constexpr int kGmshHex8 = 5;
-constexpr int kGmshTet10 = 11;
-constexpr int kGmshHex20 = 17;
-constexpr int kGmshPrism6 = 6;
-constexpr int kGmshPrism15 = 18;
-constexpr int kGmshPyramid5 = 7;
-constexpr int kGmshPyramid13 = 19;
 
 constexpr int kIdentity8[8] = {0, 1, 2, 3, 4, 5, 6, 7};
 // Gmsh 20-node hexahedron: corners 0-7 as CalculiX, then edges (0,1) (0,3) (0,4) (1,2) (1,5)
@@ -50,18 +41,18 @@ void validate(const GmshReadOptions& options) {
 
 const int* gmsh_to_calculix_order(int gmsh_type) {
   switch (gmsh_type) {
-    case kGmshTet4:
-    case kGmshHex8:
-    case kGmshPrism6:
-    case kGmshPyramid5:  // base 0-3 (normal towards the apex), apex 4: C3D5's order
+    case msh::kTet4:
+    case msh::kHex8:
+    case msh::kPrism6:
+    case msh::kPyramid5:  // base 0-3 (normal towards the apex), apex 4: C3D5's order
       return kIdentity8;
-    case kGmshPrism15:
+    case msh::kPrism15:
       return kPrism15;
-    case kGmshTet10:
+    case msh::kTet10:
       return kTet10;
-    case kGmshHex20:
+    case msh::kHex20:
       return kHex20;
-    case kGmshPyramid13:
+    case msh::kPyramid13:
       return kPyramid13;
     default:
       return nullptr;

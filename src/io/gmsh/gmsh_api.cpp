@@ -13,20 +13,11 @@
 #include "core/errors.h"
 #include "fe/element.h"
 #include "io/gmsh_plugin.h"
+#include "io/msh_element_types.h"
 #include "io/msh_lines.h"
 
 namespace stickslip {
 namespace {
-
-// MSH element types (Gmsh reference manual, "MSH file format").
-constexpr int kGmshTet4 = 4;
-constexpr int kGmshHex8 = 5;
-constexpr int kGmshTet10 = 11;
-constexpr int kGmshHex20 = 17;
-constexpr int kGmshPrism6 = 6;
-constexpr int kGmshPrism15 = 18;
-constexpr int kGmshPyramid5 = 7;
-constexpr int kGmshPyramid13 = 19;
 
 std::mutex g_session_mutex;
 int g_session_count = 0;
@@ -131,28 +122,28 @@ Mesh convert_gmsh_model(const std::string& source, const GmshReadOptions& option
   for (size_t t = 0; t < types.size(); ++t) {
     ElementType type;
     switch (types[t]) {
-      case kGmshTet4:
+      case msh::kTet4:
         type = ElementType::kC3D4;
         break;
-      case kGmshTet10:
+      case msh::kTet10:
         type = ElementType::kC3D10;
         break;
-      case kGmshHex8:
+      case msh::kHex8:
         type = options.hexahedron8;
         break;
-      case kGmshHex20:
+      case msh::kHex20:
         type = options.hexahedron20;
         break;
-      case kGmshPrism6:
+      case msh::kPrism6:
         type = ElementType::kC3D6;
         break;
-      case kGmshPrism15:
+      case msh::kPrism15:
         type = ElementType::kC3D15;
         break;
-      case kGmshPyramid5:
+      case msh::kPyramid5:
         type = ElementType::kC3D5;
         break;
-      case kGmshPyramid13:
+      case msh::kPyramid13:
         type = ElementType::kC3D13;
         break;
       default:
