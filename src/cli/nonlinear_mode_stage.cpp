@@ -51,21 +51,30 @@ void write_tables(const StageRun& run, const PreparedModel& model,
 
 Json finite_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
+// The converged points of a nonlinear mode, its largest damping ratio (−1 if none) and where.
+struct ModeTally {
+  int converged = 0;
+  double most_damping = -1, most_damping_amplitude = 0;
+};
+ModeTally tally(const NonlinearModeResult& r) {
+  ModeTally t;
+  for (const NonlinearModePoint& p : r.points) {
+    if (!p.converged) continue;
+    ++t.converged;
+    if (p.damping_ratio > t.most_damping) {
+      t.most_damping = p.damping_ratio;
+      t.most_damping_amplitude = p.amplitude;
+    }
+  }
+  return t;
+}
+
 void write_nonlinear_mode_summary(const StageRun& run, const PreparedModel& model,
                                   const SolvedNonlinearMode& solved,
                                   const std::vector<std::string>& removed, double seconds_total) {
   const CaseDefinition& def = run.definition;
   const NonlinearModeResult& r = solved.result;
-  int converged = 0;
-  double most_damping = -1, most_damping_amplitude = 0;
-  for (const NonlinearModePoint& p : r.points) {
-    if (!p.converged) continue;
-    ++converged;
-    if (p.damping_ratio > most_damping) {
-      most_damping = p.damping_ratio;
-      most_damping_amplitude = p.amplitude;
-    }
-  }
+  const auto [converged, most_damping, most_damping_amplitude] = tally(r);
   Json summary = start_summary(run);
   summary["analysis"] = "nonlinear_mode";
   Json mode = {{"mode", r.mode},
@@ -180,16 +189,7 @@ void write_prediction_tables(const StageRun& run, const PreparedModel& model,
 nlohmann::ordered_json prediction_summary(const CaseDefinition& def, const PreparedModel& model,
                                           const SolvedCase& solved) {
   const NonlinearModeResult& r = solved.mode;
-  int converged = 0;
-  double most_damping = -1, most_damping_amplitude = 0;
-  for (const NonlinearModePoint& p : r.points) {
-    if (!p.converged) continue;
-    ++converged;
-    if (p.damping_ratio > most_damping) {
-      most_damping = p.damping_ratio;
-      most_damping_amplitude = p.amplitude;
-    }
-  }
+  const auto [converged, most_damping, most_damping_amplitude] = tally(r);
   Json mode = {
       {"mode", r.mode},
       {"linear_frequency_hz", rad_s_to_hz(r.linear_omega)},
