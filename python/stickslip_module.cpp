@@ -1434,6 +1434,7 @@ Solution.converged); bad input raises InvalidInput.)");
               d["frequency_hz"] = p.frequency_hz;
               d["amplitude"] = p.amplitude_m;
               d["at_edge"] = p.at_edge;
+              d["located"] = p.located;
               out.append(d);
             }
             return out;
@@ -1441,7 +1442,9 @@ Solution.converged); bad input raises InvalidInput.)");
           "frf_peaks() -> list of dict\n\nPer output.frf DOF of the case (as the program's FRF "
           "plots and summary.json): body, node, axis, point (None: no converged point), "
           "frequency_hz, amplitude (|X| of the first dynamic harmonic, m), at_edge (the peak is "
-          "the first or last converged point: the true peak may lie outside the window).")
+          "the first or last converged point: the true peak may lie outside the window), located "
+          "(a continuation located the maximum between its points: frequency_hz and amplitude "
+          "are the located maximum's, point the largest sampled one).")
       .def(
           "recovery_points",
           [](const PySolution& s) {

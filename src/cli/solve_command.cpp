@@ -459,6 +459,8 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
       entry["peak_frequency_hz"] = peak.frequency_hz;
       entry["peak_amplitude_m"] = peak.amplitude_m;
       entry["peak_at_window_edge"] = peak.at_edge;
+      entry["peak_located"] = peak.located;
+      entry["peak_message"] = peak.message;
     }
     summary["frf"].push_back(entry);
   }

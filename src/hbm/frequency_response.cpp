@@ -297,6 +297,112 @@ std::vector<Bifurcation> locate_bifurcations(const HarmonicBalanceSystem& system
   return found;
 }
 
+// A² = |X|² of master DOF `dof`, output column `column`, at (x, Ω) (as evaluate_point computes the
+// master response).
+double amplitude_squared(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                         double omega, int dof, int column) {
+  Eigen::VectorXd forces;
+  system.contact_forces(x, forces, nullptr);
+  const bool frozen = !system.unknown_harmonics().has_static();
+  const Eigen::MatrixXcd u =
+      system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd());
+  const Eigen::MatrixXcd f =
+      system.to_complex(forces, frozen ? system.static_force() : Eigen::VectorXd());
+  return std::norm(system.master_response(f, omega, &u)(dof, column));
+}
+
+// The response peaks of an arc-length continuation (frequency_response.h, PeakOptions).
+std::vector<ResponsePeak> locate_peaks(const HarmonicBalanceSystem& system,
+                                       const ContinuationResult& curve,
+                                       const std::vector<FrequencyPoint>& points,
+                                       const std::vector<int>& harmonics,
+                                       const FrequencyResponseOptions& options) {
+  std::vector<ResponsePeak> found;
+  const int n = system.size();
+  const auto first_dynamic =
+      std::find_if(harmonics.begin(), harmonics.end(), [](int h) { return h != 0; });
+  const int column =
+      first_dynamic == harmonics.end() ? -1 : static_cast<int>(first_dynamic - harmonics.begin());
+  ArcBisectionOptions bisection;
+  bisection.tolerance = options.peaks.tolerance * curve.lambda_scale;
+  bisection.max_bisections = options.peaks.max_bisections;
+  bisection.x_scale = curve.x_scale;
+  bisection.lambda_scale = curve.lambda_scale;
+  bisection.newton = options.arclength.newton;
+  const int count = static_cast<int>(std::min(curve.points.size(), points.size()));
+  const auto converged = [&](int i) {
+    return i >= 0 && i < count && curve.points[i].newton.converged() &&
+           curve.points[i].tangent.size() == n + 1;
+  };
+  for (const int dof : options.peaks.dofs) {
+    ResponsePeak peak;
+    peak.dof = dof;
+    for (int i = 0; i < count && column >= 0; ++i) {
+      if (!points[i].converged) continue;
+      const double a = std::abs(points[i].master(dof, column));
+      if (peak.sampled_point < 0 || a > peak.amplitude) {
+        peak.sampled_point = i;
+        peak.amplitude = a;
+        peak.omega = points[i].omega;
+      }
+    }
+    const int i = peak.sampled_point;
+    if (i < 0 || !(curve.x_scale > 0 && curve.lambda_scale > 0)) {
+      peak.message = "no converged point on the curve";
+      found.push_back(std::move(peak));
+      continue;
+    }
+    // g = dA²/dσ along the unit tangent t (scaled variables), by central differences with a
+    // step h relative to the point's size in y: the truncation error O(h²) and the round-off
+    // O(ε A² / h) are both far below the bisection's resolution.
+    const auto g = [&](const ContinuationPoint& p) {
+      const double ys = std::hypot(p.x.norm() / curve.x_scale, p.lambda / curve.lambda_scale);
+      const double h = 1e-6 * std::max(1.0, ys);
+      const Eigen::VectorXd dx = (h * curve.x_scale) * p.tangent.head(n);
+      const double dl = h * curve.lambda_scale * p.tangent(n);
+      return (amplitude_squared(system, p.x + dx, p.lambda + dl, dof, column) -
+              amplitude_squared(system, p.x - dx, p.lambda - dl, dof, column)) /
+             (2 * h);
+    };
+    if (!converged(i) || !converged(i - 1) || !converged(i + 1)) {
+      peak.message = i == 0 || i + 1 >= count
+                         ? "the largest amplitude is at an end of the curve: the peak may lie "
+                           "outside the window"
+                         : "a neighbour of the largest sampled amplitude did not converge";
+      found.push_back(std::move(peak));
+      continue;
+    }
+    // A still rises after point i: the maximum is between i and i + 1, else between i − 1 and i.
+    const double g_i = g(curve.points[i]);
+    const int lo = g_i > 0 ? i : i - 1;
+    const double g_lo = g_i > 0 ? g_i : g(curve.points[i - 1]);
+    const double g_hi = g_i > 0 ? g(curve.points[i + 1]) : g_i;
+    if (!(g_lo > 0 && g_hi < 0)) {
+      peak.message =
+          "dA/ds does not change sign next to the largest sampled amplitude (a peak on a corner of "
+          "the curve): the sampled maximum is given";
+      found.push_back(std::move(peak));
+      continue;
+    }
+    const ArcBisectionResult r =
+        bisect_on_arc(system, curve.points[lo], g_lo, curve.points[lo + 1], g_hi, g, bisection);
+    peak.bracket = r.bracket;
+    peak.message = r.message;
+    if (r.located) {
+      const double a = std::sqrt(amplitude_squared(system, r.point.x, r.point.lambda, dof, column));
+      if (a >= peak.amplitude) {  // never report less than a point the curve has
+        peak.located = true;
+        peak.amplitude = a;
+        peak.omega = r.point.lambda;
+      } else {
+        peak.message += "; the located amplitude is below the sampled maximum: the latter is given";
+      }
+    }
+    found.push_back(std::move(peak));
+  }
+  return found;
+}
+
 }  // namespace
 
 const char* to_string(BifurcationType type) {
@@ -311,6 +417,18 @@ const char* to_string(BifurcationType type) {
       return "neimark_sacker";
   }
   return "unknown";
+}
+
+void validate(const PeakOptions& o, int master_dofs) {
+  for (size_t i = 0; i < o.dofs.size(); ++i) {
+    require(o.dofs[i] >= 0 && o.dofs[i] < master_dofs,
+            "PeakOptions.dofs[" + std::to_string(i) + "]", std::to_string(o.dofs[i]),
+            "in [0, " + std::to_string(master_dofs) + ")");
+  }
+  require(std::isfinite(o.tolerance) && o.tolerance > 0, "PeakOptions.tolerance",
+          std::to_string(o.tolerance), "finite and > 0");
+  require(o.max_bisections >= 0, "PeakOptions.max_bisections", std::to_string(o.max_bisections),
+          ">= 0");
 }
 
 void validate(const BifurcationOptions& o) {
@@ -360,6 +478,7 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   }
   if (options.stability) validate(options.hill);
   validate(options.bifurcations);
+  validate(options.peaks, system.master_dofs());
   require(system.size() > 0 || options.method == ContinuationMethod::kSteppedSweep,
           "FrequencyResponseOptions.method", "arc-length",
           "a stepped sweep when the system has no unknowns (no contact pairs: a linear response)");
@@ -423,6 +542,9 @@ FrequencyResponse frequency_response(const HarmonicBalanceSystem& system,
   }
   if (options.method == ContinuationMethod::kArcLength && options.bifurcations.enabled) {
     response.bifurcations = locate_bifurcations(system, result, response.points, options);
+  }
+  if (options.method == ContinuationMethod::kArcLength && !options.peaks.dofs.empty()) {
+    response.peaks = locate_peaks(system, result, response.points, response.harmonics, options);
   }
   return response;
 }

@@ -111,6 +111,36 @@ struct BifurcationOptions {
 };
 void validate(const BifurcationOptions& options);
 
+// Response peaks located on an arc-length continuation (FrequencyResponseOptions.peaks). The
+// largest sampled amplitude is only as close to the true peak as the points are dense, and the
+// curvature-controlled steps (arclength.h) are sparse. For each requested master DOF, A = |X| of
+// its first dynamic output harmonic: the point of largest A among the converged points, then the
+// maximum of A along the curve between that point and the neighbour towards which A still rises,
+// by bisection on the arc (bisect_on_arc) on g = dA²/dσ, the derivative along the curve's unit
+// tangent (central difference of A² along the tangent, in the scaled variables): g > 0 before the
+// maximum, < 0 after. Not located (the sampled maximum is given, with the reason): the maximum at
+// the first or the last point (the peak may lie outside the window), a neighbour that did not
+// converge, no sign change of g on either side (a peak on a corner of the curve, where a sample
+// switches between stick, slip and separation exactly there), or a failed bisection. A stepped
+// sweep gets none (its points are the user's frequencies, and it jumps at folds).
+struct PeakOptions {
+  std::vector<int> dofs{};  // master DOF indices (each in [0, master_dofs)); empty = none
+  // The bisection's final bracket, relative to the continuation's lambda_scale: > 0.
+  double tolerance = 1e-8;
+  int max_bisections = 60;  // >= 0
+};
+void validate(const PeakOptions& options, int master_dofs);
+
+struct ResponsePeak {
+  int dof = -1;            // the master DOF
+  int sampled_point = -1;  // the converged point of largest amplitude; -1: none converged
+  bool located = false;    // the bisection met PeakOptions.tolerance
+  double omega = 0.0;      // rad/s: the located maximum, else the sampled one's
+  double amplitude = 0.0;  // |X|, m: likewise
+  double bracket = 0.0;    // the final bracket, rad/s (arc length in units of Ω)
+  std::string message;
+};
+
 enum class ContinuationMethod { kSteppedSweep, kArcLength };
 enum class InitialGuess { kLinearStuck, kLinearFree };
 
@@ -124,6 +154,7 @@ struct FrequencyResponseOptions {
   bool stability = false;            // Hill's method at every converged point
   HillOptions hill{};
   BifurcationOptions bifurcations{};  // arc-length only
+  PeakOptions peaks{};                // arc-length only
 };
 
 struct Bifurcation {
@@ -144,6 +175,7 @@ struct Bifurcation {
 struct FrequencyResponse {
   std::vector<FrequencyPoint> points;
   std::vector<Bifurcation> bifurcations;  // in the order of the curve (arc-length only)
+  std::vector<ResponsePeak> peaks;        // one per PeakOptions.dofs, in order (arc-length only)
   std::vector<int> harmonics;  // output harmonics (columns of every complex matrix)
   bool completed = false;
   std::string message;

@@ -1447,6 +1447,13 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     o.arclength.target_turn_angle = kContinuationTurnAngle;
     o.arclength.max_points = an.max_points;
     o.arclength.newton = newton;
+    // The FRF DOFs' peaks are located between the points (frequency_response.h, PeakOptions):
+    // summary.json and the plots give the located maximum, not the largest sampled point.
+    for (const ResponseDofDefinition& r : def.output.frf) {
+      const int b = model.body_index(r.body);
+      const int g = b < 0 ? -1 : model.bodies[b].global_dof(r.node, r.direction);
+      if (g >= 0) o.peaks.dofs.push_back(g);
+    }
   } else {
     o.method = ContinuationMethod::kSteppedSweep;
     for (double hz : solved.frequencies_hz) o.omegas.push_back(hz_to_rad_s(hz));

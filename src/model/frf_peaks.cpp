@@ -32,6 +32,16 @@ std::vector<FrfPeak> frf_peaks(const CaseDefinition& def, const PreparedModel& m
       }
     }
     peak.at_edge = peak.point >= 0 && (peak.point == first || peak.point == last);
+    // A continuation locates the peak between its points (frequency_response.h, PeakOptions).
+    peak.message = "the largest amplitude of the points";
+    for (const ResponsePeak& located : fr.peaks) {
+      if (g < 0 || located.dof != g || located.sampled_point != peak.point) continue;
+      peak.message = located.message;
+      if (!located.located) continue;
+      peak.located = true;
+      peak.amplitude_m = located.amplitude;
+      peak.frequency_hz = rad_s_to_hz(located.omega);
+    }
     peaks.push_back(peak);
   }
   return peaks;

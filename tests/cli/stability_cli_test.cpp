@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -33,7 +34,7 @@ const fs::path kExample =
 // ẍ + α ẋ + ω0² x + k3 x³ = F cos Ωt with ω0 = 1000 rad/s, α = 20 1/s (ζ = 1 %), k3 = 1e12 N/m³,
 // F = 30 N: in units of ω0 and 1 mm the Duffing oscillator ω0 = 1, c = 0.02, k3 = 1, F = 0.03,
 // whose response folds twice between 0.5 ω0 and 2 ω0 (80–318 Hz).
-std::string duffing_case(bool stability, bool plots = false) {
+std::string duffing_case(bool stability, bool plots = false, int harmonics = 5) {
   return std::string(R"(stickslip: 1
 bodies:
   oscillator:
@@ -51,10 +52,11 @@ damping: {alpha: 20.0, beta: 0.0}
 analysis:
   frequency: {start_hz: 80, stop_hz: 318, step_hz: 1}
   method: continuation
-  harmonics: 5
+  harmonics: )") +
+         std::to_string(harmonics) + R"(
   time_samples: 64
   static: coupled
-)") + (stability ? "  stability: true\n" : "") +
+)" + (stability ? "  stability: true\n" : "") +
          "recovery: {points: none}\noutput: {directory: results, plots: " +
          (plots ? "true, frf: [{body: oscillator, node: 1, direction: x}]" : "false") + "}\n";
 }
@@ -155,6 +157,43 @@ bool same_point(std::pair<double, double> a, double f, double y) {
 // lists both folds of the Duffing curve, each between the two points where stability changes and
 // at the extremum of frequency there; frf.dat and frf.gp draw exactly the points.csv `stable = 0`
 // points (and the folds that bound them) dashed, every other point solid, the folds as markers.
+// summary.json's FRF peak on a continuation is located between the points (issue 16 item 3):
+// at H = 1 the Duffing curve is its amplitude equation, whose largest amplitude is where
+// k − Ω² + ¾k3 a² = c²/2 (tests/hbm/bifurcation_test.cpp derives it): in the units of the case
+// (ω0 = 1000 rad/s, 1 mm) ¾k3c² u² + c²(k − c²/4) u − F² = 0 with k = k3 = 1, c = 0.02, F = 0.03.
+TEST(StabilityCli, DuffingPeakIsLocatedBetweenThePoints) {
+  const fs::path dir = fresh_dir("peak_cli");
+  for (const char* f : {"K.hb", "K.mapping", "M.hb", "M.mapping"}) {
+    fs::copy_file(kExample / f, dir / f);
+  }
+  const fs::path file = write_case(dir, "duffing", duffing_case(false, true, 1));
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run("run -q " + file.string() + " -o " + out.string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  const double c2 = 0.02 * 0.02, qa = 0.75 * c2, qb = c2 * (1 - c2 / 4), qc = -0.03 * 0.03;
+  const double u = (-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+  const double peak_hz = 1000 * std::sqrt(1 + 0.75 * u - c2 / 2) / (2 * std::numbers::pi);
+  const double peak_m = 1e-3 * std::sqrt(u);
+  const nlohmann::json summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  const auto& frf = summary.at("frf").at(0);
+  EXPECT_TRUE(frf.at("peak_located").get<bool>()) << frf.dump();
+  EXPECT_EQ(frf.at("peak_message").get<std::string>().rfind("located after", 0), 0u);
+  EXPECT_FALSE(frf.at("peak_at_window_edge").get<bool>());
+  // The bracket: 1e-8 of the range (238 Hz); the amplitude is flat at the maximum.
+  EXPECT_NEAR(frf.at("peak_frequency_hz").get<double>(), peak_hz, 1e-8 * 238 + 1e-9 * peak_hz);
+  EXPECT_NEAR(frf.at("peak_amplitude_m").get<double>(), peak_m, 1e-9 * peak_m);
+  // The largest sampled amplitude, at peak_point, is further below.
+  double sampled = 0;
+  for (const auto& row : read_csv(out / "master_response.csv")) {
+    if (row.at("harmonic") != "1" || row.at("axis") != "x" ||
+        row.at("point") != std::to_string(frf.at("peak_point").get<int>()))
+      continue;
+    sampled = std::hypot(std::stod(row.at("real_m")), std::stod(row.at("imag_m")));
+  }
+  EXPECT_GT(sampled, 0.9 * peak_m);
+  EXPECT_LT(sampled, peak_m * (1 - 1e-8));
+}
+
 TEST(StabilityCli, DuffingFoldsAreListedAndItsUnstableRangeIsDrawnDashed) {
   STICKSLIP_REQUIRE_TOOL(std::system("command -v gnuplot > /dev/null 2>&1") == 0, "gnuplot");
   const fs::path dir = fresh_dir("stability_plot_cli");

@@ -220,6 +220,50 @@ std::complex<double> nearest_minus_one(const Eigen::Vector2cd& rho) {
   return std::abs(rho[0] + 1.0) < std::abs(rho[1] + 1.0) ? rho[0] : rho[1];
 }
 
+// The largest amplitude of the Duffing curve at H = 1 (PeakOptions): along the curve of the
+// amplitude equation G(a², Ω) = 0 the amplitude is largest where ∂G/∂Ω = 0, i.e.
+// q = k − Ω² + ¾k3 u = c²/2 (u = a²); with G = 0 this leaves ¾k3c² u² + c²(k − c²/4) u − F² = 0
+// and Ω² = k + ¾k3 u − c²/2. The continuation's own points (curvature-controlled steps, as the
+// program takes them) sample the peak more coarsely; the located maximum is on the curve.
+TEST(ResponsePeaks, DuffingPeakAtHarmonicOneMatchesTheAmplitudeEquation) {
+  const double c2 = kDamping * kDamping;
+  const double qa = 0.75 * kCubic * c2, qb = c2 * (kStiffness - c2 / 4), qc = -kForce * kForce;
+  const double u = (-qb + std::sqrt(qb * qb - 4 * qa * qc)) / (2 * qa);
+  const double omega_peak = std::sqrt(kStiffness + 0.75 * kCubic * u - c2 / 2);
+  const double a_peak = std::sqrt(u);
+  ASSERT_NEAR(a_peak, 1.0906, 1e-3);  // just before the upper fold (Ω ≈ 1.376, a ≈ 1.090)
+  const HarmonicBalanceSystem sys = duffing(1);
+  FrequencyResponseOptions r = continuation(0.5, 2.0);
+  r.arclength.max_step = 0.2;
+  r.arclength.target_turn_angle = 0.1;  // the program's curvature control (case_model.cpp)
+  r.arclength.max_lambda_step = 0.075;
+  r.peaks.dofs = {0};
+  const FrequencyResponse fr = frequency_response(sys, r);
+  ASSERT_TRUE(fr.completed) << fr.message;
+  ASSERT_EQ(fr.peaks.size(), 1u);
+  const ResponsePeak& peak = fr.peaks[0];
+  ASSERT_TRUE(peak.located) << peak.message;
+  ASSERT_GE(peak.sampled_point, 1);
+  const FrequencyPoint& sampled = fr.points[peak.sampled_point];
+  const double sampled_error = a_peak - std::abs(sampled.master(0, 1));
+  // The bisection's bracket is 1e-8 of the range (1.5): Ω within it; A is flat at its maximum,
+  // so the amplitude is exact to the square of the bracket (and the corrector's 1e-12).
+  EXPECT_LE(peak.bracket, 1e-8 * 1.5 * (1 + 1e-12));
+  EXPECT_NEAR(peak.omega, omega_peak, peak.bracket + 1e-10);
+  EXPECT_NEAR(peak.amplitude, a_peak, 1e-10);
+  // The sampled maximum is well below it: without the location the test would fail.
+  EXPECT_GT(sampled_error, 1e3 * std::abs(peak.amplitude - a_peak));
+  EXPECT_GT(sampled_error, 1e-7);
+  std::ostringstream text;
+  text << fr.points.size() << " points; sampled " << sampled_error << " below, located "
+       << peak.amplitude - a_peak << " (omega " << peak.omega - omega_peak << ")";
+  RecordProperty("peak", text.str());
+  // The same options on a stepped sweep give none; bad DOF indices are refused.
+  FrequencyResponseOptions bad = r;
+  bad.peaks.dofs = {1};
+  EXPECT_THROW(frequency_response(sys, bad), InvalidInput);
+}
+
 TEST(Bifurcations, PeriodDoublingOfTheHelmholtzDuffingWellMatchesTheMonodromyMatrix) {
   const HarmonicBalanceSystem sys = well(7);
   FrequencyResponseOptions r = continuation(2.0, 3.6);
