@@ -2455,7 +2455,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::EndSeq;
   e << YAML::Key << "nodes" << YAML::Value;
   vec(r.nodes);
-  if (r.annulus) e << YAML::Key << "annulus" << YAML::Value << true;
+  e << YAML::Key << "annulus" << YAML::Value << r.annulus;
   e << YAML::EndMap;
   const OutputDefinition& o = c.output;
   e << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
