@@ -1510,7 +1510,7 @@ Solution.converged); bad input raises InvalidInput.)");
               BodyRecovery recovery(*s.definition, *s.model, b, {.stresses = stresses});
               r = recovery.recover(p, s.solved->response.harmonics);
               if (stresses) {
-                sigma = recovery.stresses(r.displacement);
+                sigma = recovery.stresses(r.displacement, s.solved->response.harmonics);
                 envelope = stress_envelope(sigma, s.solved->response.harmonics);
               }
             }

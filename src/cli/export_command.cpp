@@ -38,6 +38,14 @@ int run_export(const ExportCommand& command) {
     const PreparedModel model =
         prepare_stage_model(run, out_dir, command.stage.case_file, /*full_matrices=*/false,
                             progress, /*load_basis_if_present=*/false, &cache);
+    for (const PreparedBody& body : model.bodies) {
+      if (!model.wave || !body.cyclic) continue;
+      throw InvalidInput(def.where("bodies." + body.name + ".cyclic"),
+                         "body " + body.name +
+                             " is a cyclic sector: its loads alone, without the cyclic "
+                             "constraint of each harmonic's nodal diameter, would not reproduce "
+                             "its response in another program (`stickslip recover` recovers it)");
+    }
     const std::string hint = stage_hint("solve", base, out_dir);
     check_solve_matches_model(results, model, def, run, hint);
     if (!numbered) {

@@ -77,7 +77,13 @@ void check_solve_matches_model(const SolveResults& results, const PreparedModel&
 void rebuild_master_response(SolveResults& results, const PreparedModel& model, const StageRun& run,
                              const std::string& hint) {
   // The reduced model's response at every reduced DOF from the contact forces of the files.
-  const HarmonicBalanceSystem system(model.linear, model.pairs, model.excitation, model.hbm);
+  // A cyclic sector: the travelling wave's models (as `solve` made the files).
+  const std::unique_ptr<HarmonicBalanceSystem> made =
+      model.wave ? std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
+                                                           model.excitation, model.hbm, *model.wave)
+                 : std::make_unique<HarmonicBalanceSystem>(model.linear, model.pairs,
+                                                           model.excitation, model.hbm);
+  const HarmonicBalanceSystem& system = *made;
   // Its harmonics are 0 + analysis.harmonics, those of the files (check_solve_matches_model).
   FrequencyResponse& response = results.response;
   const int nh = static_cast<int>(response.harmonics.size());

@@ -25,6 +25,7 @@
 #include "io/vtu_writer.h"
 #include "mesh/mesh.h"
 #include "model/body_recovery.h"
+#include "recovery/cyclic_recovery.h"
 #include "recovery/harmonic_response.h"
 #include "recovery/stress_envelope.h"
 
@@ -73,6 +74,37 @@ void write_vtk_collections(const std::filesystem::path& dir, const FrequencyResp
   if (!envelope_blocks.empty()) {
     write_vtm((dir / "recovery_envelope.vtm").string(), envelope_blocks);
   }
+}
+
+// The recovered fields of one point as VTU point data (docs/output-files.md): displacement and,
+// when S is not empty, stress per harmonic and the envelope.
+VtuData recovered_fields(const std::vector<int>& harmonics, const Eigen::MatrixXcd& x,
+                         const std::vector<ComplexStressMatrix>& S, const StressEnvelope& env) {
+  VtuData data;
+  const Eigen::Index nodes = x.rows() / 3;
+  for (size_t h = 0; h < harmonics.size(); ++h) {
+    const Eigen::VectorXcd xh = x.col(static_cast<Eigen::Index>(h));
+    const Eigen::MatrixXd re =
+        Eigen::Map<const Eigen::MatrixXd>(Eigen::VectorXd(xh.real()).data(), 3, nodes);
+    const Eigen::MatrixXd im =
+        Eigen::Map<const Eigen::MatrixXd>(Eigen::VectorXd(xh.imag()).data(), 3, nodes);
+    data.point_data.push_back({fmt::format("displacement_h{}_real", harmonics[h]), re});
+    data.point_data.push_back({fmt::format("displacement_h{}_imag", harmonics[h]), im});
+  }
+  if (S.empty()) return data;
+  for (size_t h = 0; h < harmonics.size(); ++h) {
+    // VTU tensors are in ParaView order xx, yy, zz, xy, yz, xz; ours xx, yy, zz, xy, xz, yz.
+    Eigen::MatrixXd re = S[h].real(), im = S[h].imag();
+    re.row(4).swap(re.row(5));
+    im.row(4).swap(im.row(5));
+    data.point_data.push_back({fmt::format("stress_h{}_real", harmonics[h]), re});
+    data.point_data.push_back({fmt::format("stress_h{}_imag", harmonics[h]), im});
+  }
+  data.point_data.push_back({"von_mises_max", env.von_mises_max.transpose()});
+  data.point_data.push_back({"von_mises_alternating", env.von_mises_alternating.transpose()});
+  data.point_data.push_back({"von_mises_mean", env.von_mises_mean.transpose()});
+  data.point_data.push_back({"max_principal_max", env.max_principal_max.transpose()});
+  return data;
 }
 
 }  // namespace
@@ -210,7 +242,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     double bytes = 0;
     for (const PreparedBody& body : model.bodies) {
       if (!body.from_mesh) continue;
-      const double per_node = 8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
+      double per_node = 8.0 * (3 * 2 * nh + (want_stress ? 6 * 2 * nh + 4 : 0));
+      if (def.recovery.annulus && body.cyclic) per_node *= 1 + body.cyclic->sectors;
       bytes += per_node * body.mesh.num_nodes() * static_cast<double>(points.size());
     }
     if (bytes > kLargeOutput) {
@@ -257,6 +290,16 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     const BodyRecovery recovery(def, model, static_cast<int>(b),
                                 {.stresses = want_stress && def.output.vtu});
     const std::vector<int>& held_nodes = recovery.held_nodes();
+    // recovery.annulus: the whole annulus of a cyclic sector, one mesh of N sectors.
+    std::optional<Mesh> annulus;
+    Eigen::MatrixXd annulus_sector;  // 1 x nodes: the sector of each node
+    if (def.recovery.annulus && def.output.vtu && recovery.cyclic()) {
+      annulus = annulus_mesh(body.mesh, recovery.cyclic()->symmetry());
+      const int n = body.mesh.num_nodes(), N = recovery.cyclic()->symmetry().sectors;
+      annulus_sector.resize(1, static_cast<Eigen::Index>(n) * N);
+      for (int j = 0; j < N; ++j)
+        annulus_sector.middleCols(static_cast<Eigen::Index>(j) * n, n).setConstant(j);
+    }
     any_reactions = any_reactions || !held_nodes.empty();
     const auto t_body = std::chrono::steady_clock::now();
     int done = 0, last_decile = 0;
@@ -321,31 +364,11 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
         }
       }
       if (!def.output.vtu) continue;
-      VtuData data;
-      for (int h = 0; h < nh; ++h) {
-        const Eigen::VectorXcd xh = x.col(h);
-        const Eigen::MatrixXd re = Eigen::Map<const Eigen::MatrixXd>(
-            Eigen::VectorXd(xh.real()).data(), 3, body.mesh.num_nodes());
-        const Eigen::MatrixXd im = Eigen::Map<const Eigen::MatrixXd>(
-            Eigen::VectorXd(xh.imag()).data(), 3, body.mesh.num_nodes());
-        data.point_data.push_back({fmt::format("displacement_h{}_real", harmonics[h]), re});
-        data.point_data.push_back({fmt::format("displacement_h{}_imag", harmonics[h]), im});
-      }
+      std::vector<ComplexStressMatrix> S;
+      StressEnvelope env;
       if (want_stress) {
-        const std::vector<ComplexStressMatrix> S = recovery.stresses(x);
-        for (int h = 0; h < nh; ++h) {
-          // VTU tensors are in ParaView order xx, yy, zz, xy, yz, xz; ours xx, yy, zz, xy, xz, yz.
-          Eigen::MatrixXd re = S[h].real(), im = S[h].imag();
-          re.row(4).swap(re.row(5));
-          im.row(4).swap(im.row(5));
-          data.point_data.push_back({fmt::format("stress_h{}_real", harmonics[h]), re});
-          data.point_data.push_back({fmt::format("stress_h{}_imag", harmonics[h]), im});
-        }
-        const StressEnvelope env = stress_envelope(S, harmonics, StressEnvelopeOptions{});
-        data.point_data.push_back({"von_mises_max", env.von_mises_max.transpose()});
-        data.point_data.push_back({"von_mises_alternating", env.von_mises_alternating.transpose()});
-        data.point_data.push_back({"von_mises_mean", env.von_mises_mean.transpose()});
-        data.point_data.push_back({"max_principal_max", env.max_principal_max.transpose()});
+        S = recovery.stresses(x, harmonics);
+        env = stress_envelope(S, harmonics, StressEnvelopeOptions{});
         if (sweep_vm_max.size() == 0) {
           sweep_vm_max = env.von_mises_max;
           sweep_vm_alt = env.von_mises_alternating;
@@ -356,11 +379,37 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
           sweep_p_max = sweep_p_max.cwiseMax(env.max_principal_max);
         }
       }
+      VtuData data = recovered_fields(harmonics, x, S, env);
       data.field_data.emplace_back("frequency_hz", rad_s_to_hz(p.omega));
       const std::string file = fmt::format("recovery/{}/p{}.vtu", body.name, pi);
       create_output_folder(dir / "recovery" / body.name);
       write_vtu((dir / file).string(), body.mesh, data);
       vtu_files.push_back({pi, body.name, file});
+      if (annulus) {  // every sector's fields from sector 0's (recovery/cyclic_recovery.h)
+        const CyclicSymmetry& sym = recovery.cyclic()->symmetry();
+        const int eo = recovery.cyclic()->engine_order();
+        StressEnvelope env_a;
+        if (want_stress) {
+          const int N = sym.sectors;
+          env_a.von_mises_max = env.von_mises_max.replicate(N, 1);
+          env_a.von_mises_alternating = env.von_mises_alternating.replicate(N, 1);
+          env_a.von_mises_mean = env.von_mises_mean.replicate(N, 1);
+          env_a.max_principal_max = env.max_principal_max.replicate(N, 1);
+        }
+        VtuData a = recovered_fields(harmonics, annulus_vectors(x, harmonics, sym, eo),
+                                     want_stress ? annulus_tensors(S, harmonics, sym, eo)
+                                                 : std::vector<ComplexStressMatrix>{},
+                                     env_a);
+        a.point_data.push_back({"sector", annulus_sector});
+        a.field_data = data.field_data;
+        a.field_data.emplace_back("sectors", static_cast<double>(sym.sectors));
+        a.field_data.emplace_back("engine_order", static_cast<double>(eo));
+        const std::string name = body.name + "_annulus";
+        const std::string afile = fmt::format("recovery/{}/p{}.vtu", name, pi);
+        create_output_folder(dir / "recovery" / name);
+        write_vtu((dir / afile).string(), *annulus, a);
+        vtu_files.push_back({pi, name, afile});
+      }
     }
     if (points.size() > 1 && sweep_vm_max.size() > 0) {
       VtuData data;
@@ -371,6 +420,18 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       const std::string file = fmt::format("recovery/{}/envelope.vtu", body.name);
       write_vtu((dir / file).string(), body.mesh, data);
       envelope_blocks.push_back({body.name, file});
+      if (annulus) {
+        const int N = recovery.cyclic()->symmetry().sectors;
+        VtuData a;
+        for (const VtuField& f : data.point_data)
+          a.point_data.push_back({f.name, annulus_scalars(f.values, N)});
+        a.point_data.push_back({"sector", annulus_sector});
+        a.field_data = data.field_data;
+        const std::string name = body.name + "_annulus";
+        const std::string afile = fmt::format("recovery/{}/envelope.vtu", name);
+        write_vtu((dir / afile).string(), *annulus, a);
+        envelope_blocks.push_back({name, afile});
+      }
     }
   }
   write_vtk_collections(dir, response, points, vtu_files, envelope_blocks);

@@ -1658,6 +1658,7 @@ void parse_recovery(Parser& p, const MapView& top) {
       r.nodes.push_back(id);
     }
   }
+  m.boolean("annulus", &r.annulus);
 }
 
 void parse_output(Parser& p, const MapView& top) {
@@ -2454,6 +2455,7 @@ std::string describe_case(const CaseDefinition& c) {
   e << YAML::EndSeq;
   e << YAML::Key << "nodes" << YAML::Value;
   vec(r.nodes);
+  e << YAML::Key << "annulus" << YAML::Value << r.annulus;
   e << YAML::EndMap;
   const OutputDefinition& o = c.output;
   e << YAML::Key << "output" << YAML::Value << YAML::BeginMap;

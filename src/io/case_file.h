@@ -369,6 +369,7 @@ struct RecoveryDefinition {
   int modes = 100;                                  // modal: full-model modes (≥ 1)
   std::vector<RecoveryField> fields{RecoveryField::kDisplacement, RecoveryField::kStress};
   std::vector<int> nodes;  // node ids whose recovered response is written
+  bool annulus = false;    // a cyclic sector: also the whole annulus (VTU)
 };
 
 struct ResponseDofDefinition {

@@ -138,6 +138,7 @@ const std::vector<CaseKey>& case_keys() {
     {"recovery", "modes", "integer in [1, 10000]", "", "`100`", false, "modal only: full-model modes"},
     {"recovery", "fields", "list of `displacement`, `stress`", "", "both", false, "what is recovered and written"},
     {"recovery", "nodes", "list of node ids", "", "none", false, "nodes whose recovered response is also written as CSV"},
+    {"recovery", "annulus", "bool", "", "`false`", false, "a cyclic sector: also the whole annulus, every sector's fields from sector 0's, as one VTU per point"},
     {"output", "directory", "path", "", "`results`", false, "output folder, relative to the case file"},
     {"output", "vtu", "bool", "", "`true`", false, "ParaView files of the recovered fields"},
     {"output", "plots", "bool", "", "`true`", false, "PNG and SVG plots"},

@@ -30,7 +30,29 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
             ": its reduced model was given without them, so it cannot be recovered on its "
             "mesh (recovery.points: none)");
   }
-  if (method_ == RecoveryMethod::kDirect) {
+  if (model.wave && body_.cyclic) {
+    // A cyclic sector: each harmonic on its nodal diameter (recovery/cyclic_recovery.h).
+    if (method_ != RecoveryMethod::kDirect) {
+      throw InvalidInput(def.where("recovery.method"),
+                         "body " + body_.name +
+                             " is a cyclic sector: its recovery is the direct solve of each "
+                             "harmonic's nodal diameter (recovery.method: direct)");
+    }
+    std::vector<int> clamped, harmonics{0};
+    for (int d = 0; d < body_.constraints.num_dofs(); ++d) {
+      if (body_.constraints.is_clamped(d)) clamped.push_back(d);
+    }
+    for (int k : def.analysis.harmonics) harmonics.push_back(k);
+    cyclic_ = std::make_unique<CyclicSectorRecovery>(*body_.K, *body_.M, body_.cyclic_pairs,
+                                                     clamped, *body_.cyclic,
+                                                     model.wave->engine_order, damping_, harmonics);
+    if (!cyclic_->ok()) {
+      throw InvalidInput(
+          def.where("bodies." + body_.name + ".cyclic"),
+          "recovery of cyclic body " + body_.name + " failed: " + cyclic_->message());
+    }
+    elements_at_node_ = elements_at_nodes(body_.mesh);
+  } else if (method_ == RecoveryMethod::kDirect) {
     solver_ = std::make_unique<DirectRecovery>(*body_.K, *body_.M, body_.constraints, damping_);
   } else if (method_ == RecoveryMethod::kModal) {
     ModalRecoveryOptions o;
@@ -51,6 +73,7 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
     }
   }
   for (int node = 0; node < body_.mesh.num_nodes(); ++node) {
+    if (cyclic_ && cyclic_->is_high(node)) continue;  // the next sector's low node
     for (int d = 0; d < 3; ++d) {
       if (body_.constraints.is_constrained(dof_of(node, d))) {
         held_nodes_.push_back(node);
@@ -71,7 +94,8 @@ RecoveredPoint BodyRecovery::recover(const FrequencyPoint& p,
   const int n = body_.mesh.num_dofs();
   RecoveredPoint out;
   out.loads = recovery_loads(model_, body_, harmonics, p);
-  out.displacement = method_ == RecoveryMethod::kExpansion
+  out.displacement = cyclic_ ? cyclic_->solve(out.loads, harmonics, p.omega, &out.summary)
+                     : method_ == RecoveryMethod::kExpansion
                          ? expand_reduced_response(
                                *body_.T, p.master.middleRows(body_.offset, body_.reduced.size()))
                          : harmonic_response(*solver_, out.loads, harmonics, p.omega, &out.summary);
@@ -102,28 +126,41 @@ RecoveredPoint BodyRecovery::recover(const FrequencyPoint& p,
     const Eigen::MatrixXd Kr = *body_.K * xr, Ki = *body_.K * xi;
     const Eigen::MatrixXd Mr = *body_.M * xr, Mi = *body_.M * xi;
     const std::complex<double> i1(0, 1);
+    Eigen::MatrixXcd residual(n, nh);
     for (int h = 0; h < nh; ++h) {
       const double w = harmonics[h] * p.omega;
       const Eigen::VectorXcd Kx = Kr.col(h).cast<std::complex<double>>() + i1 * Ki.col(h);
       const Eigen::VectorXcd Mx = Mr.col(h).cast<std::complex<double>>() + i1 * Mi.col(h);
-      const Eigen::VectorXcd R =
-          Kx - w * w * Mx +
-          std::complex<double>(0, w) * (damping_.alpha * Mx + damping_.beta * Kx) -
-          out.loads.col(h);
+      residual.col(h) = Kx - w * w * Mx +
+                        std::complex<double>(0, w) * (damping_.alpha * Mx + damping_.beta * Kx) -
+                        out.loads.col(h);
+    }
+    // A sector's low node is shared with the previous sector, whose share is its high node's.
+    if (cyclic_) cyclic_->fold_boundary_residual(residual, harmonics);
+    for (int h = 0; h < nh; ++h) {
       for (size_t i = 0; i < held_nodes_.size(); ++i) {
-        for (int d = 0; d < 3; ++d) out.reactions(3 * i + d, h) = R(dof_of(held_nodes_[i], d));
+        for (int d = 0; d < 3; ++d) {
+          out.reactions(3 * i + d, h) = residual(dof_of(held_nodes_[i], d), h);
+        }
       }
     }
   }
   return out;
 }
 
-std::vector<ComplexStressMatrix> BodyRecovery::stresses(
-    const Eigen::MatrixXcd& displacement) const {
+std::vector<ComplexStressMatrix> BodyRecovery::stresses(const Eigen::MatrixXcd& displacement,
+                                                        std::span<const int> harmonics) const {
   if (!stress_operator_) {
     throw std::logic_error("BodyRecovery::stresses: built without options.stresses");
   }
-  return stress_operator_->apply(displacement);
+  std::vector<ComplexStressMatrix> S = stress_operator_->apply(displacement);
+  if (cyclic_) {
+    if (static_cast<Eigen::Index>(harmonics.size()) != displacement.cols()) {
+      throw std::logic_error("BodyRecovery::stresses: a cyclic sector needs the harmonics");
+    }
+    cyclic_->average_boundary_stresses(S, harmonics, elements_at_node_);
+  }
+  return S;
 }
 
 }  // namespace stickslip

@@ -7,12 +7,19 @@
 // supports do not hold gets, at harmonic 0, the rigid motion that fits the reduced response at its
 // master DOFs (recovery/harmonic_response.h, add_rigid_motion).
 //
+// A cyclic sector under engine-order excitation (PreparedModel::wave) is recovered on its sector
+// with the cyclic constraint of each harmonic's nodal diameter (recovery/cyclic_recovery.h;
+// recovery.method: direct only): sector 0's fields, the reactions and the nodal stresses of its
+// boundary nodes as in the whole annulus solved as one body; the annulus from them is
+// recovery/cyclic_recovery.h's annulus_*.
+//
 // The command line writes what this returns (cli/recovery_stage.h: recovery_check.csv,
 // reactions.csv, recovered_nodes.csv, .vtu files); a program using the library takes the arrays.
 #pragma once
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,6 +28,7 @@
 #include "hbm/frequency_response.h"
 #include "io/case_file.h"
 #include "model/case_model.h"
+#include "recovery/cyclic_recovery.h"
 #include "recovery/harmonic_response.h"
 
 namespace stickslip {
@@ -62,12 +70,16 @@ class BodyRecovery {
   RecoveredPoint recover(const FrequencyPoint& point, const std::vector<int>& harmonics) const;
 
   // Nodal stresses of a recovered displacement (one 6 x num_nodes matrix per column of x; tensor
-  // components xx, yy, zz, xy, xz, yz). Needs options.stresses.
-  std::vector<ComplexStressMatrix> stresses(const Eigen::MatrixXcd& displacement) const;
+  // components xx, yy, zz, xy, xz, yz). Needs options.stresses. A cyclic sector needs the
+  // harmonic of each column (its boundary nodes average across the boundary with their phase).
+  std::vector<ComplexStressMatrix> stresses(const Eigen::MatrixXcd& displacement,
+                                            std::span<const int> harmonics = {}) const;
 
   // Node indices (into the body's mesh) with a clamped, supported or equation-dependent DOF.
   const std::vector<int>& held_nodes() const { return held_nodes_; }
   const PreparedBody& body() const { return body_; }
+  // The cyclic sector's recovery (null for an ordinary body).
+  const CyclicSectorRecovery* cyclic() const { return cyclic_.get(); }
 
  private:
   const PreparedModel& model_;
@@ -79,6 +91,8 @@ class BodyRecovery {
   std::vector<int> full_dofs_, reduced_dofs_;  // the master DOFs: full and assembled-reduced
   std::vector<int> held_nodes_;
   std::optional<NodalStressOperator> stress_operator_;
+  std::unique_ptr<CyclicSectorRecovery> cyclic_;
+  std::vector<int> elements_at_node_;  // cyclic: elements holding each node
 };
 
 }  // namespace stickslip

@@ -143,6 +143,10 @@ struct PreparedBody {
   ReducedBody reduced;         // K_r, M_r and what each reduced DOF is
   // Expansion basis, full DOFs x reduced (from_mesh; null when not made or not read). Shared.
   std::shared_ptr<const Eigen::MatrixXd> T;
+  // A cyclic sector under engine-order excitation (model/cyclic_forced_response.h): its symmetry
+  // and boundary pairs (CaseBody::cyclic, cyclic_pairs), for the recovery.
+  std::optional<CyclicSymmetry> cyclic;
+  std::vector<std::pair<int, int>> cyclic_pairs;
   int offset = 0;              // first DOF of this body in the assembled reduced model
   // (external node id, direction) -> DOF of the assembled reduced model.
   std::map<std::pair<int, int>, int> master_dof;

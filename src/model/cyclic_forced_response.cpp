@@ -44,6 +44,11 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
                              " is not a cyclic sector: it has no neighbour sector");
     }
   }
+  if (def.recovery.annulus && name.empty()) {
+    throw InvalidInput(def.where("recovery.annulus"),
+                       "the annulus is recovered from a cyclic sector (bodies.B.cyclic), and "
+                       "this case has none");
+  }
   if (name.empty()) return std::nullopt;
   const BodyDefinition& bd = def.bodies.at(name);
   const std::string key = "bodies." + name;
@@ -96,10 +101,34 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
     throw InvalidInput(def.where("analysis.stability"),
                        "Hill's stability of a cyclic sector's travelling wave is not computed yet");
   }
-  if (def.recovery.points != RecoveryPoints::kNone) {
-    throw InvalidInput(def.where("recovery.points"),
-                       "the recovery on a cyclic sector (its full displacements and stresses) is "
-                       "still to come: give `recovery: {points: none}`");
+  const RecoveryDefinition& rec = def.recovery;
+  if (rec.points != RecoveryPoints::kNone) {
+    if (rec.method != RecoveryMethod::kDirect) {
+      throw InvalidInput(def.where("recovery.method"),
+                         "body " + name +
+                             " is a cyclic sector: its recovery is the direct solve of each "
+                             "harmonic's nodal diameter (recovery.method: direct)");
+    }
+    for (const auto& [key, on] : {std::pair<const char*, bool>{"apdl_macro", def.output.apdl_macro},
+                                  {"calculix_deck", def.output.calculix_deck}}) {
+      if (on) {
+        throw InvalidInput(def.where(std::string("output.") + key),
+                           "body " + name +
+                               " is a cyclic sector: its loads alone, without the cyclic "
+                               "constraint of each harmonic's nodal diameter, would not "
+                               "reproduce its response in another program");
+      }
+    }
+  }
+  if (rec.annulus && rec.points == RecoveryPoints::kNone) {
+    throw InvalidInput(def.where("recovery.annulus"),
+                       "the annulus is built from the recovered points, and recovery.points is "
+                       "none");
+  }
+  if (rec.annulus && !def.output.vtu) {
+    throw InvalidInput(def.where("recovery.annulus"),
+                       "the annulus is written as a ParaView file (output.vtu: true), and "
+                       "output.vtu is false");
   }
   CyclicForcedResponse out;
   out.body = name;
@@ -222,6 +251,8 @@ std::map<int, CyclicReducedSector> reduce_cyclic_body(const CaseDefinition& def,
   body.K = std::make_shared<const SparseMatrix>(std::move(K));
   body.M = std::make_shared<const SparseMatrix>(std::move(M));
   body.T = nullptr;
+  body.cyclic = resolved.cyclic;
+  body.cyclic_pairs = resolved.cyclic_pairs;
   body.seconds_reduction = seconds_since(t0);
   return out;
 }

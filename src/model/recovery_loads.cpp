@@ -7,6 +7,7 @@
 
 #include "core/errors.h"
 #include "core/types.h"
+#include "hbm/travelling_wave.h"
 
 namespace stickslip {
 namespace {
@@ -71,11 +72,6 @@ std::vector<int> recovery_points(const CaseDefinition& def, const PreparedModel&
 
 Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& body,
                               const std::vector<int>& harmonics, const FrequencyPoint& p) {
-  if (model.wave) {  // the loads of harmonic k live in another nodal diameter than the body's K, M
-    throw InvalidInput("body " + body.name +
-                       " is a cyclic sector: its recovery (full displacements and stresses of "
-                       "the sector and the annulus) is still to come");
-  }
   const int nh = static_cast<int>(harmonics.size());
   const int n = body.reduced.size();
   // Excitation (and preload loads) on the master DOFs.
@@ -97,12 +93,25 @@ Eigen::MatrixXcd master_loads(const PreparedModel& model, const PreparedBody& bo
     // From force_local (force_global read back from contact_forces.csv has 3 rows only).
     const Eigen::MatrixXcd fg =
         pair.frame.transpose().cast<std::complex<double>>() * p.pairs[q].force_local;
+    // A cyclic sector's pair with the neighbour sector s (model.wave): this sector's node B
+    // receives the force of the pair of sector −s, rotated back, with the conjugate phase,
+    // e^{−iσ_k s} (R^s)ᵀ Rᵀf (hbm/travelling_wave.h: −B_kᴴ f).
+    Eigen::MatrixXcd fg_b = fg;
+    if (pair.b_sector != 0 && model.wave) {
+      fg_b = sector_rotation(model.wave->rotation, pair.b_sector)
+                 .transpose()
+                 .cast<std::complex<double>>() *
+             fg;
+      for (int h = 0; h < nh; ++h) {
+        fg_b.col(h) *= std::polar(1.0, -model.wave->phase(harmonics[h]) * pair.b_sector);
+      }
+    }
     for (int d = 0; d < static_cast<int>(fg.rows()); ++d) {
       for (int side = 0; side < 2; ++side) {
         const std::vector<int>& dofs = side == 0 ? pair.dofs_a : pair.dofs_b;
         if (dofs.empty() || dofs[d] < body.offset || dofs[d] >= body.offset + n) continue;
         const double sign = side == 0 ? -1.0 : 1.0;  // A receives the negative
-        F.row(dofs[d] - body.offset) += sign * fg.row(d);
+        F.row(dofs[d] - body.offset) += sign * (side == 0 ? fg : fg_b).row(d);
       }
     }
   }

@@ -5,7 +5,9 @@
 // with `engine_order`. The ring: 6 contacts, sector s's force rotated by R^s and phase-shifted by
 // e^{+ik EO 2πs/N}. Both keep every interior mode (exact reductions), so the contact forces of
 // sector 0 and the forced node's response agree to the solver's tolerance: linear springs (EO 1)
-// and friction in stick–slip (EO 2, harmonics 1..3: diameters 2, 2 conjugated, 0). Then bad input.
+// and friction in stick–slip (EO 2, harmonics 1..3: diameters 2, 2 conjugated, 0). Both recover
+// every point (item 5): the sector with `recovery.annulus`, whose annulus file VTK reads and
+// compares with the ring's own recovery at every node of every sector. Then bad input.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -100,14 +102,15 @@ damping: {alpha: 20, beta: 2.0e-7}
 )";
 }
 
-std::string tail(int harmonics) {
+std::string tail(int harmonics, const std::string& recovery) {
   return "analysis:\n  frequency: {start_hz: 1100, stop_hz: 1120, step_hz: 10}\n  harmonics: " +
          std::to_string(harmonics) +
-         "\n  time_samples: 96\n  tolerance: 1.0e-11\nrecovery: {points: none}\noutput: {plots: "
-         "false}\n";
+         "\n  time_samples: 96\n  tolerance: 1.0e-11\nrecovery: " + recovery +
+         "\noutput: {plots: false}\n";
 }
 
-std::string sector_case(const cyc::BladedRing& b, int eo, int harmonics, const std::string& law) {
+std::string sector_case(const cyc::BladedRing& b, int eo, int harmonics, const std::string& law,
+                        const std::string& recovery = "{points: none}") {
   std::ostringstream c;
   c << head("sector.inp") << R"(bodies:
   blade:
@@ -124,11 +127,12 @@ contacts:
 )" << contact(b, 0, "blade", true, law)
     << "excitation:\n  - {body: blade, node: " << b.mesh.node_ids[b.forced(0)]
     << ", force: " << vec(kForce) << ", engine_order: " << eo << "}\n"
-    << tail(harmonics);
+    << tail(harmonics, recovery);
   return c.str();
 }
 
-std::string ring_case(const cyc::BladedRing& b, int eo, int harmonics, const std::string& law) {
+std::string ring_case(const cyc::BladedRing& b, int eo, int harmonics, const std::string& law,
+                      const std::string& recovery = "{points: none}") {
   std::ostringstream c;
   c.precision(17);
   c << head("ring.inp") << R"(bodies:
@@ -152,7 +156,7 @@ contacts:
     }
     c << "]}\n";
   }
-  c << tail(harmonics);
+  c << tail(harmonics, recovery);
   return c.str();
 }
 
@@ -188,14 +192,131 @@ double mismatch(const std::map<std::string, std::complex<double>>& a,
   return worst / scale;
 }
 
+// The recovery (item 5) read back by VTK itself (Debian python3-vtk9, not our writer): the
+// sector's annulus file against the whole ring's own recovery, cell by cell (cells matched by
+// centroid, their nodes by position: the ring's shroud faces have two coincident nodes, one per
+// blade, told apart by their cells), every array at every node of every sector; the annulus's
+// copies of one ring node (the sector boundaries) against each other; the sector's own file
+// against the annulus's sector 0; the sector's reactions against the ring's at the same places.
+// Prints "RESULT <what> <largest difference relative to the ring's largest value>".
+const char* const kAnnulusCheck = R"PY(
+import sys, os, csv
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+sector_dir, ring_dir, N = sys.argv[1], sys.argv[2], int(sys.argv[3])
+def read(path):
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    g = r.GetOutput()
+    assert g.GetNumberOfPoints() > 0 and g.GetNumberOfCells() > 0, path
+    return g
+def arrays(g):
+    pd = g.GetPointData()
+    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).reshape(g.GetNumberOfPoints(), -1)
+            for i in range(pd.GetNumberOfArrays())}
+def cells(g):
+    out = []
+    for c in range(g.GetNumberOfCells()):
+        ids = g.GetCell(c).GetPointIds()
+        out.append([ids.GetId(i) for i in range(ids.GetNumberOfIds())])
+    return out
+def nearest(x, places):  # the row of `places` at x (within 1e-9 m)
+    d = np.abs(places - x).max(axis=1)
+    i = int(np.argmin(d))
+    assert d[i] < 1e-9, (x, d[i])
+    return i
+def family(name):
+    if name.startswith('displacement_h'): return 'displacement'
+    if name.startswith('stress_h'): return 'stress'
+    return 'envelope'
+points = sorted(int(r['point']) for r in csv.DictReader(open(os.path.join(sector_dir, 'points.csv')))
+                if r['converged'] == '1')
+assert points
+diff, scale, shared, own = {}, {}, 0, 0.0
+for p in points:
+    sec = read(os.path.join(sector_dir, 'recovery', 'blade', 'p%d.vtu' % p))
+    ann = read(os.path.join(sector_dir, 'recovery', 'blade_annulus', 'p%d.vtu' % p))
+    ring = read(os.path.join(ring_dir, 'recovery', 'ring', 'p%d.vtu' % p))
+    n = sec.GetNumberOfPoints()
+    assert ann.GetNumberOfPoints() == N * n, (ann.GetNumberOfPoints(), n)
+    assert ann.GetNumberOfCells() == N * sec.GetNumberOfCells() == ring.GetNumberOfCells()
+    A, R, S = arrays(ann), arrays(ring), arrays(sec)
+    assert sorted(A['sector'][:, 0]) == sorted(j for j in range(N) for _ in range(n))
+    ax = vtk_to_numpy(ann.GetPoints().GetData())
+    rx = vtk_to_numpy(ring.GetPoints().GetData())
+    ring_cells = cells(ring)
+    centroids = np.array([rx[c].mean(axis=0) for c in ring_cells])
+    match = {}
+    for c in cells(ann):
+        rc = ring_cells[nearest(ax[c].mean(axis=0), centroids)]
+        for a in c:
+            m = [r for r in rc if np.abs(rx[r] - ax[a]).max() < 1e-9]
+            assert len(m) == 1, (a, m)
+            assert match.setdefault(a, m[0]) == m[0]
+    assert len(match) == N * n
+    ai = np.array(sorted(match))
+    ri = np.array([match[a] for a in ai])
+    names = [k for k in R if k.startswith(('displacement_h', 'stress_h', 'von_mises', 'max_principal'))]
+    assert len(names) > 4 and all(k in A and k in S for k in names), names
+    copies = {}
+    for a, r in match.items():
+        copies.setdefault(r, []).append(a)
+    for k in names:
+        f = family(k)
+        diff[f] = max(diff.get(f, 0.0), float(np.abs(A[k][ai] - R[k][ri]).max()))
+        scale[f] = max(scale.get(f, 0.0), float(np.abs(R[k]).max()))
+        for r, al in copies.items():
+            if len(al) > 1:
+                diff['boundary_' + f] = max(diff.get('boundary_' + f, 0.0),
+                                            float(np.abs(A[k][al] - A[k][al[0]]).max()))
+                scale['boundary_' + f] = scale[f]
+        own = max(own, float(np.abs(A[k][:n] - S[k]).max()))
+    shared = max(shared, sum(1 for al in copies.values() if len(al) > 1))
+# Reactions at sector 0's clamped nodes against the ring's at the same places.
+def node_places(g):
+    return vtk_to_numpy(g.GetPointData().GetArray('node_id')), vtk_to_numpy(g.GetPoints().GetData())
+def reactions(d):
+    return {(r['point'], int(r['node']), r['axis'], r['harmonic']): complex(float(r['real_n']), float(r['imag_n']))
+            for r in csv.DictReader(open(os.path.join(d, 'reactions.csv')))}
+s_ids, s_x = node_places(read(os.path.join(sector_dir, 'recovery', 'blade', 'p%d.vtu' % points[0])))
+r_ids, r_x = node_places(read(os.path.join(ring_dir, 'recovery', 'ring', 'p%d.vtu' % points[0])))
+ring_id = {int(i): int(r_ids[nearest(s_x[j], r_x)]) for j, i in enumerate(s_ids)}
+rs, rr = reactions(sector_dir), reactions(ring_dir)
+assert rs
+diff['reaction'] = max(abs(v - rr[(pt, ring_id[node], ax, h)]) for (pt, node, ax, h), v in rs.items())
+scale['reaction'] = max(abs(v) for v in rr.values())
+for f in sorted(diff):
+    print('RESULT', f, diff[f] / scale[f] if scale[f] > 0 else diff[f])
+print('RESULT own_sector', own)
+print('RESULT shared_nodes', shared)
+print('RESULT reaction_rows', len(rs))
+)PY";
+
+// RESULT lines of kAnnulusCheck's output.
+std::map<std::string, double> results(const std::string& log) {
+  std::map<std::string, double> out;
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream l(line);
+    std::string tag, what;
+    double v = 0;
+    if (l >> tag >> what >> v && tag == "RESULT") out[what] = v;
+  }
+  return out;
+}
+
 void expect_sector_equals_ring(const std::string& name, int eo, int harmonics,
-                               const std::string& law, double tolerance) {
+                               const std::string& law, double tolerance, bool staged = false) {
   const fs::path dir = fresh_dir(name);
   const cyc::BladedRing sector = cyc::bladed_ring(kN, 1), ring = cyc::bladed_ring(kN, kN);
   write_mesh(dir / "sector.inp", sector);
   write_mesh(dir / "ring.inp", ring);
-  std::ofstream(dir / "sector.yaml") << sector_case(sector, eo, harmonics, law);
-  std::ofstream(dir / "ring.yaml") << ring_case(ring, eo, harmonics, law);
+  std::ofstream(dir / "sector.yaml")
+      << sector_case(sector, eo, harmonics, law, "{points: all, annulus: true}");
+  std::ofstream(dir / "ring.yaml") << ring_case(ring, eo, harmonics, law, "{points: all}");
   ASSERT_EQ(run("run " + (dir / "sector.yaml").string() + " -o " + (dir / "sector").string(),
                 dir / "sector.log"),
             0)
@@ -233,11 +354,66 @@ void expect_sector_equals_ring(const std::string& name, int eo, int harmonics,
       slip = std::max(slip, std::stod(r.at("slip")));
     EXPECT_GT(slip, 0.05);
   }
+  // The recovery on the sector against the reduced nonlinear response at its masters (every
+  // interior mode kept: the same model), relative to the largest reduced amplitude.
+  double reduced = 0.0, worst = 0.0;
+  const auto check = read_csv(dir / "sector/recovery_check.csv");
+  ASSERT_EQ(check.size(), 3u * static_cast<size_t>(harmonics + 1));
+  for (const auto& r : check) {
+    reduced = std::max(reduced, std::stod(r.at("reduced_max_m")));
+    worst = std::max(worst, std::stod(r.at("max_absolute_m")));
+  }
+  EXPECT_GT(reduced, 0.0);
+  EXPECT_LT(worst / reduced, tolerance);
+  // The annulus and the sector's fields against the whole ring's recovery, read by VTK.
+  std::ofstream(dir / "check.py") << kAnnulusCheck;
+  const auto against_ring = [&](const std::string& sector_dir) {
+    SCOPED_TRACE(sector_dir);
+    const fs::path log = dir / (sector_dir + ".python.log");
+    ASSERT_EQ(shell("/usr/bin/python3 " + (dir / "check.py").string() + " " +
+                        (dir / sector_dir).string() + " " + (dir / "ring").string() + " " +
+                        std::to_string(kN),
+                    log),
+              0)
+        << slurp(log);
+    const std::map<std::string, double> r = results(slurp(log));
+    for (const char* what :
+         {"displacement", "stress", "boundary_displacement", "boundary_stress", "reaction"}) {
+      ASSERT_TRUE(r.count(what)) << what << "\n" << slurp(log);
+      EXPECT_LT(r.at(what), tolerance) << what << "\n" << slurp(log);
+    }
+    // The envelopes over the period: sector j's cycle is sector 0's shifted by EO·j/N periods;
+    // the envelope's samples (automatic count) then fall at other phases and its refinement
+    // places the extremes between them, to its own accuracy, not the solver's.
+    ASSERT_TRUE(r.count("envelope"));
+    EXPECT_LT(r.at("envelope"), 1e-6) << slurp(log);
+    EXPECT_EQ(r.at("own_sector"), 0.0);
+    // Every ring node at a sector boundary (2 r levels x 2 z layers x 6 boundaries) appears twice.
+    EXPECT_EQ(r.at("shared_nodes"), 24.0);
+    EXPECT_EQ(r.at("reaction_rows"), 3.0 * (harmonics + 1) * 3 * 3 * 2);  // points, clamped nodes
+  };
+  against_ring("sector");
+  if (staged) {
+    // `solve` then `recover` (no stored reductions: both reduce the sector per diameter; recover
+    // rebuilds the reduced response from contact_forces.csv with the travelling wave's models).
+    run_stage("solve", dir / "sector.yaml", dir / "staged");
+    run_stage("recover", dir / "sector.yaml", dir / "staged");
+    against_ring("staged");
+    // `export` writes no loads of a sector (they lack the cyclic constraint).
+    const fs::path log = dir / "export.log";
+    EXPECT_EQ(run("export " + (dir / "sector.yaml").string() + " -o " + (dir / "staged").string() +
+                      " --point all --format apdl",
+                  log),
+              2)
+        << slurp(log);
+    EXPECT_NE(slurp(log).find("is a cyclic sector"), std::string::npos) << slurp(log);
+  }
 }
 
 TEST(CyclicForcedResponseCli, LinearSectorEqualsTheWholeRingRunAsOneBody) {
   // Linear springs: both runs are linear solves of exact reductions (round-off, 1e-8).
-  expect_sector_equals_ring("cyclic_linear", 1, 1, "linear", 1e-8);
+  // Also through the stage commands `solve` and `recover`.
+  expect_sector_equals_ring("cyclic_linear", 1, 1, "linear", 1e-8, /*staged=*/true);
 }
 
 TEST(CyclicForcedResponseCli, StickSlipSectorEqualsTheWholeRingRunAsOneBody) {
@@ -284,8 +460,25 @@ TEST(CyclicForcedResponseCli, BadInputIsRefusedAtItsKey) {
       replace(good, ", " + std::to_string(sector.mesh.node_ids[sector.low_shroud(0)[0]]) + "]",
               ", " + std::to_string(sector.mesh.node_ids[sector.node(0, 3, 1, 0)]) + "]");
   refused("mismatched_pair", moved, {"contacts.shroud0.pairs[0]", "not a pair of neighbours"});
-  refused("recovery", replace(good, "recovery: {points: none}", "recovery: {points: peak}"),
-          {"recovery", "points: none"});
+  refused("annulus_not_cyclic",
+          replace(ring_case(ring, 1, 1, "friction"), "recovery: {points: none}",
+                  "recovery: {points: all, annulus: true}"),
+          {"recovery.annulus", "cyclic"});
+  refused("annulus_without_points",
+          replace(good, "recovery: {points: none}", "recovery: {points: none, annulus: true}"),
+          {"recovery.annulus", "points"});
+  refused(
+      "annulus_without_vtu",
+      replace(replace(good, "recovery: {points: none}", "recovery: {points: all, annulus: true}"),
+              "output: {plots: false}", "output: {plots: false, vtu: false}"),
+      {"recovery.annulus", "output.vtu"});
+  refused("modal_recovery",
+          replace(good, "recovery: {points: none}", "recovery: {points: peak, method: modal}"),
+          {"recovery.method", "direct"});
+  refused("apdl_macro",
+          replace(replace(good, "recovery: {points: none}", "recovery: {points: peak}"),
+                  "output: {plots: false}", "output: {plots: false, apdl_macro: true}"),
+          {"output.apdl_macro", "cyclic sector"});
   refused("around_mode",
           replace(good, "{start_hz: 1100, stop_hz: 1120, step_hz: 10}",
                   "{around_mode: 1, half_width_hz: 10, step_hz: 5}"),
