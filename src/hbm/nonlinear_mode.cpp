@@ -61,20 +61,29 @@ void validate(const NonlinearModeOptions& options) {
 
 namespace {
 // Each pair's force f_s (m) and tangent K_p (m x m) at the static state: the AFT of a constant
-// signal (harmonic 0 only) maps the constant of one row to the constant of the others.
+// signal (harmonic 0 only) maps the constant of one row to the constant of the others. The signal
+// is the pair's motion as the harmonic balance's AFT sees it (HarmonicBalanceSystem::pair_offset):
+// a friction element's spring anchored where the static loading path left it, so that a pair the
+// path let slip and then stick again has its static τ0 and sticks (a fresh spring at u0 would give
+// kt u0_t, possibly beyond μN: a slipping pair and the wrong tangent).
 struct PairTangent {
   Eigen::VectorXd force;
   Eigen::MatrixXd stiffness;
 };
 std::vector<PairTangent> static_tangents(const HarmonicBalanceSystem& system) {
   const Aft tangent_aft(FourierBasis(HarmonicSet({0}), 2));
-  Eigen::VectorXd u0 = system.static_displacement();
-  if (u0.size() != system.contact_rows()) u0 = Eigen::VectorXd::Zero(system.contact_rows());
+  // Coupled: the static state is the signal, pair_offset(p) = −(anchor, 0); uncoupled: the
+  // offset holds u0 − (anchor, 0) and the signal's constant is 0.
+  const bool coupled = system.unknown_harmonics().has_static();
+  const Eigen::VectorXd& u0 = system.static_displacement();
   std::vector<PairTangent> out(system.pairs().size());
   for (size_t p = 0; p < system.pairs().size(); ++p) {
     const int m = system.pairs()[p].element->dimension(), r = system.pair_row(static_cast<int>(p));
-    tangent_aft.evaluate(*system.pairs()[p].element, u0.segment(r, m), Eigen::VectorXd(),
-                         out[p].force, &out[p].stiffness);
+    const Eigen::VectorXd signal = coupled && u0.size() == system.contact_rows()
+                                       ? Eigen::VectorXd(u0.segment(r, m))
+                                       : Eigen::VectorXd::Zero(m);
+    tangent_aft.evaluate(*system.pairs()[p].element, signal,
+                         system.pair_offset(static_cast<int>(p)), out[p].force, &out[p].stiffness);
   }
   return out;
 }
