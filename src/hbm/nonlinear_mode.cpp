@@ -25,11 +25,12 @@ constexpr Complex kI{0.0, 1.0};
 // and the condensed unknowns cannot carry it (the amplitude equation would be 0 = a).
 constexpr double kNoContactMotion = 1e-10;
 // Where Newton fails at an amplitude even after the step halvings, the stepped sweep follows the
-// branch by arc-length continuation (in y and ln a) from the last solved amplitude until it reaches
-// the requested one, with at most this many points (SteppedSweepOptions.jump_max_points). On the
-// reference joint the mode leaves the stuck range abruptly when the last pairs stop sticking
-// (1758 → 1350 Hz within 12 % of amplitude at 80 N per pair): halving the step in ln a was not
-// enough there at 150 N (4 of 101 amplitudes failed), the arc-length path is.
+// branch by arc-length continuation (in the scaled unknowns of ScaledModeSystem and ln a) from the
+// last solved amplitude until it reaches the requested one, with at most this many points
+// (SteppedSweepOptions.jump_max_points). On the reference joint the mode leaves the stuck range
+// abruptly when the last pairs stop sticking (1758 → 1350 Hz within 12 % of amplitude at 80 N per
+// pair), through a fold in amplitude (ScaledModeSystem): no step in ln a crosses it, the
+// arc-length path goes round it.
 constexpr int kArcLengthPoints = 200;
 }  // namespace
 
@@ -410,6 +411,72 @@ Eigen::MatrixXcd NonlinearModeSystem::master_response(const Eigen::VectorXd& y,
   return X;
 }
 
+namespace {
+// The EPMC system in the unknowns the continuation works in: y = D(λ) w with
+//   w = [U_k / (a s) for the harmonics k ≥ 1; U_0 / c_0; Ω / ω̃; ξ / ω̃]   (a = e^λ),
+// dimensionless and of order 1 along the whole branch (U_k grows with a; c_0 the system's static
+// scale). R(w, λ) is the system's R(D(λ) w, λ): the same equations and convergence test; dR/dw =
+// dR/dy D, dR/dλ|_w = dR/dλ|_y + Σ_{k ≥ 1} dR/dU_k U_k. In y itself the columns of Ω and ξ are
+// 1e-10 of the contact columns (m against rad/s, and ξ's sensitivity): the Jacobian's condition
+// number was 1e15–1e16 on the reference joint, so the arc-length fallback of the stepped sweep —
+// which scales all unknowns by one number, ||y|| — found "no tangent" at its first point and
+// never started (in w: 1e6–4e7). It is needed: at 150, 80 and 50 N per pair the branch folds in
+// amplitude where the joint goes from micro-slip to gross slip (the mass norm q of the
+// fundamental peaks, e.g. at 1.80e-5 and 1757 Hz at 50 N, then falls while ξ grows), and a
+// stepped sweep in a cannot pass a fold: Newton at a larger a stalled at q ≈ 1.80e-5 there.
+class ScaledModeSystem final : public ParametrizedSystem {
+ public:
+  ScaledModeSystem(const NonlinearModeSystem& sys, const HarmonicBalanceSystem& system)
+      : sys_(sys), n_(system.size()) {
+    const HarmonicSet& set = system.unknown_harmonics();
+    const int nc = set.coefficient_count();
+    dynamic_ = Eigen::VectorXd::Ones(n_);
+    if (set.has_static()) {
+      const int o0 = set.offset(set.position_of(0));
+      for (int r = 0; r < system.contact_rows(); ++r) dynamic_[r * nc + o0] = 0.0;
+    }
+    static_scale_ = system.residual_scale();
+    omega_scale_ = sys.linear_omega() > 0 ? sys.linear_omega() : 1.0;
+  }
+  int size() const override { return n_ + 2; }
+  double residual_scale() const override { return sys_.residual_scale(); }
+  double residual_scale_at(double lambda) const override { return sys_.residual_scale_at(lambda); }
+
+  // The diagonal of D(λ).
+  Eigen::VectorXd scales(double lambda) const {
+    Eigen::VectorXd d(n_ + 2);
+    const double dynamic = std::exp(lambda) * sys_.scale();
+    for (int i = 0; i < n_; ++i) d[i] = dynamic_[i] != 0 ? dynamic : static_scale_;
+    d[n_] = d[n_ + 1] = omega_scale_;
+    return d;
+  }
+  Eigen::VectorXd to_scaled(const Eigen::VectorXd& y, double lambda) const {
+    return y.cwiseQuotient(scales(lambda));
+  }
+  Eigen::VectorXd from_scaled(const Eigen::VectorXd& w, double lambda) const {
+    return w.cwiseProduct(scales(lambda));
+  }
+
+  void evaluate(const Eigen::VectorXd& w, double lambda, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dw,
+                Eigen::VectorXd* dR_dlambda) const override {
+    const Eigen::VectorXd d = scales(lambda);
+    const Eigen::VectorXd y = w.cwiseProduct(d);
+    Eigen::MatrixXd J;
+    sys_.evaluate(y, lambda, R, dR_dw || dR_dlambda ? &J : nullptr, dR_dlambda);
+    if (dR_dlambda) {  // dU_k/dλ = U_k (k ≥ 1) at fixed w
+      dR_dlambda->noalias() += J.leftCols(n_) * y.head(n_).cwiseProduct(dynamic_);
+    }
+    if (dR_dw) *dR_dw = J * d.asDiagonal();
+  }
+
+ private:
+  const NonlinearModeSystem& sys_;
+  int n_ = 0;
+  Eigen::VectorXd dynamic_;  // 1 on the entries of harmonics ≥ 1, 0 on harmonic 0
+  double static_scale_ = 1.0, omega_scale_ = 1.0;
+};
+}  // namespace
+
 NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
                                    const NonlinearModeOptions& options) {
   validate(options);
@@ -448,14 +515,27 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
 
   std::vector<double> lambdas;
   for (double a : options.amplitudes) lambdas.push_back(std::log(a));
+  const ScaledModeSystem scaled(sys, system);
   SteppedSweepOptions sweep;
   sweep.newton = options.newton;
   sweep.max_step_halvings = options.max_step_halvings;
   sweep.secant_predictor = true;
   sweep.jump_max_points = kArcLengthPoints;
-  sweep.on_point = options.on_point;
-  const ContinuationResult c =
-      stepped_sweep(sys, sys.linear_guess(options.amplitudes.front()), lambdas, sweep);
+  if (options.on_point) {
+    sweep.on_point = [&](const ContinuationProgress& p) {
+      Eigen::VectorXd y;
+      ContinuationProgress q = p;
+      if (p.x) {
+        y = scaled.from_scaled(*p.x, p.lambda);
+        q.x = &y;
+      }
+      options.on_point(q);
+    };
+  }
+  ContinuationResult c = stepped_sweep(
+      scaled, scaled.to_scaled(sys.linear_guess(options.amplitudes.front()), lambdas.front()),
+      lambdas, sweep);
+  for (ContinuationPoint& p : c.points) p.x = scaled.from_scaled(p.x, p.lambda);
 
   const int n = system.size();
   int failed = 0;
