@@ -29,9 +29,13 @@ constexpr double kNoContactMotion = 1e-10;
 // last solved amplitude until it reaches the requested one, with at most this many points
 // (SteppedSweepOptions.jump_max_points). On the reference joint the mode leaves the stuck range
 // abruptly when the last pairs stop sticking (1758 → 1350 Hz within 12 % of amplitude at 80 N per
-// pair), through a fold in amplitude (ScaledModeSystem): no step in ln a crosses it, the
-// arc-length path goes round it.
-constexpr int kArcLengthPoints = 200;
+// pair), through folds in amplitude (ScaledModeSystem): no step in ln a crosses them, the
+// arc-length path goes round them. There the branch zigzags in amplitude (a fold every 10–20 arc
+// points at 150 N) and the arc's step control, which bounds the tangent's turn per step, keeps the
+// steps near 0.5 Hz: 200 points took the path from 1758 to 1708 Hz only, short of the next
+// amplitude on a 200-point grid over 1e-7…1e-2 (2 amplitudes failed); 1000 reach it (200/200,
+// 5.3 s against 6.0 s with the failures: docs/performance.md).
+constexpr int kArcLengthPoints = 1000;
 }  // namespace
 
 void validate(const NonlinearModeOptions& options) {
