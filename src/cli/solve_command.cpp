@@ -272,7 +272,7 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
     const bool stability = def.analysis.stability;
     out << "point,frequency_hz,converged,iterations,residual_m,dissipated_energy_j,"
            "residual_relative,static_mismatch,static_warning,aft_fallback_pairs"
-        << (stability ? ",stable,floquet_multiplier" : "") << study.header << "\n";
+        << (stability ? ",stable,floquet_multiplier,floquet_unplaced" : "") << study.header << "\n";
     for (size_t i = 0; i < fr.points.size(); ++i) {
       const FrequencyPoint& p = fr.points[i];
       double e = 0;
@@ -283,9 +283,10 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
       }
       std::string floquet;
       if (stability) {
-        floquet = p.stability_computed ? fmt::format(",{},{}", p.floquet.stable ? 1 : 0,
-                                                     p.floquet.max_multiplier)
-                                       : std::string(",,");
+        floquet = p.stability_computed
+                      ? fmt::format(",{},{},{}", p.floquet.stable ? 1 : 0, p.floquet.max_multiplier,
+                                    p.floquet.unplaced_exponents)
+                      : std::string(",,,");
       }
       fmt::print(out, "{},{},{},{},{},{},{},{},{},{}{}{}\n", i, rad_s_to_hz(p.omega),
                  p.converged ? 1 : 0, p.iterations, p.residual_norm, e,
@@ -482,14 +483,19 @@ std::vector<std::string> write_solve_results(const StageRun& run, const Prepared
                     {"time_samples", def.analysis.time_samples},
                     {"fallback_points", fallback_points}};
   if (def.analysis.stability) {  // Hill's method (points.csv stable, floquet_multiplier)
-    int unstable = 0;
+    int unstable = 0, unplaced = 0;
     double largest = 0;
     for (const FrequencyPoint& p : fr.points) {
       if (!p.stability_computed) continue;
       unstable += p.floquet.stable ? 0 : 1;
-      largest = std::max(largest, p.floquet.max_multiplier);
+      unplaced += p.floquet.unplaced_exponents > 0 ? 1 : 0;
+      if (std::isfinite(p.floquet.max_multiplier)) {
+        largest = std::max(largest, p.floquet.max_multiplier);
+      }
     }
-    summary["stability"] = {{"unstable_points", unstable}, {"largest_multiplier", largest}};
+    summary["stability"] = {{"unstable_points", unstable},
+                            {"largest_multiplier", largest},
+                            {"unplaced_points", unplaced}};
   } else {
     summary["stability"] = nullptr;
   }
@@ -547,6 +553,22 @@ SolveOutcome report_solved(const SolvedCase& solved, const fs::path& dir,
                  "static_check in %s)\n",
                  flagged, solved.response.points.size(), separating,
                  100 * kStaticMismatchThreshold, dir.string().c_str());
+  }
+  int unplaced_points = 0, unplaced = 0;  // Hill's method: families without a centred member
+  for (const FrequencyPoint& p : solved.response.points) {
+    if (!p.stability_computed || p.floquet.unplaced_exponents == 0) continue;
+    ++unplaced_points;
+    unplaced = std::max(unplaced, p.floquet.unplaced_exponents);
+  }
+  if (unplaced_points > 0) {  // a warning, printed even with --quiet
+    std::fprintf(stderr,
+                 "stickslip: warning: at %d of %zu points Hill's method could not place up to %d "
+                 "Floquet exponents (no member of their family is centred on harmonic 0 within "
+                 "the %d harmonics: the truncation decides them); `stable` and "
+                 "`floquet_multiplier` are those of the others (points.csv floquet_unplaced; "
+                 "raise analysis.harmonics to check; docs/conventions.md \"Stability\")\n",
+                 unplaced_points, solved.response.points.size(), unplaced,
+                 solved.system->unknown_harmonics().max_harmonic());
   }
   SolveOutcome outcome{.failed_points = failed};
   // A stepped sweep is incomplete exactly when points failed (said above and at the end); a

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/errors.h"
 #include "core/format.h"
 #include "linalg/blas.h"
@@ -25,6 +27,12 @@ constexpr double kSameIndex = 0.25;
 // by 2 |Im ρ| (kept apart down to angles of 5e-7 rad).
 constexpr double kOtherMember = 0.5;
 constexpr double kSameMultiplier = 1e-6;
+// The centred member of a family has |k̄| ≤ ½ (exactly one member does when the harmonics are not
+// truncated: the members' indices differ by whole numbers; two, ±½, for a real negative
+// multiplier); kCentred leaves room for the truncation's distortion of that ½.
+constexpr double kCentred = 0.55;
+// Eigenvalues of the scaled companion matrix (norm ≈ 1) closer than this are one cluster.
+constexpr double kSameEigenvalue = 1e-8;
 
 // Eigenvalues and the first `rows` entries of the right eigenvectors (columns) of a real square
 // matrix A (overwritten), by LAPACK's dgeev: balanced (permutation and diagonal scaling), blocked
@@ -114,11 +122,12 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   const int n = nu * nc;
 
   // Dynamic and quasi-static modes.
-  const double cutoff = options.dynamic_mode_factor * (S.max_harmonic() + 1) * omega;
+  const double factor = options.dynamic_mode_factor;
+  const double cutoff = factor * (S.max_harmonic() + 1) * omega;
   std::vector<int> dynamic, quasi_static;
   for (int r = 0; r < nm; ++r) {
     const double w = std::sqrt(std::max(model.omega2[r], 0.0));
-    (options.dynamic_mode_factor == 0 || w <= cutoff ? dynamic : quasi_static).push_back(r);
+    (factor == 0 || w <= cutoff ? dynamic : quasi_static).push_back(r);
   }
   const int nd = static_cast<int>(dynamic.size());
   FloquetSummary summary;
@@ -206,26 +215,30 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
   A.topRightCorner(m, m).setIdentity();
   A.bottomLeftCorner(m, m) = -M0 / gamma2;
   A.bottomRightCorner(m, m) = -M1 / gamma;
-  // Mean harmonic index of an eigenvector's periodic part p(t) (its first m entries) in complex
-  // exponentials: a harmonic k ≥ 1 with (complex) coefficients a, b is
-  // (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
-  const auto mean_index = [&](const Eigen::Ref<const Eigen::VectorXcd>& v) {
-    double weight = 0, moment = 0;
+  // The eigenvectors' periodic parts p(t) (their first m entries) in complex exponentials: a
+  // harmonic k ≥ 1 with (complex) coefficients a, b is (a − ib)/2 e^{ikθ} + (a + ib)/2 e^{−ikθ}.
+  // Row layout: mode j, index k = −H..H at j (2H + 1) + H + k (absent harmonics of S stay 0).
+  const int H = S.max_harmonic(), width = 2 * H + 1;
+  const auto exponentials = [&](const Eigen::MatrixXcd& v) {
+    Eigen::MatrixXcd e = Eigen::MatrixXcd::Zero(nd * width, v.cols());
+    const std::complex<double> i(0, 1);
     for (int j = 0; j < nd; ++j) {
       for (int h = 0; h < S.size(); ++h) {
-        const int k = S.harmonics()[h], o = j * nc + S.offset(h);
+        const int k = S.harmonics()[h], o = j * nc + S.offset(h), c = j * width + H;
         if (k == 0) {
-          weight += std::norm(v[o]);
+          e.row(c) = v.row(o);
           continue;
         }
-        const std::complex<double> a = v[o], b = v[o + 1], i(0, 1);
-        const double plus = std::norm(a - i * b), minus = std::norm(a + i * b);
-        weight += plus + minus;
-        moment += k * (plus - minus);
+        e.row(c + k) = 0.5 * (v.row(o) - i * v.row(o + 1));
+        e.row(c - k) = 0.5 * (v.row(o) + i * v.row(o + 1));
       }
     }
-    return weight > 0 ? moment / weight : 0.0;
+    return e;
   };
+  Eigen::VectorXd harmonic_index(nd * width);
+  for (int j = 0; j < nd; ++j) {
+    for (int k = -H; k <= H; ++k) harmonic_index[j * width + H + k] = k;
+  }
 
   {
     Eigen::VectorXcd all;
@@ -234,19 +247,70 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
       const ScopedBlasThreads one_thread(1);
       STICKSLIP_VERIFY(eigenpairs(A, m, all, vectors), "hill_stability: the eigen-solver failed");
     }
-    all *= gamma;
     const int ns = static_cast<int>(all.size());
-    std::vector<double> index(ns);
-    for (int e = 0; e < ns; ++e) index[e] = mean_index(vectors.col(e));
-    std::vector<int> order(ns);
-    std::iota(order.begin(), order.end(), 0);
+    const Eigen::MatrixXcd p = exponentials(vectors);
+    // Mean harmonic index k̄ = Σ k |p_k|² / Σ |p_k|² of each eigenvector (Parseval: the time
+    // average of |p(t)|² split by harmonic).
+    std::vector<double> index(ns, 0.0);
+    for (int e = 0; e < ns; ++e) {
+      const double weight = p.col(e).squaredNorm();
+      if (weight > 0) {
+        index[e] = harmonic_index.dot(p.col(e).cwiseAbs2()) / weight;
+      }
+    }
+    // A cluster of (numerically) equal eigenvalues has an invariant subspace, not eigenvectors:
+    // the solver returns any basis of it, e.g. when two families meet (μ_r ≈ μ_s + imΩ, exactly
+    // so in a time-invariant system with equal damping), mixtures of the centred member of one
+    // and an outer member of the other, neither centred. Within such a cluster the basis that
+    // diagonalises the harmonic index (the Hermitian pencil Vᴴ K V y = κ Vᴴ V y) separates the
+    // members again; its indices κ (ascending) go to the cluster's eigenvalues in the order of
+    // their own k̄ (the eigenvalues are equal to kSameEigenvalue: which one carries which κ does
+    // not change the exponents).
+    {
+      std::vector<int> by_value(ns);
+      std::iota(by_value.begin(), by_value.end(), 0);
+      std::sort(by_value.begin(), by_value.end(), [&](int a, int b) {
+        return all[a].imag() < all[b].imag() ||
+               (all[a].imag() == all[b].imag() && all[a].real() < all[b].real());
+      });
+      std::vector<bool> done(ns, false);
+      for (int a = 0; a < ns; ++a) {
+        const int ea = by_value[a];
+        if (done[ea]) continue;
+        std::vector<int> cluster = {ea};
+        for (int b = a + 1; b < ns; ++b) {
+          const int eb = by_value[b];
+          if (all[eb].imag() - all[ea].imag() > kSameEigenvalue) break;
+          if (!done[eb] && std::abs(all[eb] - all[ea]) <= kSameEigenvalue) cluster.push_back(eb);
+        }
+        for (const int e : cluster) done[e] = true;
+        if (cluster.size() < 2) continue;
+        const int c = static_cast<int>(cluster.size());
+        Eigen::MatrixXcd V(p.rows(), c);
+        for (int j = 0; j < c; ++j) V.col(j) = p.col(cluster[j]);
+        const Eigen::MatrixXcd gram = V.adjoint() * V;
+        const Eigen::MatrixXcd moment = V.adjoint() * harmonic_index.asDiagonal() * V;
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXcd> pencil(
+            0.5 * (moment + moment.adjoint()), 0.5 * (gram + gram.adjoint()));
+        if (pencil.info() != Eigen::Success) continue;  // a degenerate basis: keep the k̄ as is
+        std::sort(cluster.begin(), cluster.end(),
+                  [&](int x, int y) { return index[x] < index[y]; });
+        for (int j = 0; j < c; ++j) index[cluster[j]] = pencil.eigenvalues()[j];
+      }
+    }
+    all *= gamma;
+    std::vector<int> order;
+    for (int e = 0; e < ns; ++e) {
+      if (std::abs(index[e]) <= kCentred) order.push_back(e);
+    }
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
       const double da = std::abs(index[a]), db = std::abs(index[b]);
       if (std::abs(da - db) > kSameIndex) return da < db;
       return std::abs(all[a].imag()) < std::abs(all[b].imag());
     });
     // One member per family: a candidate with the multiplier of one already taken but another
-    // member (Im μ differs by Ω or more) is skipped, and used only if too few are left.
+    // member (Im μ differs by Ω/2 or more) is skipped, and used only if too few are left (two
+    // families with one multiplier, μ_s = μ_r + imΩ, both centred).
     const double T = 2 * std::numbers::pi / omega;
     std::vector<int> chosen, skipped;
     for (const int e : order) {
@@ -261,11 +325,20 @@ FloquetSummary hill_stability(const HarmonicBalanceSystem& system, const Eigen::
     for (size_t i = 0; static_cast<int>(chosen.size()) < 2 * nd && i < skipped.size(); ++i) {
       chosen.push_back(skipped[i]);
     }
+    // Families without a centred member are not placed: their exponents are not filled in from
+    // outer members (whose real parts are the truncation's, not the family's).
     order = std::move(chosen);
     std::stable_sort(order.begin(), order.end(),
                      [&](int a, int b) { return all[a].real() > all[b].real(); });
-    summary.exponents.resize(2 * nd);
-    for (int i = 0; i < 2 * nd; ++i) summary.exponents[i] = all[order[i]];
+    const int placed = static_cast<int>(order.size());
+    summary.unplaced_exponents = 2 * nd - placed;
+    summary.exponents.resize(placed);
+    for (int i = 0; i < placed; ++i) summary.exponents[i] = all[order[i]];
+  }
+  if (summary.exponents.size() == 0) {  // no family placed: unknown
+    summary.max_real_part = summary.max_multiplier = std::numeric_limits<double>::quiet_NaN();
+    summary.stable = false;
+    return summary;
   }
   summary.max_real_part = summary.exponents[0].real();
   summary.max_multiplier = std::exp(summary.max_real_part * 2 * std::numbers::pi / omega);

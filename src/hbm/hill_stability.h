@@ -29,18 +29,31 @@
 // member m having its eigenvector's periodic part p(t) shifted by e^{−imΩt} (for a time-invariant
 // system exactly: p concentrated on the complex harmonic −m). The physical representative is the
 // member whose p is centred on harmonic 0: per eigenvalue the mean complex harmonic index
-// k̄ = Σ k |p_k|² / Σ |p_k|² (over k = ±S) is computed, and the 2 n_d eigenvalues with the smallest
-// |k̄| are taken (ties within 0.25: the smaller |Im μ|), one member per family: a candidate whose
-// multiplier e^{μT} equals one already taken (to 1e-6) while its Im μ differs from it by Ω/2 or
-// more is another member of that family and is passed over. This matters for real negative
-// multipliers (period doubling): their family σ + i(m + ½)Ω has two members equally centred,
-// σ ± iΩ/2 (|k̄| = ½ both), and taking both would leave another family out — a real negative
-// pair −e^{σ1 T}, −e^{σ2 T} must give σ1 and σ2. The imaginary-part criterion alone (the
+// k̄ = Σ k |p_k|² / Σ |p_k|² (over k = ±S, p_k the coefficient of e^{ikΩt}: Parseval's weights)
+// is computed. Members of one family differ in k̄ by whole numbers, so exactly one has |k̄| ≤ ½
+// (two, ±½, for a real negative multiplier); only such centred members (|k̄| ≤ 0.55, the margin
+// for the truncation's distortion) are candidates. A cluster of equal eigenvalues (to 1e-8 of
+// the scaled companion matrix's norm: two families that meet, μ_s = μ_r + imΩ, exactly so in a
+// time-invariant system with equal damping) has an invariant subspace, not eigenvectors: the
+// solver may return mixtures of one family's centred member and the other's outer one; within
+// the cluster the basis that diagonalises the harmonic index gives each member its index back.
+// The 2 n_d candidates with the smallest |k̄| are taken (ties within 0.25: the smaller |Im μ|),
+// one member per family: a candidate whose multiplier e^{μT} equals one already taken (to 1e-6)
+// while its Im μ differs from it by Ω/2 or more is another member of that family and is passed
+// over, and taken only if the candidates run out (two families with one multiplier). This
+// matters for real negative multipliers (period doubling): their family σ + i(m + ½)Ω has two
+// members equally centred, σ ± iΩ/2, and taking both would leave another family out — a real
+// negative pair −e^{σ1 T}, −e^{σ2 T} must give σ1 and σ2. The imaginary-part criterion alone (the
 // 2 n_d smallest |Im μ|) fails when a mode lies above H Ω: its family's members within the strip
 // are cut off by the truncation and another mode's outer members take their place. The real
 // part — all stability needs — is common to a family; the centred member's imaginary part is
-// near the mode's own frequency (not folded into the strip). The multiplier of largest modulus is
-// ρ = exp(max Re μ · T); the solution is stable when max Re μ ≤ stability_tolerance · Ω.
+// near the mode's own frequency (not folded into the strip).
+// A family without a centred member is not placed (FloquetSummary::unplaced_exponents): its
+// members are the truncation's (outer members of modes far above HΩ whose side bands H cuts off,
+// with real parts of either sign — +300 1/s on the reference joint with 52 dynamic modes); filling
+// the count with them made stable points unstable. The multiplier of largest modulus is
+// ρ = exp(max Re μ · T) over the placed exponents; the solution is stable when max Re μ ≤
+// stability_tolerance · Ω.
 //
 // Non-smooth laws. J is the derivative of the converged periodic force cycle with respect to the
 // periodic motion (hysteresis: the stick phases' memory is in it). For friction this is the
@@ -70,10 +83,15 @@ struct HillOptions {
 void validate(const HillOptions& options);
 
 struct FloquetSummary {
-  Eigen::VectorXcd exponents{};  // the 2 n_d selected μ (1/s), by decreasing real part
-  double max_real_part = 0.0;    // 1/s
-  double max_multiplier = 1.0;   // |ρ| = exp(max_real_part · 2π/Ω)
-  bool stable = true;
+  // The selected μ (1/s), by decreasing real part: 2 n_d − unplaced_exponents of them.
+  Eigen::VectorXcd exponents{};
+  double max_real_part = 0.0;   // 1/s, over `exponents` (NaN when none was placed)
+  double max_multiplier = 1.0;  // |ρ| = exp(max_real_part · 2π/Ω)
+  bool stable = true;           // max_real_part ≤ stability_tolerance · Ω (false when NaN)
+  // Exponents whose family has no centred member in the truncated Hill spectrum (see
+  // "Selection"): not placed, so their real parts are unknown; stable and max_multiplier are
+  // those of the placed ones.
+  int unplaced_exponents = 0;
   int dynamic_modes = 0;
   int quasi_static_modes = 0;
 };

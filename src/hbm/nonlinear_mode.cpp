@@ -25,12 +25,17 @@ constexpr Complex kI{0.0, 1.0};
 // and the condensed unknowns cannot carry it (the amplitude equation would be 0 = a).
 constexpr double kNoContactMotion = 1e-10;
 // Where Newton fails at an amplitude even after the step halvings, the stepped sweep follows the
-// branch by arc-length continuation (in y and ln a) from the last solved amplitude until it reaches
-// the requested one, with at most this many points (SteppedSweepOptions.jump_max_points). On the
-// reference joint the mode leaves the stuck range abruptly when the last pairs stop sticking
-// (1758 → 1350 Hz within 12 % of amplitude at 80 N per pair): halving the step in ln a was not
-// enough there at 150 N (4 of 101 amplitudes failed), the arc-length path is.
-constexpr int kArcLengthPoints = 200;
+// branch by arc-length continuation (in the scaled unknowns of ScaledModeSystem and ln a) from the
+// last solved amplitude until it reaches the requested one, with at most this many points
+// (SteppedSweepOptions.jump_max_points). On the reference joint the mode leaves the stuck range
+// abruptly when the last pairs stop sticking (1758 → 1350 Hz within 12 % of amplitude at 80 N per
+// pair), through folds in amplitude (ScaledModeSystem): no step in ln a crosses them, the
+// arc-length path goes round them. There the branch zigzags in amplitude (a fold every 10–20 arc
+// points at 150 N) and the arc's step control, which bounds the tangent's turn per step, keeps the
+// steps near 0.5 Hz: 200 points took the path from 1758 to 1708 Hz only, short of the next
+// amplitude on a 200-point grid over 1e-7…1e-2 (2 amplitudes failed); 1000 reach it (200/200,
+// 5.3 s against 6.0 s with the failures: docs/performance.md).
+constexpr int kArcLengthPoints = 1000;
 }  // namespace
 
 void validate(const NonlinearModeOptions& options) {
@@ -61,20 +66,29 @@ void validate(const NonlinearModeOptions& options) {
 
 namespace {
 // Each pair's force f_s (m) and tangent K_p (m x m) at the static state: the AFT of a constant
-// signal (harmonic 0 only) maps the constant of one row to the constant of the others.
+// signal (harmonic 0 only) maps the constant of one row to the constant of the others. The signal
+// is the pair's motion as the harmonic balance's AFT sees it (HarmonicBalanceSystem::pair_offset):
+// a friction element's spring anchored where the static loading path left it, so that a pair the
+// path let slip and then stick again has its static τ0 and sticks (a fresh spring at u0 would give
+// kt u0_t, possibly beyond μN: a slipping pair and the wrong tangent).
 struct PairTangent {
   Eigen::VectorXd force;
   Eigen::MatrixXd stiffness;
 };
 std::vector<PairTangent> static_tangents(const HarmonicBalanceSystem& system) {
   const Aft tangent_aft(FourierBasis(HarmonicSet({0}), 2));
-  Eigen::VectorXd u0 = system.static_displacement();
-  if (u0.size() != system.contact_rows()) u0 = Eigen::VectorXd::Zero(system.contact_rows());
+  // Coupled: the static state is the signal, pair_offset(p) = −(anchor, 0); uncoupled: the
+  // offset holds u0 − (anchor, 0) and the signal's constant is 0.
+  const bool coupled = system.unknown_harmonics().has_static();
+  const Eigen::VectorXd& u0 = system.static_displacement();
   std::vector<PairTangent> out(system.pairs().size());
   for (size_t p = 0; p < system.pairs().size(); ++p) {
     const int m = system.pairs()[p].element->dimension(), r = system.pair_row(static_cast<int>(p));
-    tangent_aft.evaluate(*system.pairs()[p].element, u0.segment(r, m), Eigen::VectorXd(),
-                         out[p].force, &out[p].stiffness);
+    const Eigen::VectorXd signal = coupled && u0.size() == system.contact_rows()
+                                       ? Eigen::VectorXd(u0.segment(r, m))
+                                       : Eigen::VectorXd::Zero(m);
+    tangent_aft.evaluate(*system.pairs()[p].element, signal,
+                         system.pair_offset(static_cast<int>(p)), out[p].force, &out[p].stiffness);
   }
   return out;
 }
@@ -401,6 +415,72 @@ Eigen::MatrixXcd NonlinearModeSystem::master_response(const Eigen::VectorXd& y,
   return X;
 }
 
+namespace {
+// The EPMC system in the unknowns the continuation works in: y = D(λ) w with
+//   w = [U_k / (a s) for the harmonics k ≥ 1; U_0 / c_0; Ω / ω̃; ξ / ω̃]   (a = e^λ),
+// dimensionless and of order 1 along the whole branch (U_k grows with a; c_0 the system's static
+// scale). R(w, λ) is the system's R(D(λ) w, λ): the same equations and convergence test; dR/dw =
+// dR/dy D, dR/dλ|_w = dR/dλ|_y + Σ_{k ≥ 1} dR/dU_k U_k. In y itself the columns of Ω and ξ are
+// 1e-10 of the contact columns (m against rad/s, and ξ's sensitivity): the Jacobian's condition
+// number was 1e15–1e16 on the reference joint, so the arc-length fallback of the stepped sweep —
+// which scales all unknowns by one number, ||y|| — found "no tangent" at its first point and
+// never started (in w: 1e6–4e7). It is needed: at 150, 80 and 50 N per pair the branch folds in
+// amplitude where the joint goes from micro-slip to gross slip (the mass norm q of the
+// fundamental peaks, e.g. at 1.80e-5 and 1757 Hz at 50 N, then falls while ξ grows), and a
+// stepped sweep in a cannot pass a fold: Newton at a larger a stalled at q ≈ 1.80e-5 there.
+class ScaledModeSystem final : public ParametrizedSystem {
+ public:
+  ScaledModeSystem(const NonlinearModeSystem& sys, const HarmonicBalanceSystem& system)
+      : sys_(sys), n_(system.size()) {
+    const HarmonicSet& set = system.unknown_harmonics();
+    const int nc = set.coefficient_count();
+    dynamic_ = Eigen::VectorXd::Ones(n_);
+    if (set.has_static()) {
+      const int o0 = set.offset(set.position_of(0));
+      for (int r = 0; r < system.contact_rows(); ++r) dynamic_[r * nc + o0] = 0.0;
+    }
+    static_scale_ = system.residual_scale();
+    omega_scale_ = sys.linear_omega() > 0 ? sys.linear_omega() : 1.0;
+  }
+  int size() const override { return n_ + 2; }
+  double residual_scale() const override { return sys_.residual_scale(); }
+  double residual_scale_at(double lambda) const override { return sys_.residual_scale_at(lambda); }
+
+  // The diagonal of D(λ).
+  Eigen::VectorXd scales(double lambda) const {
+    Eigen::VectorXd d(n_ + 2);
+    const double dynamic = std::exp(lambda) * sys_.scale();
+    for (int i = 0; i < n_; ++i) d[i] = dynamic_[i] != 0 ? dynamic : static_scale_;
+    d[n_] = d[n_ + 1] = omega_scale_;
+    return d;
+  }
+  Eigen::VectorXd to_scaled(const Eigen::VectorXd& y, double lambda) const {
+    return y.cwiseQuotient(scales(lambda));
+  }
+  Eigen::VectorXd from_scaled(const Eigen::VectorXd& w, double lambda) const {
+    return w.cwiseProduct(scales(lambda));
+  }
+
+  void evaluate(const Eigen::VectorXd& w, double lambda, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dw,
+                Eigen::VectorXd* dR_dlambda) const override {
+    const Eigen::VectorXd d = scales(lambda);
+    const Eigen::VectorXd y = w.cwiseProduct(d);
+    Eigen::MatrixXd J;
+    sys_.evaluate(y, lambda, R, dR_dw || dR_dlambda ? &J : nullptr, dR_dlambda);
+    if (dR_dlambda) {  // dU_k/dλ = U_k (k ≥ 1) at fixed w
+      dR_dlambda->noalias() += J.leftCols(n_) * y.head(n_).cwiseProduct(dynamic_);
+    }
+    if (dR_dw) *dR_dw = J * d.asDiagonal();
+  }
+
+ private:
+  const NonlinearModeSystem& sys_;
+  int n_ = 0;
+  Eigen::VectorXd dynamic_;  // 1 on the entries of harmonics ≥ 1, 0 on harmonic 0
+  double static_scale_ = 1.0, omega_scale_ = 1.0;
+};
+}  // namespace
+
 NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
                                    const NonlinearModeOptions& options) {
   validate(options);
@@ -439,14 +519,27 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
 
   std::vector<double> lambdas;
   for (double a : options.amplitudes) lambdas.push_back(std::log(a));
+  const ScaledModeSystem scaled(sys, system);
   SteppedSweepOptions sweep;
   sweep.newton = options.newton;
   sweep.max_step_halvings = options.max_step_halvings;
   sweep.secant_predictor = true;
   sweep.jump_max_points = kArcLengthPoints;
-  sweep.on_point = options.on_point;
-  const ContinuationResult c =
-      stepped_sweep(sys, sys.linear_guess(options.amplitudes.front()), lambdas, sweep);
+  if (options.on_point) {
+    sweep.on_point = [&](const ContinuationProgress& p) {
+      Eigen::VectorXd y;
+      ContinuationProgress q = p;
+      if (p.x) {
+        y = scaled.from_scaled(*p.x, p.lambda);
+        q.x = &y;
+      }
+      options.on_point(q);
+    };
+  }
+  ContinuationResult c = stepped_sweep(
+      scaled, scaled.to_scaled(sys.linear_guess(options.amplitudes.front()), lambdas.front()),
+      lambdas, sweep);
+  for (ContinuationPoint& p : c.points) p.x = scaled.from_scaled(p.x, p.lambda);
 
   const int n = system.size();
   int failed = 0;

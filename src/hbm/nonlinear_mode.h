@@ -35,8 +35,11 @@
 // tangent kt > 0) approach the sliding structure's frequency only as a → ∞.
 //
 // The branch is continued in λ = ln a over the requested amplitudes (a stepped sweep with a secant
-// predictor and step halving, continuation/sweep.h), starting from the linear mode at the first
-// (smallest) amplitude: U_1 = a Ψ η, Ω = ω̃, ξ = ηᵀ C_m η. Newton's scale at amplitude a is
+// predictor, step halving and an arc-length fallback, continuation/sweep.h), starting from the
+// linear mode at the first (smallest) amplitude: U_1 = a Ψ η, Ω = ω̃, ξ = ηᵀ C_m η. The sweep works
+// in dimensionless unknowns (U_k/(a s), U_0 over the static scale, Ω/ω̃, ξ/ω̃): in y the columns of
+// Ω and ξ are 1e-10 of the others and the arc-length fallback, needed where the branch folds in
+// amplitude (the joint's passage to gross slip), could not start. Newton's scale at amplitude a is
 // a · s (plus the system's static scale with static: coupled).
 #pragma once
 

@@ -325,6 +325,49 @@ TEST(HillStability, WidelySpreadModesKeepTheirDampingRateToRoundOff) {
   }
 }
 
+// Two modes whose damped frequencies differ by exactly Ω, with equal damping: the families
+// μ_1 + imΩ and μ_2 + imΩ of this time-invariant system meet (μ_2 = μ_1 + iΩ, one multiplier), so
+// the Hill spectrum has double eigenvalues whose eigenvectors the solver may return mixed (the
+// centred member of one family with an outer member of the other), and two centred members with
+// one multiplier, which the one-member-per-family rule sees as one family. Reference: the closed
+// form, every exponent −c/2 ± iω_d,r with its own ω_d,r (the centred members: Im μ is the mode's
+// frequency, no multiple of Ω added), each once. Before the selection resolved such clusters it
+// returned one of the two modes twice.
+TEST(HillStability, FamiliesThatMeetAreEachPlacedOnce) {
+  constexpr double c = 0.2, k = 5.0, omega = 1.3;
+  const double wd1 = std::sqrt(4.0 + k - c * c / 4);  // K_stuck = diag(4 + k, ω_2²)
+  const double wd2 = wd1 + omega;
+  for (const int harmonics : {1, 2, 3}) {
+    SCOPED_TRACE(::testing::Message() << "H = " << harmonics);
+    LinearModel model;
+    model.omega2 = Eigen::Vector2d(4.0, wd2 * wd2 + c * c / 4);
+    model.Phi = MatrixXd::Identity(2, 2);
+    model.modal_damping = Eigen::Vector2d(c, c);
+    ContactPair pair{.dofs_a = {0},
+                     .dofs_b = {},
+                     .frame = MatrixXd::Constant(1, 1, 1.0),
+                     .element = std::make_shared<CubicSpring>(CubicSpringParameters{.k1 = k})};
+    Excitation e;
+    e.harmonics[1] = Eigen::Vector2cd(1.0, 0.0);
+    HarmonicBalanceOptions o;
+    o.harmonics = harmonics;
+    o.static_coupling = StaticCoupling::kCoupled;
+    const HarmonicBalanceSystem sys(model, {pair}, e, o);
+    const VectorXd x = sys.linear_guess(omega, true);
+    const FloquetSummary f = hill_stability(sys, x, omega, {.dynamic_mode_factor = 0});
+    EXPECT_EQ(f.unplaced_exponents, 0);
+    ASSERT_EQ(f.exponents.size(), 4);
+    std::vector<double> im;
+    for (const std::complex<double>& mu : f.exponents) {
+      EXPECT_NEAR(mu.real(), -c / 2, 1e-10) << mu;
+      im.push_back(mu.imag());
+    }
+    std::sort(im.begin(), im.end());
+    const std::vector<double> expected = {-wd2, -wd1, wd1, wd2};
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(im[i], expected[i], 1e-9 * wd2) << i;
+  }
+}
+
 TEST(HillStability, BadArgumentsAreRefused) {
   const HarmonicBalanceSystem sys = duffing(1);
   const VectorXd x = VectorXd::Zero(sys.size());

@@ -423,6 +423,76 @@ TEST(NonlinearMode, FirstSlipAmplitudeIsWhereTheStuckModeReachesTheCoulombLimit)
   EXPECT_EQ(checked, 2);
 }
 
+// The stuck modes after a static loading path that moved a friction spring's anchor (the model of
+// StaticContact.TwoContactsClosingInSequenceFollowTheLoadPath, hand calculation there): one node on
+// ground springs k_s, masses m_x, m_y, m_z, two friction contacts with gaps g1 < g2 pressed in
+// sequence by a static load (Q along x, P along z). Along the path both end stuck with τ1 = kt (x −
+// a1), τ2 = kt (x − a2) < μN2, their springs anchored at a1, a2; a fresh spring at the final x
+// would carry kt x > μN2 (contact 2 slipping). Reference: both stuck, so the stuck assembly is
+// K = diag(k_s + 2kt, k_s + 2kt, k_s + 2kn) with M = diag(m): ω² in closed form, and the first slip
+// of the x mode (unit modal amplitude moves the node by 1/√m_x along x) is where contact 2's
+// τ2 + c kt/√m_x reaches μN2, of the y mode where √(τ2² + (c kt/√m_y)²) does.
+TEST(NonlinearMode, StuckModesAfterAStaticPathAreThoseOfTheAnchoredSprings) {
+  const double ks = 1.0e6, kt = 1.0e6, kn = 1.0e6, mu = 0.5, P = 1000.0, Q = 300.0;
+  const double g1 = 1.5e-4, g2 = 3.2e-4, alpha = 2.0;
+  const Eigen::Vector3d mass(1.0, 2.0, 4.0);
+  const double l1 = g1 * ks / P, a1 = l1 * Q / ks;
+  const double l2 = (g2 * (ks + kn) - kn * g1) / P, a2 = (l2 * Q + kt * a1) / (ks + kt);
+  const double x = (Q + kt * (a1 + a2)) / (ks + 2 * kt), z = (P + kn * (g1 + g2)) / (ks + 2 * kn);
+  const double tau2 = kt * (x - a2), N2 = kn * (z - g2);
+  ASSERT_LT(tau2, mu * N2);
+  ASSERT_GT(kt * x, mu * N2);  // a fresh spring at x would slip
+  // Stuck: ascending z, y, x.
+  const std::vector<double> omega2 = {(ks + 2 * kn) / mass[2], (ks + 2 * kt) / mass[1],
+                                      (ks + 2 * kt) / mass[0]};
+  const double slip_x = (mu * N2 - tau2) * std::sqrt(mass[0]) / kt;
+  const double slip_y = std::sqrt(mu * mu * N2 * N2 - tau2 * tau2) * std::sqrt(mass[1]) / kt;
+  for (const StaticCoupling coupling : {StaticCoupling::kUncoupled, StaticCoupling::kCoupled}) {
+    for (const int increments : {0, 3}) {
+      SCOPED_TRACE(::testing::Message() << "increments " << increments << ", coupled "
+                                        << (coupling == StaticCoupling::kCoupled));
+      std::vector<ContactPair> pairs;
+      for (const double g : {g1, g2}) {
+        pairs.push_back({.dofs_a = {0, 1, 2},
+                         .dofs_b = {},
+                         .frame = MatrixXd::Identity(3, 3),
+                         .element = std::make_shared<FrictionContact3D>(
+                             FrictionContactParameters{kt, kn, mu, 0.0, g})});
+      }
+      Excitation e;
+      e.harmonics[0] = Eigen::Vector3cd(Q, 0, P);
+      HarmonicBalanceOptions opt;
+      opt.time_samples = 16;
+      opt.static_coupling = coupling;
+      opt.static_increments = increments;
+      const HarmonicBalanceSystem sys(
+          linear_model_from_matrices(ks * MatrixXd::Identity(3, 3), MatrixXd(mass.asDiagonal()),
+                                     alpha, 0.0),
+          pairs, e, opt);
+      ASSERT_TRUE(sys.static_summary().converged()) << sys.static_summary().message;
+      const StuckModes modes = stuck_modes(sys);
+      ASSERT_EQ(modes.omega2.size(), 3);
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_NEAR(modes.omega2[j], omega2[j], 1e-12 * omega2[j]) << "mode " << j + 1;
+      }
+      EXPECT_NEAR(first_slip_amplitude(sys, modes.eta.col(2)), slip_x, 1e-9 * slip_x);
+      EXPECT_NEAR(first_slip_amplitude(sys, modes.eta.col(1)), slip_y, 1e-9 * slip_y);
+      // The nonlinear mode's linear limit: the x mode, stuck, damped by α.
+      NonlinearModeOptions options;
+      options.mode = 3;
+      options.amplitudes = {1e-3 * slip_x, 0.5 * slip_x};
+      options.newton.tolerance = 1e-11;
+      const NonlinearModeResult r = nonlinear_mode(sys, options);
+      ASSERT_TRUE(r.completed) << r.message;
+      for (const NonlinearModePoint& p : r.points) {
+        EXPECT_NEAR(p.omega, std::sqrt(omega2[2]), 1e-9 * std::sqrt(omega2[2]));
+        EXPECT_NEAR(p.xi, alpha, 1e-9 * alpha);
+        EXPECT_EQ(p.pairs_slipping, 0.0);
+      }
+    }
+  }
+}
+
 // Single nonlinear mode theory on the Jenkins oscillator at H = 1. Reference: with the closed
 // forms ω(x), ξ(x) of the describing function (jenkins_reference) and ψ = 1/√m, q = √m x, the
 // SNMT equation is (k + k_eq(x) − mΩ² + i m ξ(x) Ω) X = F for |X| = x: its roots Ω are found here
