@@ -1246,6 +1246,19 @@ Solution.converged); bad input raises InvalidInput.)");
           "> 1: a perturbation grows each period; NaN at points that did not converge), as "
           "points.csv. Needs analysis.stability, else raises ValueError.")
       .def_property_readonly(
+          "floquet_unplaced",
+          [](const PySolution& s) {
+            require_stability(s, "floquet_unplaced");
+            return per_point(s, [](const FrequencyPoint& p) {
+              return p.stability_computed ? static_cast<double>(p.floquet.unplaced_exponents)
+                                          : std::numeric_limits<double>::quiet_NaN();
+            });
+          },
+          "The number of exponent families Hill's selection found no centred member for at each "
+          "point (P; 0 normally; > 0: the modes kept for Hill do not resolve them, see "
+          "docs/conventions.md Stability; NaN at points that did not converge), as points.csv "
+          "floquet_unplaced. Needs analysis.stability, else raises ValueError.")
+      .def_property_readonly(
           "dissipated_energy", [](const PySolution& s) { return per_point(s, &point_energy); },
           "Friction energy per cycle summed over the pairs, J (P).")
       .def_property_readonly(
@@ -1461,7 +1474,9 @@ Solution.converged); bad input raises InvalidInput.)");
                                     "residual_relative", "dissipated_energy"})
               d[key] = self.attr(key);
             if (s.definition->analysis.stability) {
-              for (const char* key : {"stable", "floquet_multiplier"}) d[key] = self.attr(key);
+              for (const char* key : {"stable", "floquet_multiplier", "floquet_unplaced"}) {
+                d[key] = self.attr(key);
+              }
             }
             const size_t nq = s.model->pairs.size();
             for (const char* key : {"stick", "slip", "separation"}) {
@@ -1486,7 +1501,8 @@ Solution.converged); bad input raises InvalidInput.)");
           },
           "to_dict() -> dict\n\nThe per-point columns as 1-D arrays of equal length, for "
           "pandas.DataFrame: frequencies_hz, converged, iterations, residual, residual_relative, "
-          "dissipated_energy, stable and floquet_multiplier (with analysis.stability), "
+          "dissipated_energy, stable, floquet_multiplier and floquet_unplaced (with "
+          "analysis.stability), "
           "mean_stick, mean_slip, mean_separation (over the pairs), and "
           "amplitude_<body>_<node>_<axis> (|X_1|, m) of each output.frf DOF of the case.")
       .def(

@@ -24,10 +24,13 @@ def test_stuck_points_have_the_damping_rate_of_the_linear_oscillator():
     assert stuck.sum() >= 5 and (~stuck).sum() >= 5
     np.testing.assert_allclose(rho[stuck], viscous[stuck], rtol=1e-10)
     assert solution.stable[stuck].all()
+    # Every family of the linear oscillator's exponents has its centred member: none unplaced.
+    np.testing.assert_array_equal(solution.floquet_unplaced[stuck], 0)
     assert (rho >= viscous * (1 - 1e-10)).all()
     d = solution.to_dict()
     np.testing.assert_array_equal(d["floquet_multiplier"], rho)
     np.testing.assert_array_equal(d["stable"], solution.stable)
+    np.testing.assert_array_equal(d["floquet_unplaced"], solution.floquet_unplaced)
 
 
 def test_stability_needs_the_analysis_switch():
@@ -36,6 +39,8 @@ def test_stability_needs_the_analysis_switch():
         solution.stable
     with pytest.raises(ValueError, match="analysis.stability"):
         solution.floquet_multiplier
+    with pytest.raises(ValueError, match="analysis.stability"):
+        solution.floquet_unplaced
     assert "stable" not in solution.to_dict()
     case = jenkins_case()
     with pytest.raises(TypeError, match="stability"):

@@ -112,7 +112,7 @@ const std::vector<CaseKey>& case_keys() {
     {"analysis", "aft", "`event` | `sampled`", "", "`event`", false, "how the contact forces' harmonics are computed from the displacement harmonics"},
     {"analysis", "static", "`uncoupled` | `coupled`", "", "`uncoupled`", false, "static contact state solved first and frozen, or harmonic 0 solved with the others"},
     {"analysis", "static_increments", "integer in [1, 10000]", "", "automatic", false, "load steps of the static contact problem"},
-    {"analysis", "stability", "bool", "", "`false`", false, "Hill's method on every converged point: points.csv `stable`, `floquet_multiplier`"},
+    {"analysis", "stability", "bool", "", "`false`", false, "Hill's method on every converged point: points.csv `stable`, `floquet_multiplier`, `floquet_unplaced`"},
     {"analysis", "tolerance", "number > 0", "", "`1.0e-8`", false, "Newton tolerance on the relative residual: ‖R‖₂ ≤ tolerance · s(Ω), with s(Ω)"},
     {"analysis", "max_iterations", "integer ≥ 1", "", "`30`", false, "Newton iterations per point"},
     {"analysis", "max_points", "integer in [2, 10⁶]", "", "`10000`", false, "continuation only: points at most"},
