@@ -124,10 +124,30 @@ double static_contact_force(const fs::path& out, int* pairs) {
   return total;
 }
 
+// The hand calculation of the header: the static contact force at `rpm`, N.
+double hand_contact_force(double rpm, bool softening) {
+  const double omega = rpm * 2 * M_PI / 60, A = kSide * kSide, R = kR0 + kL;
+  double u_free = 0.0, compliance = 0.0;
+  if (!softening) {
+    u_free = kRho * omega * omega / (2 * kE) * (R * R * kL - (R * R * R - kR0 * kR0 * kR0) / 3);
+    compliance = kL / (kE * A);
+  } else {
+    // u = −x + C1 cos βx + C2 sin βx with u(r0) = 0 and u'(R) = 0 (free tip); the tip's
+    // compliance from w = a sin β(x − r0), EA w'(R) = −1.
+    const double beta = omega * std::sqrt(kRho / kE);
+    Eigen::Matrix2d M;
+    M << std::cos(beta * kR0), std::sin(beta * kR0), -beta * std::sin(beta * R),
+        beta * std::cos(beta * R);
+    const Eigen::Vector2d C = M.lu().solve(Eigen::Vector2d(kR0, 1.0));
+    u_free = -R + C(0) * std::cos(beta * R) + C(1) * std::sin(beta * R);
+    compliance = std::tan(beta * kL) / (kE * A * beta);
+  }
+  return (u_free - kGap) / (compliance + 1.0 / kKnTotal);
+}
+
 TEST(RotationCli, TheCentrifugalForcePressesTheTipOntoItsStopAsTheHandCalculationSays) {
   const fs::path dir = fresh_dir("rotation_pressed");
   std::ofstream(dir / "bar.inp") << bar_inp();
-  const double omega = kRpm * 2 * M_PI / 60, A = kSide * kSide, R = kR0 + kL;
   std::map<bool, double> hand, ours;
   for (const bool softening : {false, true}) {
     const std::string name = softening ? "softened" : "plain";
@@ -135,36 +155,40 @@ TEST(RotationCli, TheCentrifugalForcePressesTheTipOntoItsStopAsTheHandCalculatio
     ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / name).string(), dir / (name + ".log")),
               0)
         << slurp(dir / (name + ".log"));
-    double u_free = 0.0, compliance = 0.0;
-    if (!softening) {
-      u_free = kRho * omega * omega / (2 * kE) * (R * R * kL - (R * R * R - kR0 * kR0 * kR0) / 3);
-      compliance = kL / (kE * A);
-    } else {
-      // u = −x + C1 cos βx + C2 sin βx with u(r0) = 0 and u'(R) = 0 (free tip); the tip's
-      // compliance from w = a sin β(x − r0), EA w'(R) = −1.
-      const double beta = omega * std::sqrt(kRho / kE);
-      Eigen::Matrix2d M;
-      M << std::cos(beta * kR0), std::sin(beta * kR0), -beta * std::sin(beta * R),
-          beta * std::cos(beta * R);
-      const Eigen::Vector2d C = M.lu().solve(Eigen::Vector2d(kR0, 1.0));
-      u_free = -R + C(0) * std::cos(beta * R) + C(1) * std::sin(beta * R);
-      compliance = std::tan(beta * kL) / (kE * A * beta);
-    }
-    hand[softening] = (u_free - kGap) / (compliance + 1.0 / kKnTotal);
+    hand[softening] = hand_contact_force(kRpm, softening);
     ASSERT_GT(hand[softening], 1000.0);  // the stop is reached and pressed
     int pairs = 0;
     ours[softening] = static_contact_force(dir / name, &pairs);
     EXPECT_EQ(pairs, (kNs + 1) * (kNs + 1));
   }
-  // Without spin softening the FE solution is the 1D one at the nodes (round-off). With it the
-  // Galerkin solution of u'' + β²u = −β²x is not nodally exact: its softening term sees u linearly
-  // interpolated between nodes, an error of order (h/L)² = 1e-2 of the softening's own share
-  // (6.7e-5 of N here; measured 3e-3 of it).
+  // Without spin softening the FE solution is the 1D one at the nodes (round-off; measured
+  // 1.2e-13). With it the Galerkin solution of u'' + β²u = −β²x is not nodally exact: its
+  // softening term sees u linearly interpolated between nodes, an error of order (h/L)² = 1e-2 of
+  // the softening's own share (6.7e-5 of N here; measured 3e-3 of it, 2e-7 of N).
   EXPECT_NEAR(ours[false], hand[false], 1e-9 * hand[false]);
   EXPECT_NEAR(ours[true], hand[true], 1e-6 * hand[true]);
   const double softening_share = hand[true] - hand[false];
   EXPECT_GT(softening_share, 1e-5 * hand[false]);  // the softened tip presses harder
   EXPECT_NEAR(ours[true] - ours[false], softening_share, 1e-2 * softening_share);
+}
+
+TEST(RotationCli, AStudyOverTheSpeedReducesTheSpinningBodyAgainForEachSpeed) {
+  // With spin softening the stiffness depends on the speed: each value's reduction is its own
+  // (the reduction's fingerprint holds the speed), so each folder has its speed's hand force.
+  const fs::path dir = fresh_dir("rotation_study");
+  std::ofstream(dir / "bar.inp") << bar_inp();
+  const fs::path c = write_case(
+      dir, "study",
+      pressed_case(true) + "study: {parameter: rotation.speed_rpm, values: [6000, 4000]}\n");
+  ASSERT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "run.log"), 0)
+      << slurp(dir / "run.log");
+  for (const double rpm : {6000.0, 4000.0}) {
+    const double hand = hand_contact_force(rpm, true);
+    ASSERT_GT(hand, 100.0);
+    int pairs = 0;
+    const fs::path folder = dir / "out" / ("speed_rpm_" + std::to_string(static_cast<int>(rpm)));
+    EXPECT_NEAR(static_contact_force(folder, &pairs), hand, 1e-6 * hand) << folder;
+  }
 }
 
 // --- Campbell diagram against CalculiX ---
