@@ -311,7 +311,7 @@ struct StaticLoadDefinition {
 // the two flags, the stress stiffening of its prestress and the spin softening in every body's
 // stiffness. `campbell` asks `stickslip modes` for the Campbell diagram over speeds_rpm.
 struct RotationDefinition {
-  double speed_rpm = 0.0;  // ≥ 0 (required)
+  double speed_rpm = 0.0;   // ≥ 0 (required)
   bool axis_given = false;  // false: the cyclic body's axis (a case without one must give it)
   std::array<double, 3> axis_point{0, 0, 0};      // m
   std::array<double, 3> axis_direction{0, 0, 1};  // unit vector
