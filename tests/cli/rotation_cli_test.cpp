@@ -20,11 +20,15 @@
 // 3. A cyclic sector's Campbell diagram (per nodal diameter, the sector spinning about its cyclic
 //    axis: its prestress from its nodal-diameter-0 problem) against the whole ring's, built as one
 //    ordinary body spinning about the same axis: every frequency of the sector is the ring's.
+// 4. A spinning sector's forced response (its centrifugal load condensed on its masters, every
+//    diameter reduced with the spinning stiffness) against the whole spinning ring's, both through
+//    `stickslip run` (tests/bladed_ring.h: 6 shrouded blades, shrouds joined by springs).
 #include <gtest/gtest.h>
 
 #include "cli_test_support.h"
 
 #include <cmath>
+#include <complex>
 #include <map>
 #include <sstream>
 #include <string>
@@ -32,6 +36,9 @@
 
 #include <Eigen/Dense>
 
+#include <Eigen/Geometry>
+
+#include "../bladed_ring.h"
 #include "../cyclic_annulus.h"
 
 namespace {
@@ -430,6 +437,131 @@ TEST(RotationCli, ASectorsCampbellDiagramIsTheWholeRingsPerNodalDiameter) {
   }
   EXPECT_EQ(checked, 3 * 4 * 3);  // speeds x nodal diameters 0..3 x modes
   EXPECT_GT(largest_shift, 1e-2);
+}
+
+// --- A spinning sector's forced response against the whole spinning ring's ---
+
+constexpr int kBlades = 6;
+
+void write_ring_mesh(const fs::path& file, const cyc::BladedRing& b) {
+  std::ofstream deck(file);
+  deck.precision(17);
+  const stickslip::Mesh& m = b.mesh;
+  deck << "*NODE\n";
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    deck << m.node_ids[n] << ", " << m.coordinates(0, n) << ", " << m.coordinates(1, n) << ", "
+         << m.coordinates(2, n) << "\n";
+  }
+  deck << "*ELEMENT, TYPE=C3D8, ELSET=ALL\n";
+  for (int e = 0; e < m.num_elements(); ++e) {
+    deck << m.element_ids[e];
+    for (int n : m.element_nodes(e)) deck << ", " << m.node_ids[n];
+    deck << "\n";
+  }
+  const auto nset = [&](const char* name, const std::vector<int>& nodes) {
+    deck << "*NSET, NSET=" << name << "\n";
+    for (int n : nodes) deck << m.node_ids[n] << "\n";
+  };
+  nset("INNER", b.clamped_nodes());
+  if (b.sectors == 1) {
+    nset("LOW", b.ring_low());
+    nset("HIGH", b.ring_high());
+  }
+}
+
+// Blade s's shroud joined to blade s + 1's by springs (the sector: `neighbour: next`).
+std::string shroud_springs(const cyc::BladedRing& b, int s, const std::string& body,
+                           bool neighbour) {
+  const double t = 2 * M_PI * (s + 1) / kBlades;
+  const std::vector<int> a = b.high_shroud(s);
+  const std::vector<int> o = neighbour ? b.low_shroud(s) : b.low_shroud((s + 1) % kBlades);
+  std::ostringstream c;
+  c.precision(17);
+  c << "  - name: shroud" << s << "\n    law: linear\n    bodies: [" << body << ", " << body
+    << "]\n    pairs: [";
+  for (size_t i = 0; i < a.size(); ++i)
+    c << (i ? ", " : "") << "[" << b.mesh.node_ids[a[i]] << ", " << b.mesh.node_ids[o[i]] << "]";
+  c << "]\n"
+    << (neighbour ? "    neighbour: next\n" : "") << "    normal: [" << -std::sin(t) << ", "
+    << std::cos(t) << ", 0]\n    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
+  return c.str();
+}
+
+std::string spinning_case(const cyc::BladedRing& b, bool sector) {
+  const Eigen::Vector3d force{80.0, 200.0, 400.0};  // on blade 0's forced node, N; EO 1
+  std::ostringstream c;
+  c.precision(17);
+  c << "stickslip: 1\nmaterials:\n  steel: {youngs_modulus: 2.1e11, poisson_ratio: 0.3, density: "
+       "7800}\nmeshes:\n  m: {file: "
+    << (sector ? "sector.inp" : "ring.inp")
+    << "}\ndamping: {alpha: 20, beta: 2.0e-7}\nbodies:\n  disk:\n    mesh: m\n    material: "
+       "steel\n    clamp: INNER\n    modes: 1000\n";
+  if (sector) {
+    c << "    cyclic:\n      sectors: 6\n      axis: {point: [0, 0, 0], direction: z}\n"
+         "      low: LOW\n      high: HIGH\n";
+  }
+  c << "contacts:\n";
+  for (int s = 0; s < (sector ? 1 : kBlades); ++s) c << shroud_springs(b, s, "disk", sector);
+  c << "excitation:\n";
+  for (int s = 0; s < (sector ? 1 : kBlades); ++s) {
+    const Eigen::Vector3d f =
+        Eigen::AngleAxisd(2 * M_PI * s / kBlades, Eigen::Vector3d::UnitZ()) * force;
+    const std::complex<double> phase = std::polar(1.0, 2 * M_PI * s / kBlades);
+    c << "  - {body: disk, node: " << b.mesh.node_ids[b.forced(s)] << ", force: [";
+    for (int i = 0; i < 3; ++i) {
+      const std::complex<double> v = phase * f[i];
+      c << (i ? ", " : "") << "[" << v.real() << ", " << v.imag() << "]";
+    }
+    c << "]" << (sector ? ", engine_order: 1" : "") << "}\n";
+  }
+  // The sector spins about its cyclic axis (the default); the ring about the same axis.
+  c << "rotation:\n  speed_rpm: 20000\n"
+    << (sector ? "" : "  axis: {point: [0, 0, 0], direction: z}\n")
+    << "analysis:\n  frequency: {start_hz: 1100, stop_hz: 1120, step_hz: 10}\n  harmonics: 1\n"
+       "  tolerance: 1.0e-11\nrecovery: {points: none}\noutput: {plots: false}\n";
+  return c.str();
+}
+
+TEST(RotationCli, ASpinningSectorsForcedResponseIsTheWholeSpinningRings) {
+  const fs::path dir = fresh_dir("rotation_ring");
+  const cyc::BladedRing sector = cyc::bladed_ring(kBlades, 1),
+                        ring = cyc::bladed_ring(kBlades, kBlades);
+  write_ring_mesh(dir / "sector.inp", sector);
+  write_ring_mesh(dir / "ring.inp", ring);
+  std::ofstream(dir / "sector.yaml") << spinning_case(sector, true);
+  std::ofstream(dir / "ring.yaml") << spinning_case(ring, false);
+  for (const std::string name : {"sector", "ring"}) {
+    ASSERT_EQ(run("run " + (dir / (name + ".yaml")).string() + " -o " + (dir / name).string(),
+                  dir / (name + ".log")),
+              0)
+        << slurp(dir / (name + ".log"));
+  }
+  // Blade 0's shroud forces (local frame), every point and harmonic: the static ones (harmonic
+  // 0, from the centrifugal load alone) and the vibration's.
+  const auto forces = [](const fs::path& csv) {
+    std::map<std::string, std::complex<double>> out;
+    for (const auto& r : read_csv(csv)) {
+      if (r.at("contact") != "shroud0" || r.at("frame") != "local") continue;
+      out[r.at("point") + "|" + r.at("pair") + "|" + r.at("axis") + "|" + r.at("harmonic")] = {
+          std::stod(r.at("real_n")), std::stod(r.at("imag_n"))};
+    }
+    return out;
+  };
+  const auto a = forces(dir / "sector/contact_forces.csv"),
+             b = forces(dir / "ring/contact_forces.csv");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GT(a.size(), 0u);
+  double worst = 0.0, scale = 0.0, static_scale = 0.0;
+  for (const auto& [k, v] : a) {
+    worst = std::max(worst, std::abs(v - b.at(k)));
+    scale = std::max(scale, std::abs(v));
+    if (k.substr(k.size() - 2) == "|0") static_scale = std::max(static_scale, std::abs(v));
+  }
+  // Exact reductions of the same linear problem on both sides: round-off.
+  EXPECT_LT(worst, 1e-8 * scale);
+  EXPECT_GT(static_scale, 1e-3 * scale);  // the centrifugal load strains the shroud springs
+  // The spinning sector's log says what it does.
+  EXPECT_NE(slurp(dir / "sector.log").find("rotation: 20000 rpm"), std::string::npos);
 }
 
 }  // namespace
