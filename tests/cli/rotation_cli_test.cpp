@@ -198,6 +198,25 @@ TEST(RotationCli, AStudyOverTheSpeedReducesTheSpinningBodyAgainForEachSpeed) {
   }
 }
 
+TEST(RotationCli, BadRotationInputExitsWithCodeTwoNamingItsKey) {
+  const fs::path dir = fresh_dir("rotation_bad");
+  std::ofstream(dir / "bar.inp") << bar_inp();
+  std::string text = pressed_case(false);
+  // The recovery of a rotating case is refused until it is written.
+  text.replace(text.find("recovery: {points: none}"), 24, "recovery: {points: peak}");
+  const fs::path c = write_case(dir, "recovery", text);
+  EXPECT_EQ(run("run -q " + c.string() + " -o " + (dir / "out").string(), dir / "recovery.log"), 2);
+  EXPECT_NE(slurp(dir / "recovery.log").find("recovery: {points: none}"), std::string::npos)
+      << slurp(dir / "recovery.log");
+  // A speed below zero, at its line.
+  text = pressed_case(false);
+  text.replace(text.find("speed_rpm: 6000"), 15, "speed_rpm: -6000");
+  const fs::path n = write_case(dir, "negative", text);
+  EXPECT_EQ(run("run -q " + n.string() + " -o " + (dir / "out").string(), dir / "negative.log"), 2);
+  EXPECT_NE(slurp(dir / "negative.log").find("rotation.speed_rpm"), std::string::npos)
+      << slurp(dir / "negative.log");
+}
+
 // --- Campbell diagram against CalculiX ---
 
 // A slender blade, 1 m x 2 cm x 2 cm of 20 x 2 x 2 C3D8 on [0, 1] x [0, 2 cm]², its hub 0.1 m
