@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -12,6 +13,7 @@
 #include "cli/pipeline.h"
 #include "cli/plots.h"
 #include "cli/progress.h"
+#include "model/campbell.h"
 #include "model/cyclic_modes.h"
 #include "model/stuck_assembly.h"
 #include "core/errors.h"
@@ -116,6 +118,70 @@ int write_cyclic_modes(const StageRun& run, const ModesCommand& command, bool qu
   return code;
 }
 
+// The Campbell diagram of a rotating case (model/campbell.h) into run.dir/modes/: campbell.csv
+// (speed_rpm, system, nodal_diameter, mode, frequency_hz) and the plot campbell.{png,svg} with the
+// engine-order lines f = EO · speed / 60. Returns kExitPlotsMissing when the plot could not be
+// drawn, else 0.
+int write_campbell(const StageRun& run, const ModesCommand& command, bool quiet,
+                   const ProgressFn& progress, ModelCache* cache) {
+  namespace fs = std::filesystem;
+  const CaseDefinition& def = run.definition;
+  const CampbellDiagram d = campbell_diagram(def, command.num_modes, progress, cache);
+  const fs::path dir = run.dir / "modes";
+  create_output_folder(dir);
+  const auto label = [](const CampbellLine& l) {
+    return l.nodal_diameter >= 0
+               ? fmt::format("{} ND {} mode {}", l.system, l.nodal_diameter, l.mode)
+               : fmt::format("{} mode {}", l.system, l.mode);
+  };
+  write_file_atomically((dir / "campbell.csv").string(), [&](std::ostream& out) {
+    out << "speed_rpm,system,nodal_diameter,mode,frequency_hz\n";
+    for (const CampbellLine& l : d.lines) {
+      for (size_t s = 0; s < d.speeds_rpm.size(); ++s) {
+        if (!std::isfinite(l.frequencies_hz[s])) continue;
+        fmt::print(out, "{},{},{},{},{}\n", d.speeds_rpm[s], l.system,
+                   l.nodal_diameter >= 0 ? std::to_string(l.nodal_diameter) : "", l.mode,
+                   l.frequencies_hz[s]);
+      }
+    }
+  });
+  int code = 0;
+  if (def.output.plots) {
+    std::vector<PlotSeries> series;
+    for (const CampbellLine& l : d.lines) {
+      PlotSeries p{label(l), {}, {},
+                   l.system == "stuck" ? "linespoints lw 1.5 pt 7 ps 0.8"
+                                       : "linespoints lw 1 dt 2 pt 6 ps 0.8"};
+      for (size_t s = 0; s < d.speeds_rpm.size(); ++s) {
+        if (!std::isfinite(l.frequencies_hz[s])) continue;
+        p.x.push_back(d.speeds_rpm[s]);
+        p.y.push_back(l.frequencies_hz[s]);
+      }
+      series.push_back(std::move(p));
+    }
+    for (int eo : d.engine_orders) {
+      const double a = d.speeds_rpm.front(), b = d.speeds_rpm.back();
+      series.push_back({fmt::format("EO {}", eo), {a, b}, {eo * a / 60.0, eo * b / 60.0},
+                        "lines lw 1 lc rgb 'gray40' dt 3"});
+    }
+    PlotLog plots;
+    const std::string title = (def.title.empty() ? "" : def.title + ": ") + "Campbell diagram";
+    if (!plot_curves(dir, "campbell", title, "speed (rpm)", "frequency (Hz)", series, &plots)) {
+      std::fprintf(stderr,
+                   "stickslip: the Campbell diagram was not drawn; campbell.csv and campbell.dat "
+                   "are complete (run `stickslip modes` again to draw it)\n");
+      code = kExitPlotsMissing;
+    }
+  }
+  if (!quiet) {
+    fmt::print("{}Campbell diagram, {} speeds from {} to {} rpm, {} lines\n",
+               run.folder.empty() ? "" : run.folder + ": ", d.speeds_rpm.size(),
+               d.speeds_rpm.front(), d.speeds_rpm.back(), d.lines.size());
+    fmt::print("wrote {}\n", (dir / "campbell.csv").string());
+  }
+  return code;
+}
+
 // `stickslip modes CASE`: modes of the case's assembled reduced model with every contact stuck
 // (the frequencies `analysis.frequency.around_mode` centres on), and their shapes on the full
 // meshes (x = T q) when the Craig–Bampton basis is at hand.
@@ -131,6 +197,8 @@ int run_case_modes(const ModesCommand& command) {
   int code = 0;
   for (const StageRun& run : stage_runs(base, out_dir)) {
     const CaseDefinition& def = run.definition;
+    if (def.rotation && !def.rotation->campbell_speeds_rpm.empty())
+      code = std::max(code, write_campbell(run, command, quiet, progress, &cache));
     if (cyclic) {  // the modes per nodal diameter instead of the stuck assembly's
       const int run_code = write_cyclic_modes(run, command, quiet, progress, &cache);
       if (run_code == 1) return 1;

@@ -196,6 +196,8 @@ std::string numeric_rule_violation(const std::string& key, double value) {
   } else if (key == "mu" || key == "preload" || key == "gap" || key == "k1" || key == "alpha" ||
              key == "beta") {
     if (!(value >= 0)) return "must be >= 0";
+  } else if (key == "speed_rpm") {
+    if (!(value >= 0)) return "must be >= 0";
   } else if (key == "modal_damping_ratio") {
     if (!(value >= 0 && value < 1)) return "must be in [0, 1)";
   } else if (LawParameter::Rule rule; key != "k3" && contact_parameter_rule(key, &rule)) {
@@ -1435,6 +1437,73 @@ void parse_static_loads(Parser& p, const MapView& top) {
   }
 }
 
+// rotation: {speed_rpm, axis: {point, direction}, stress_stiffening, spin_softening,
+// campbell: {speeds_rpm, engine_orders}}.
+void parse_rotation(Parser& p, const MapView& top) {
+  if (!top.has("rotation")) return;
+  MapView m(p, top.value("rotation"), "rotation", top.line("rotation"), case_keys_in("rotation"));
+  RotationDefinition d;
+  m.require("speed_rpm", "the speed in revolutions per minute");
+  m.number("speed_rpm", &d.speed_rpm);
+  const CaseDefinition& c = p.out();
+  const auto cyclic = std::find_if(c.bodies.begin(), c.bodies.end(),
+                                   [](const auto& b) { return b.second.cyclic.has_value(); });
+  if (m.has("axis")) {
+    MapView axis(p, m.value("axis"), m.full("axis"), m.line("axis"),
+                 case_keys_in("rotation.axis"));
+    axis.require("point");
+    axis.require("direction");
+    d.axis_given = true;
+    d.axis_point = p.vector3(axis.value("point"), axis.full("point"), axis.line("point"));
+    d.axis_direction =
+        p.direction(axis.value("direction"), axis.full("direction"), axis.line("direction"));
+  } else {
+    p.check(cyclic != c.bodies.end(), m.full("axis"), m.line(),
+            "required key missing (the axis of rotation: {point, direction}; a case with a "
+            "cyclic body spins about its cyclic axis by default)");
+  }
+  m.boolean("stress_stiffening", &d.stress_stiffening);
+  m.boolean("spin_softening", &d.spin_softening);
+  if (m.has("campbell")) {
+    MapView cm(p, m.value("campbell"), m.full("campbell"), m.line("campbell"),
+               case_keys_in("rotation.campbell"));
+    cm.require("speeds_rpm", "the speeds of the Campbell diagram");
+    const YAML::Node& v = cm.value("speeds_rpm");
+    p.sequence(v, cm.full("speeds_rpm"), cm.line("speeds_rpm"));
+    p.check(v.size() >= 2, cm.full("speeds_rpm"), cm.line("speeds_rpm"),
+            "expected at least two speeds");
+    for (const YAML::Node& x : v) {
+      const double rpm = p.checked_number(x, cm.full("speeds_rpm"), "speed_rpm",
+                                          Parser::here(x, cm.line("speeds_rpm")));
+      p.check(d.campbell_speeds_rpm.empty() || rpm > d.campbell_speeds_rpm.back(),
+              cm.full("speeds_rpm"), Parser::here(x, cm.line("speeds_rpm")),
+              "the speeds must increase, got " + format_number(rpm) + " after " +
+                  (d.campbell_speeds_rpm.empty() ? "" : format_number(d.campbell_speeds_rpm.back())));
+      d.campbell_speeds_rpm.push_back(rpm);
+    }
+    if (cm.has("engine_orders")) {
+      const YAML::Node& eo = cm.value("engine_orders");
+      p.sequence(eo, cm.full("engine_orders"), cm.line("engine_orders"));
+      for (const YAML::Node& x : eo) {
+        const int line = Parser::here(x, cm.line("engine_orders"));
+        const int k = p.integer(x, cm.full("engine_orders"), line);
+        p.check(k >= 1 && k <= kMaxCyclicSectors, cm.full("engine_orders"), line,
+                "an engine order is an integer in [1, " + std::to_string(kMaxCyclicSectors) +
+                    "], got " + std::to_string(k));
+        d.engine_orders.push_back(k);
+      }
+    }
+  }
+  // Every body spins: a body given by matrices has no coordinates to put its centrifugal load on.
+  for (const auto& [name, b] : c.bodies) {
+    p.check(b.source == BodyDefinition::Source::kMesh, "rotation", m.line(),
+            "body '" + name +
+                "' is given by reduced matrices: it has no node coordinates for its centrifugal "
+                "load (rotation acts on bodies given by a mesh)");
+  }
+  p.out().rotation = d;
+}
+
 // `mode` and `amplitude` of a nonlinear mode, in `m`: analysis itself (method nonlinear_mode) or
 // the analysis.nonlinear_mode block of a forced response (its prediction from the mode).
 void parse_mode_and_amplitude(Parser& p, const MapView& m, AnalysisDefinition& a) {
@@ -1736,9 +1805,15 @@ void cross_check(Parser& p) {
   for (const ContactDefinition& d : c.contacts) {
     if (!d.preload_computed) continue;
     const std::string path = "contacts." + d.name + "." + parameter_block(d) + ".preload";
-    p.check(!c.static_loads.empty(), path, c.where(path).line,
-            "a computed preload needs 'static_loads' (the loads that press the contact); "
-            "none are given");
+    p.check(!c.static_loads.empty() || c.rotation.has_value(), path, c.where(path).line,
+            "a computed preload needs 'static_loads' or 'rotation' (the loads that press the "
+            "contact); none are given");
+  }
+  if (c.rotation && c.recovery.points != RecoveryPoints::kNone) {
+    const std::string key = c.locations.count("recovery.points") ? "recovery.points" : "rotation";
+    p.check(false, key, c.where(key).line,
+            "the recovery of a rotating case (its centrifugal stresses with the vibration) is "
+            "still to come: give `recovery: {points: none}`");
   }
   if (!c.recovery.nodes.empty()) {
     const bool any_mesh_body = std::any_of(c.bodies.begin(), c.bodies.end(), [](const auto& b) {
@@ -1902,6 +1977,7 @@ CaseDefinition parse_case_unguarded(const std::string& yaml_text,
   parse_contacts(p, top);
   parse_excitation(p, top);
   parse_static_loads(p, top);
+  parse_rotation(p, top);
   if (top.has("damping")) {
     MapView d(p, top.value("damping"), "damping", top.line("damping"), case_keys_in("damping"));
     d.number("alpha", &out.damping.alpha);
@@ -2104,6 +2180,9 @@ CaseDefinition with_parameter(const CaseDefinition& definition, const std::strin
         for (double& f : l.force) f *= magnitude / norm;
       };
     }
+  } else if (parts.size() == 2 && parts[0] == "rotation" && key == "speed_rpm") {
+    if (!c.rotation) fail("the case has no 'rotation'");
+    field = &c.rotation->speed_rpm;
   }
   if (!field) fail("not a numeric key that a study can vary; " + supported);
   const std::string rule = numeric_rule_violation(key, value);
@@ -2377,6 +2456,33 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::EndMap;
     }
     e << YAML::EndSeq;
+  }
+  if (c.rotation) {
+    const RotationDefinition& r = *c.rotation;
+    e << YAML::Key << "rotation" << YAML::Value << YAML::BeginMap;
+    e << YAML::Key << "speed_rpm" << YAML::Value << num(r.speed_rpm);
+    if (r.axis_given) {
+      e << YAML::Key << "axis" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      e << YAML::Key << "point" << YAML::Value;
+      vec(r.axis_point);
+      e << YAML::Key << "direction" << YAML::Value;
+      vec(r.axis_direction);
+      e << YAML::EndMap;
+    }
+    e << YAML::Key << "stress_stiffening" << YAML::Value << r.stress_stiffening;
+    e << YAML::Key << "spin_softening" << YAML::Value << r.spin_softening;
+    if (!r.campbell_speeds_rpm.empty()) {
+      e << YAML::Key << "campbell" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      e << YAML::Key << "speeds_rpm" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (double v : r.campbell_speeds_rpm) e << num(v);
+      e << YAML::EndSeq;
+      if (!r.engine_orders.empty()) {
+        e << YAML::Key << "engine_orders" << YAML::Value;
+        vec(r.engine_orders);
+      }
+      e << YAML::EndMap;
+    }
+    e << YAML::EndMap;
   }
   e << YAML::Key << "damping" << YAML::Value << YAML::Flow << YAML::BeginMap;
   e << YAML::Key << "alpha" << YAML::Value << num(c.damping.alpha);

@@ -306,6 +306,21 @@ struct StaticLoadDefinition {
   double pressure = 0.0;                 // Pa (kPressure)
 };
 
+// `rotation`: the whole structure spins at speed_rpm about the axis (fe/rotation.h,
+// docs/rotation.md): the centrifugal load on every mesh body (a static, harmonic-0 load) and, by
+// the two flags, the stress stiffening of its prestress and the spin softening in every body's
+// stiffness. `campbell` asks `stickslip modes` for the Campbell diagram over speeds_rpm.
+struct RotationDefinition {
+  double speed_rpm = 0.0;   // ≥ 0 (required)
+  bool axis_given = false;  // false: the cyclic body's axis (a case without one must give it)
+  std::array<double, 3> axis_point{0, 0, 0};      // m
+  std::array<double, 3> axis_direction{0, 0, 1};  // unit vector
+  bool stress_stiffening = true;
+  bool spin_softening = true;
+  std::vector<double> campbell_speeds_rpm;  // increasing, ≥ 0; empty: no Campbell diagram
+  std::vector<int> engine_orders;           // ≥ 1: the lines drawn on the diagram
+};
+
 struct DampingDefinition {
   double alpha = 0.0;  // s⁻¹, C = α M + β K
   double beta = 0.0;   // s
@@ -401,6 +416,7 @@ struct CaseDefinition {
   std::vector<ContactDefinition> contacts;  // in file order
   std::vector<ExcitationDefinition> excitation;
   std::vector<StaticLoadDefinition> static_loads;  // "static_loads[i]"
+  std::optional<RotationDefinition> rotation;      // "rotation"
   DampingDefinition damping;
   AnalysisDefinition analysis;
   StudyDefinition study;
@@ -435,7 +451,7 @@ std::vector<std::pair<int, double>> read_preloads_csv(const std::string& path,
 // contacts.C.{per_pair|total}.{kt,kn,mu,preload,k,k1,k3}, contacts.C.gap, damping.{alpha,beta},
 // bodies.B.modal_damping_ratio, excitation[i].amplitude (scales the force to that magnitude),
 // static_loads[i].{force,total_force} (the vector scaled to that magnitude, N ≥ 0; the key the
-// entry gives) and static_loads[i].pressure (≠ 0).
+// entry gives), static_loads[i].pressure (≠ 0) and rotation.speed_rpm (≥ 0).
 // Throws InvalidInput (at `where`) for an unknown path or a value that breaks the key's rule.
 CaseDefinition with_parameter(const CaseDefinition& definition, const std::string& path,
                               double value, const SourceLocation& where = {});

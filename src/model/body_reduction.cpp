@@ -14,6 +14,7 @@
 #include "io/ansys_mapping.h"
 #include "io/matrix_market.h"
 #include "mesh/mesh_tools.h"
+#include "model/rotation_case.h"
 #include "reduction/craig_bampton.h"
 
 namespace stickslip {
@@ -69,6 +70,8 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
     throw InvalidInput(def.where(key + (resolved.supports.empty() ? ".clamp" : ".supports")),
                        "body " + name + ": " + e.message());
   }
+  // A spinning body is reduced with its stiffness at the case's speed (model/rotation_case.h).
+  add_rotation_stiffness(def, name, body.mesh, body.material, body.constraints, nullptr, M, K);
   std::vector<int> constrained;
   for (int d = 0; d < body.constraints.num_dofs(); ++d) {
     if (body.constraints.is_constrained(d)) constrained.push_back(d);

@@ -30,6 +30,7 @@
 #include "mesh/mortar.h"
 #include "mesh/surface_area.h"
 #include "model/body_reduction.h"
+#include "model/rotation_case.h"
 #include "model/cyclic_forced_response.h"
 #include "model/nonlinear_mode_case.h"
 
@@ -693,6 +694,15 @@ std::vector<std::string> reduction_fingerprints(const CaseDefinition& def,
     for (int n : body.masters) text += fmt::format(" {}", body.node_id(n));
     text += fmt::format("\nmodes {}\n", bd.modes);
     if (bd.mass_rule != MassIntegration::kExact) text += "mass_rule calculix\n";
+    if (def.rotation && def.rotation->speed_rpm != 0.0 &&
+        (def.rotation->stress_stiffening || def.rotation->spin_softening)) {
+      // The body is reduced with its stiffness at that speed (model/rotation_case.h).
+      const RotationAxis axis = case_rotation_axis(def);
+      text += fmt::format("rotation {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {} {}\n",
+                          def.rotation->speed_rpm, axis.point.x(), axis.point.y(), axis.point.z(),
+                          axis.direction.x(), axis.direction.y(), axis.direction.z(),
+                          int{def.rotation->stress_stiffening}, int{def.rotation->spin_softening});
+    }
     out.back() = fingerprint_hex(text);
   }
   return out;
@@ -1192,6 +1202,31 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       for (int dir = 0; dir < 3; ++dir)
         it->second(body.global_dof(node_id_of(body, nodes[k]), dir)) += forces[k](dir);
     }
+  }
+
+  // Rotation: the centrifugal load of every mesh body, a static load (model/rotation_case.h).
+  if (def.rotation && case_rotation_speed(def) != 0.0) {
+    auto [it, inserted] =
+        model.excitation.harmonics.try_emplace(0, Eigen::VectorXcd::Zero(model.num_dofs));
+    for (size_t b = 0; b < model.bodies.size(); ++b) {
+      const PreparedBody& body = model.bodies[b];
+      if (!body.from_mesh) continue;
+      const CaseBody& rb = resolved.bodies[b];
+      std::optional<SectorBoundary> sector;
+      if (rb.cyclic) {
+        sector = SectorBoundary{rb.cyclic_pairs, {}, *rb.cyclic};
+        for (int d = 0; d < body.constraints.num_dofs(); ++d) {
+          if (body.constraints.is_clamped(d)) sector->clamped_dofs.push_back(d);
+        }
+      }
+      const Eigen::VectorXd f =
+          reduced_centrifugal_load(def, body, sector ? &*sector : nullptr);
+      it->second.segment(body.offset, f.size()) += f.cast<std::complex<double>>();
+    }
+    say(fmt::format("rotation: {} rpm ({:.6g} rad/s); centrifugal load on every body{}{}",
+                    def.rotation->speed_rpm, case_rotation_speed(def),
+                    def.rotation->stress_stiffening ? ", stress stiffening" : "",
+                    def.rotation->spin_softening ? ", spin softening" : ""));
   }
 
   // The normal preload N0 is carried by the contact at rest: it is the force of an external

@@ -12,6 +12,7 @@
 #include "core/errors.h"
 #include "core/types.h"
 #include "fe/assembly.h"
+#include "model/rotation_case.h"
 
 namespace stickslip {
 
@@ -201,6 +202,10 @@ std::map<int, CyclicReducedSector> reduce_cyclic_body(const CaseDefinition& def,
   SparseMatrix K, M;
   assemble_stiffness_mass(body.mesh, body.material,
                           AssemblyOptions{.mass_integration = bd.mass_rule}, &K, &M);
+  if (def.rotation) {  // the spinning sector's stiffness (model/rotation_case.h)
+    const SectorBoundary sector{resolved.cyclic_pairs, clamped, *resolved.cyclic};
+    add_rotation_stiffness(def, name, body.mesh, body.material, body.constraints, &sector, M, K);
+  }
   std::map<int, CyclicReducedSector> out;
   for (int h : diameters) {
     CyclicSectorProblem p;

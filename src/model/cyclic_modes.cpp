@@ -11,6 +11,7 @@
 #include "core/types.h"
 #include "fe/assembly.h"
 #include "fe/cyclic.h"
+#include "model/rotation_case.h"
 
 namespace stickslip {
 namespace {
@@ -129,6 +130,10 @@ CyclicModes cyclic_modes(const CaseDefinition& def, int modes_per_diameter,
   if (progress) progress("assembling body " + cyclic_name);
   assemble_stiffness_mass(body.mesh, body.material,
                           AssemblyOptions{.mass_integration = bd.mass_rule}, &K, &M);
+  if (def.rotation) {  // the spinning sector's stiffness (model/rotation_case.h)
+    const SectorBoundary sector{body.cyclic_pairs, clamped, *body.cyclic};
+    add_rotation_stiffness(def, cyclic_name, body.mesh, body.material, constraints, &sector, M, K);
+  }
 
   CyclicModes out;
   out.body = cyclic_name;

@@ -156,8 +156,8 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
   // (continuation, modal), `amplitude.points` only with nonlinear_mode, `gap` is exclusive with the
   // preload this case gives, `mass_rule` only when it is calculix (describe_case enters the
   // reduction's fingerprint, which stays that of earlier runs for the default), the .msh-only and
-  // `supports` keys belong to blocks this case does not have, and so does `cyclic` (its
-  // tolerance: tests/io/cyclic_case_test.cpp).
+  // `supports` keys belong to blocks this case does not have, and so do `cyclic` (its
+  // tolerance: tests/io/cyclic_case_test.cpp) and `rotation` (tests/io/rotation_case_test.cpp).
   const std::set<std::string> not_written{"output.directory",
                                           "analysis.aft",
                                           "bodies.NAME.mass_rule",
@@ -170,7 +170,9 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
                                           "meshes.NAME.hexahedron8",
                                           "meshes.NAME.hexahedron20",
                                           "bodies.NAME.supports.from_mesh",
-                                          "bodies.NAME.cyclic.tolerance"};
+                                          "bodies.NAME.cyclic.tolerance",
+                                          "rotation.stress_stiffening",
+                                          "rotation.spin_softening"};
   int checked = 0;
   const std::regex one_value("`([^`]*)`");
   for (const CaseKey& k : case_keys()) {
@@ -220,6 +222,7 @@ static_loads:
       {"static_loads[i].pressure", {}},
       {"damping.alpha", {"damping.alpha"}},
       {"damping.beta", {"damping.beta"}},
+      {"rotation.speed_rpm", {}},  // this case does not rotate: tests/io/rotation_case_test.cpp
   };
   const std::vector<std::string> paths = study_parameter_paths();
   EXPECT_EQ(paths.size(), examples.size());
