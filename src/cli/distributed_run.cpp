@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -231,64 +232,87 @@ void root_study(Processes& processes, const std::vector<StageRun>& runs, bool qu
   for (int r = 1; r < processes.size(); ++r) processes.send(r, kFinishTag, "");
 }
 
-void other_study(Processes& processes, const std::vector<StageRun>& runs, bool quiet,
-                 const AnalyseFn& analyse) {
-  const fs::path scratch = fs::temp_directory_path() /
-                           fmt::format("stickslip-rank{}-{}", processes.rank(), ::getpid());
-  for (size_t i = processes.rank(); i < runs.size(); i += processes.size()) {
-    if (processes.pending(0) && processes.receive(0).tag == kStopTag) break;
-    StageRun run = runs[i];
-    run.reported_dir = runs[i].dir;
-    run.dir = scratch / (run.folder.empty() ? fs::path("run") : fs::path(run.folder));
-    const std::string scratch_dir = run.dir.string(), real_dir = runs[i].dir.string();
-    Packer p;
-    int failure_code = 0;
-    std::string failure;
-    {
-      StderrCapture capture;
-      try {
-        fs::remove_all(run.dir);
-        create_output_folder(run.dir);
-        const ProgressFn printed = stderr_progress(quiet);
-        // Each line of progress also lets the sends under way advance.
-        const ProgressFn progress = [&](const std::string& line) {
-          printed(line);
-          processes.progress();
-        };
-        ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
-        RunTally tally;
-        analyse(run, progress, &reporter, tally);
-        reporter.finish();
-        std::string log = capture.text();
-        replace_all(log, scratch_dir, real_dir);
-        p.put(log);
-        const std::vector<fs::path> files = published_files_under(run.dir);
-        p.put(static_cast<std::int64_t>(files.size()));
-        for (const fs::path& f : files) {
-          p.put(f.generic_string());
-          p.put(file_bytes(run.dir / f));
-        }
-        put_tally(p, tally, scratch_dir, real_dir);
-      } catch (...) {
-        failure = describe_failure(std::current_exception(), &failure_code);
+// A process other than 0: value `run` analysed in its scratch folder `scratch`; returns the
+// message for rank 0 (kResultTag or kFailureTag) and never throws.
+std::pair<int, std::string> analyse_elsewhere(Processes& processes, const StageRun& real,
+                                              const fs::path& scratch, bool quiet,
+                                              const AnalyseFn& analyse) {
+  StageRun run = real;
+  run.reported_dir = real.dir;
+  run.dir = scratch / (run.folder.empty() ? fs::path("run") : fs::path(run.folder));
+  const std::string scratch_dir = run.dir.string(), real_dir = real.dir.string();
+  std::string failure, log;
+  int failure_code = 0;
+  try {
+    StderrCapture capture;
+    try {
+      if (scratch.empty()) {
+        throw InvalidInput({"", 0, "TMPDIR"},
+                           fmt::format("process {} has no folder for temporary files (TMPDIR: "
+                                       "{})",
+                                       processes.rank(), std::getenv("TMPDIR") != nullptr
+                                                             ? std::getenv("TMPDIR")
+                                                             : "not set"));
       }
-      if (!failure.empty()) {
-        std::string log = capture.text();
-        replace_all(log, scratch_dir, real_dir);
-        replace_all(failure, scratch_dir, real_dir);
-        p = Packer();
-        p.put(log);
-        p.put(failure);
-        p.put(static_cast<std::int64_t>(failure_code));
+      std::error_code ignored;
+      fs::remove_all(run.dir, ignored);
+      create_output_folder(run.dir);
+      const ProgressFn printed = stderr_progress(quiet);
+      // Each line of progress also lets the sends under way advance.
+      const ProgressFn progress = [&](const std::string& line) {
+        printed(line);
+        processes.progress();
+      };
+      ProgressReporter reporter(std::cerr, stderr_progress_options(quiet));
+      RunTally tally;
+      analyse(run, progress, &reporter, tally);
+      reporter.finish();
+      log = capture.text();
+      replace_all(log, scratch_dir, real_dir);
+      Packer p;
+      p.put(log);
+      const std::vector<fs::path> files = published_files_under(run.dir);
+      p.put(static_cast<std::int64_t>(files.size()));
+      for (const fs::path& f : files) {
+        p.put(f.generic_string());
+        p.put(file_bytes(run.dir / f));
       }
+      put_tally(p, tally, scratch_dir, real_dir);
+      fs::remove_all(run.dir, ignored);
+      return {kResultTag, p.take()};
+    } catch (...) {
+      failure = describe_failure(std::current_exception(), &failure_code);
+      log = capture.text();
     }
-    std::error_code ignored;
-    fs::remove_all(run.dir, ignored);
-    processes.send(0, failure.empty() ? kResultTag : kFailureTag, p.take());
-    if (!failure.empty()) break;
+  } catch (...) {  // no capture: the log is lost, the error is not
+    failure = describe_failure(std::current_exception(), &failure_code);
   }
   std::error_code ignored;
-  fs::remove_all(scratch, ignored);
+  if (!scratch.empty()) fs::remove_all(run.dir, ignored);
+  replace_all(log, scratch_dir, real_dir);
+  replace_all(failure, scratch_dir, real_dir);
+  Packer p;
+  p.put(log);
+  p.put(failure);
+  p.put(static_cast<std::int64_t>(failure_code));
+  return {kFailureTag, p.take()};
+}
+
+void other_study(Processes& processes, const std::vector<StageRun>& runs, bool quiet,
+                 const AnalyseFn& analyse) {
+  std::error_code no_tmp;
+  const fs::path tmp = fs::temp_directory_path(no_tmp);
+  const fs::path scratch =
+      no_tmp ? fs::path()
+             : tmp / fmt::format("stickslip-rank{}-{}", processes.rank(), ::getpid());
+  for (size_t i = processes.rank(); i < runs.size(); i += processes.size()) {
+    if (processes.pending(0) && processes.receive(0).tag == kStopTag) break;
+    const auto [tag, bytes] = analyse_elsewhere(processes, runs[i], scratch, quiet, analyse);
+    processes.send(0, tag, bytes);
+    if (tag == kFailureTag) break;
+  }
+  std::error_code ignored;
+  if (!scratch.empty()) fs::remove_all(scratch, ignored);
   processes.send(0, kDoneTag, "");
   while (processes.receive(0).tag != kFinishTag) {
   }

@@ -95,7 +95,7 @@ TEST(MpiRun, AStudyOnThreeProcessesWritesTheFilesOfTheRunAloneByteForByte) {
   ASSERT_EQ(alone, mpi);
   // The comparison below is not of trivia: each folder has its solve, recovery and plots.
   for (const std::string folder : {"preload_50", "preload_20", "preload_10", "preload_5"}) {
-    for (const std::string f : {"points.csv", "recovery_check.csv", "frf.png", "summary.json"}) {
+    for (const std::string f : {"points.csv", "recovery_check.csv", "hysteresis.png", "summary.json"}) {
       EXPECT_NE(std::find(mpi.begin(), mpi.end(), folder + "/" + f), mpi.end()) << folder << f;
     }
   }
