@@ -247,12 +247,12 @@ std::pair<int, std::string> analyse_elsewhere(Processes& processes, const StageR
     StderrCapture capture;
     try {
       if (scratch.empty()) {
-        throw InvalidInput({"", 0, "TMPDIR"},
-                           fmt::format("process {} has no folder for temporary files (TMPDIR: "
-                                       "{})",
-                                       processes.rank(), std::getenv("TMPDIR") != nullptr
-                                                             ? std::getenv("TMPDIR")
-                                                             : "not set"));
+        throw InvalidInput(
+            {"", 0, "TMPDIR"},
+            fmt::format("process {} has no folder for temporary files (TMPDIR: "
+                        "{})",
+                        processes.rank(),
+                        std::getenv("TMPDIR") != nullptr ? std::getenv("TMPDIR") : "not set"));
       }
       std::error_code ignored;
       fs::remove_all(run.dir, ignored);
@@ -303,8 +303,7 @@ void other_study(Processes& processes, const std::vector<StageRun>& runs, bool q
   std::error_code no_tmp;
   const fs::path tmp = fs::temp_directory_path(no_tmp);
   const fs::path scratch =
-      no_tmp ? fs::path()
-             : tmp / fmt::format("stickslip-rank{}-{}", processes.rank(), ::getpid());
+      no_tmp ? fs::path() : tmp / fmt::format("stickslip-rank{}-{}", processes.rank(), ::getpid());
   for (size_t i = processes.rank(); i < runs.size(); i += processes.size()) {
     if (processes.pending(0) && processes.receive(0).tag == kStopTag) break;
     const auto [tag, bytes] = analyse_elsewhere(processes, runs[i], scratch, quiet, analyse);
@@ -329,7 +328,8 @@ void put_point(Packer& p, const FrequencyPoint& point) {
   p.put(static_cast<std::int64_t>(point.stability_computed));
   const FloquetSummary& f = point.floquet;
   std::vector<double> exponents;
-  for (const std::complex<double>& e : f.exponents) exponents.insert(exponents.end(), {e.real(), e.imag()});
+  for (const std::complex<double>& e : f.exponents)
+    exponents.insert(exponents.end(), {e.real(), e.imag()});
   p.put(exponents);
   p.put(f.max_real_part);
   p.put(f.max_multiplier);
@@ -435,8 +435,8 @@ FrequencyResponse sweep_segments(Processes& processes, const HarmonicBalanceSyst
 
 }  // namespace
 
-void analyse_study_on_processes(Processes& processes, const std::vector<StageRun>& runs,
-                                bool quiet, const AnalyseFn& analyse, RunTally* tally) {
+void analyse_study_on_processes(Processes& processes, const std::vector<StageRun>& runs, bool quiet,
+                                const AnalyseFn& analyse, RunTally* tally) {
   if (processes.root()) {
     root_study(processes, runs, quiet, analyse, tally);
   } else {

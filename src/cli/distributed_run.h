@@ -53,8 +53,8 @@ using AnalyseFn = std::function<void(const StageRun& run, const ProgressFn& prog
 // Every process calls it with the same runs (real folders); `quiet` as the command's. Rank 0
 // returns with the tally of every value; the others return when rank 0 lets them go. Errors:
 // rank 0 throws the first value's error (PeerError for another process's); the others return.
-void analyse_study_on_processes(Processes& processes, const std::vector<StageRun>& runs,
-                                bool quiet, const AnalyseFn& analyse, RunTally* tally);
+void analyse_study_on_processes(Processes& processes, const std::vector<StageRun>& runs, bool quiet,
+                                const AnalyseFn& analyse, RunTally* tally);
 
 // Thrown on a rank other than 0 once it has sent its segment of the sweep: it has nothing left
 // to do in this run.

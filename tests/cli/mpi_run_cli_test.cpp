@@ -34,13 +34,11 @@ std::string mpirun(int processes) {
          " ";
 }
 
-bool mpi_available() {
-  return fs::exists(kPlugin) && shell("command -v mpirun", "/dev/null") == 0;
-}
+bool mpi_available() { return fs::exists(kPlugin) && shell("command -v mpirun", "/dev/null") == 0; }
 
-#define SKIP_WITHOUT_MPI()                                                        \
-  if (!mpi_available()) GTEST_SKIP() << "no mpirun or no " << kPlugin.string() \
-                                     << " (STICKSLIP_MPI, libopenmpi-dev)"
+#define SKIP_WITHOUT_MPI() \
+  if (!mpi_available())    \
+  GTEST_SKIP() << "no mpirun or no " << kPlugin.string() << " (STICKSLIP_MPI, libopenmpi-dev)"
 
 // Every file under `dir`, relative, sorted.
 std::vector<std::string> files_under(const fs::path& dir) {
@@ -87,15 +85,16 @@ TEST(MpiRun, AStudyOnThreeProcessesWritesTheFilesOfTheRunAloneByteForByte) {
   ASSERT_EQ(run("run " + c.string() + " -o " + out.string(), dir / "alone.log"), 0)
       << slurp(dir / "alone.log");
   fs::rename(out, dir / "alone");
-  ASSERT_EQ(shell(mpirun(3) + kProgram + " run " + c.string() + " -o " + out.string(),
-                  dir / "mpi.log"),
-            0)
+  ASSERT_EQ(
+      shell(mpirun(3) + kProgram + " run " + c.string() + " -o " + out.string(), dir / "mpi.log"),
+      0)
       << slurp(dir / "mpi.log");
   const std::vector<std::string> alone = files_under(dir / "alone"), mpi = files_under(out);
   ASSERT_EQ(alone, mpi);
   // The comparison below is not of trivia: each folder has its solve, recovery and plots.
   for (const std::string folder : {"preload_50", "preload_20", "preload_10", "preload_5"}) {
-    for (const std::string f : {"points.csv", "recovery_check.csv", "hysteresis.png", "summary.json"}) {
+    for (const std::string f :
+         {"points.csv", "recovery_check.csv", "hysteresis.png", "summary.json"}) {
       EXPECT_NE(std::find(mpi.begin(), mpi.end(), folder + "/" + f), mpi.end()) << folder << f;
     }
   }
@@ -126,8 +125,8 @@ std::string jenkins_case(const std::string& output_folder) {
     EXPECT_NE(at, std::string::npos) << from;
     if (at != std::string::npos) text.replace(at, from.size(), to);
   };
-  replace("stiffness: K.hb, mass: M.hb", "stiffness: " + (ex / "K.hb").string() +
-                                             ", mass: " + (ex / "M.hb").string());
+  replace("stiffness: K.hb, mass: M.hb",
+          "stiffness: " + (ex / "K.hb").string() + ", mass: " + (ex / "M.hb").string());
   replace("step_hz: 0.5", "step_hz: 2");
   replace("directory: ../../out/01_jenkins_oscillator", "directory: " + output_folder);
   replace("plots: true", "plots: false");
@@ -150,8 +149,8 @@ TEST(MpiRun, ASweepInThreeSegmentsMatchesTheSweepAloneToTheNewtonTolerance) {
   ASSERT_GT(alone.size(), 91u * 5);  // 91 points, harmonics 0..5
   double scale = 0;
   for (const auto& row : alone) {
-    scale = std::max({scale, std::abs(std::stod(row.at("real_m"))),
-                      std::abs(std::stod(row.at("imag_m")))});
+    scale = std::max(
+        {scale, std::abs(std::stod(row.at("real_m"))), std::abs(std::stod(row.at("imag_m")))});
   }
   // analysis.tolerance 1e-8 bounds ||R|| relative to the excitation; the response of this
   // oscillator (damping ratio >= 0.25 %) is within ~1/(2 zeta) = 200 times that of the amplitude
@@ -188,10 +187,9 @@ TEST(MpiRun, AFailureOnAnotherProcessEndsTheRunWithItsErrorOnce) {
   const fs::path dir = fresh_dir("mpi_failure");
   const fs::path c = write_case(dir, "study", study_case());
   // Processes 1 and 2 analyse in a scratch folder under TMPDIR: one that cannot exist.
-  const int code =
-      shell(mpirun(3) + "-x TMPDIR=" + (c / "no").string() + " " + kProgram +
-                " run -q " + c.string() + " -o " + (dir / "out").string(),
-            dir / "log.txt");
+  const int code = shell(mpirun(3) + "-x TMPDIR=" + (c / "no").string() + " " + kProgram +
+                             " run -q " + c.string() + " -o " + (dir / "out").string(),
+                         dir / "log.txt");
   const std::string log = slurp(dir / "log.txt");
   EXPECT_EQ(code, 2) << log;
   EXPECT_EQ(count(log, "stickslip: error:"), 1) << log;
@@ -206,9 +204,9 @@ TEST(MpiRun, BadInputIsReportedOnceByEveryProcessesRun) {
   std::string text = study_case();
   text.replace(text.find("harmonics: 1"), 12, "harmonics: -1");
   const fs::path c = write_case(dir, "bad", text);
-  const int code = shell(mpirun(2) + kProgram + " run -q " + c.string() + " -o " +
-                             (dir / "out").string(),
-                         dir / "log.txt");
+  const int code =
+      shell(mpirun(2) + kProgram + " run -q " + c.string() + " -o " + (dir / "out").string(),
+            dir / "log.txt");
   const std::string log = slurp(dir / "log.txt");
   EXPECT_EQ(code, 2) << log;
   EXPECT_EQ(count(log, "stickslip: error:"), 1) << log;
@@ -220,8 +218,8 @@ TEST(MpiRun, UnderMpirunWithoutThePluginTheRunIsAClearErrorAndWritesNothing) {
   const fs::path dir = fresh_dir("mpi_no_plugin");
   const fs::path c = write_case(dir, "study", study_case());
   const fs::path plugin = dir / "no_such_plugin.so";
-  const int code = shell(mpirun(2) + "-x STICKSLIP_MPI_PLUGIN=" + plugin.string() + " " +
-                             kProgram + " run -q " + c.string() + " -o " + (dir / "out").string(),
+  const int code = shell(mpirun(2) + "-x STICKSLIP_MPI_PLUGIN=" + plugin.string() + " " + kProgram +
+                             " run -q " + c.string() + " -o " + (dir / "out").string(),
                          dir / "log.txt");
   const std::string log = slurp(dir / "log.txt");
   EXPECT_EQ(code, 5) << log;
@@ -246,8 +244,8 @@ TEST(MpiRun, TheProgramNeitherLinksNorLoadsMpiWhenStartedAlone) {
   EXPECT_EQ(needed.find("libmpi"), std::string::npos) << needed;
   // The loader's own list of what it loads: a run alone loads neither libmpi nor the plugin.
   ASSERT_EQ(shell("LD_DEBUG=files LD_DEBUG_OUTPUT=" + (dir / "ld").string() + " " + kProgram +
-                      " run -q " + write_case(dir, "jenkins", jenkins_case((dir / "out").string()))
-                                       .string(),
+                      " run -q " +
+                      write_case(dir, "jenkins", jenkins_case((dir / "out").string())).string(),
                   dir / "log.txt"),
             0)
       << slurp(dir / "log.txt");

@@ -75,8 +75,8 @@ int send(int dest, int tag, const void* data, std::uint64_t size) {
   out.header[1] = tag;
   out.bytes.assign(static_cast<const char*>(data), static_cast<const char*>(data) + size);
   out.requests.emplace_back();
-  int code = MPI_Isend(out.header, 2, MPI_INT64_T, dest, kHeaderTag, MPI_COMM_WORLD,
-                       &out.requests.back());
+  int code =
+      MPI_Isend(out.header, 2, MPI_INT64_T, dest, kHeaderTag, MPI_COMM_WORLD, &out.requests.back());
   if (code != MPI_SUCCESS) return failed("MPI_Isend", code);
   for (std::uint64_t at = 0; at < size; at += kChunkBytes) {
     const int count = static_cast<int>(std::min(kChunkBytes, size - at));
@@ -117,8 +117,8 @@ int receive(int source, int* from, int* tag, void** data, std::uint64_t* size) {
   }
   for (std::uint64_t at = 0; at < length; at += kChunkBytes) {
     const int count = static_cast<int>(std::min(kChunkBytes, length - at));
-    code = MPI_Recv(bytes + at, count, MPI_BYTE, *from, kChunkTag, MPI_COMM_WORLD,
-                    MPI_STATUS_IGNORE);
+    code =
+        MPI_Recv(bytes + at, count, MPI_BYTE, *from, kChunkTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (code != MPI_SUCCESS) {
       std::free(bytes);
       return failed("MPI_Recv", code);
