@@ -10,6 +10,9 @@
 // excitation, frequency window and harmonic balance are built again for every value.
 // Under mpirun with several processes the study's values, or one stepped sweep's frequencies,
 // are spread over them (cli/distributed_run.h); rank 0 writes the files a run alone writes.
+#include <sched.h>
+#include <sys/sysinfo.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -23,10 +26,10 @@
 #include "cli/nonlinear_mode_stage.h"
 #include "cli/pipeline.h"
 #include "cli/plots.h"
+#include "cli/processes.h"
 #include "cli/progress.h"
 #include "cli/recovery_stage.h"
 #include "cli/results_files.h"
-#include "cli/processes.h"
 #include "cli/summary_file.h"
 #include "io/case_file.h"
 
@@ -115,6 +118,18 @@ int run_case(const StageCommand& command) {
   // A study's other processes print their values' logs for rank 0 to print (quiet as here).
   const bool quiet = command.quiet || base.output.quiet;
   const auto progress = stderr_progress(quiet || !root);
+  if (processes != nullptr && root) {
+    // A process bound to fewer cores than the machine has runs fewer BLAS and loop threads than
+    // a run alone, whose sums then round differently: the same results to round-off, other bits.
+    cpu_set_t cpus;
+    const int online = get_nprocs();
+    if (sched_getaffinity(0, sizeof cpus, &cpus) == 0 && CPU_COUNT(&cpus) < online) {
+      progress(fmt::format("{} processes, each bound to {} of the {} cores (mpirun's binding): "
+                           "their numbers equal a run alone's to round-off, not to the bit "
+                           "(`mpirun --bind-to none` gives the run alone's bits)",
+                           processes->size(), CPU_COUNT(&cpus), online));
+    }
+  }
   RunTally tally;
   ModelCache cache;  // meshes and reductions shared by the study's analyses
   if (processes != nullptr && base.study.active()) {  // the values over the processes
