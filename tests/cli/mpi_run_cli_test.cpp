@@ -15,6 +15,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -180,6 +181,24 @@ TEST(MpiRun, ASweepInThreeSegmentsMatchesTheSweepAloneToTheNewtonTolerance) {
   }
   const std::string summary = slurp(dir / "mpi" / "summary.json");
   EXPECT_NE(summary.find("3 segments on 3 processes"), std::string::npos) << summary;
+}
+
+// Processes bound to one core each run fewer threads than a run alone (other round-off): the log
+// says so, and without the binding it says nothing.
+TEST(MpiRun, RankZeroSaysWhenTheProcessesAreBoundToFewerCores) {
+  SKIP_WITHOUT_MPI();
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core: nothing to bind";
+  const fs::path dir = fresh_dir("mpi_binding");
+  const fs::path c = write_case(dir, "jenkins", jenkins_case((dir / "unused").string()));
+  for (const std::string binding : {"core", "none"}) {
+    const fs::path log = dir / (binding + ".log");
+    ASSERT_EQ(shell(mpirun(2) + "--bind-to " + binding + " " + kProgram + " run " + c.string() +
+                        " -o " + (dir / binding).string(),
+                    log),
+              0)
+        << slurp(log);
+    EXPECT_EQ(count(slurp(log), "each bound to 1 of the"), binding == "core" ? 1 : 0) << slurp(log);
+  }
 }
 
 TEST(MpiRun, AFailureOnAnotherProcessEndsTheRunWithItsErrorOnce) {
