@@ -387,6 +387,15 @@ FrequencyResponse sweep_segments(Processes& processes, const HarmonicBalanceSyst
       FrequencyResponseOptions o = options;
       o.omegas.assign(options.omegas.begin() + static_cast<std::ptrdiff_t>(first(r)),
                       options.omegas.begin() + static_cast<std::ptrdiff_t>(first(r + 1)));
+      // The progress (rank 0's) is of the whole sweep: this segment is its share of it.
+      const double share = static_cast<double>(o.omegas.size()) / static_cast<double>(n);
+      if (options.sweep.on_point) {
+        o.sweep.on_point = [user = options.sweep.on_point, share](const ContinuationProgress& p) {
+          ContinuationProgress whole = p;
+          whole.fraction *= share;
+          user(whole);
+        };
+      }
       mine = frequency_response(system, o);
     } else {
       mine.completed = true;
