@@ -102,6 +102,9 @@ struct StageRun {
   CaseDefinition definition;
   std::filesystem::path dir;  // output folder of this analysis
   double value = 0.0;         // with a study: the studied parameter's value
+  // Where the files end up when `dir` is a private copy of a process other than rank 0, which
+  // writes them (cli/distributed_run.h): the folder summary.json names. Empty: `dir`.
+  std::filesystem::path reported_dir{};
 };
 std::vector<StageRun> stage_runs(const CaseDefinition& base, const std::filesystem::path& out_dir);
 // The output folder (output_dir, or the case's output.directory), created and checked writable

@@ -17,9 +17,9 @@
 
 #include "cli/commands.h"
 #include "cli/interruption.h"
+#include "cli/processes.h"
 #include "core/errors.h"
 #include "core/printable.h"
-#include "io/gmsh_plugin.h"
 
 #ifndef STICKSLIP_VERSION
 #define STICKSLIP_VERSION "unknown"
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
                  e.what());
     return 2;
   }
-  try {
+  const auto run_command = [&]() -> int {
     if (*run_cmd) return run_case(run);
     if (*mesh_cmd) return run_mesh(mesh);
     if (*modes_cmd) {
@@ -202,21 +202,37 @@ int main(int argc, char** argv) {
     if (*export_cmd) return run_export(export_);
     if (*plot_cmd) return run_plot(plot);
     if (*keys_cmd) return run_keys(keys);
-  } catch (const InvalidInput& e) {
-    std::fprintf(stderr, "stickslip: error: %s\n", e.what());
-    return 2;
-  } catch (const std::filesystem::filesystem_error& e) {
-    // A file-system refusal that no stage turned into an InvalidInput: still the user's files.
-    std::fprintf(stderr, "stickslip: error: %s: %s\n", e.path1().string().c_str(),
-                 e.code().message().c_str());
-    return 2;
-  } catch (const GmshUnavailable& e) {
-    // Not the input's fault and not a bug: the installation lacks the Gmsh plugin.
-    std::fprintf(stderr, "stickslip: error: %s\n", e.what());
-    return 5;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "stickslip: internal error: %s\n", e.what());
-    return 3;
+    return 0;
+  };
+  // Under mpirun with several processes (cli/processes.h): `run` spreads its work over them;
+  // any other command would run P times over the same files.
+  if (launcher_world_size() > 1) {
+    const bool speaker = launcher_rank() == 0;  // the others say nothing
+    if (!*run_cmd) {
+      if (speaker) {
+        std::fprintf(stderr,
+                     "stickslip: error: only `stickslip run` spreads its work over several "
+                     "processes; run `stickslip %s` without mpirun (docs/command-line.md)\n",
+                     app.get_subcommands().front()->get_name().c_str());
+      }
+      return 2;
+    }
+    try {
+      start_processes();
+    } catch (const MpiUnavailable& e) {
+      if (speaker) std::fprintf(stderr, "stickslip: error: %s\n", e.what());
+      return 5;
+    }
   }
-  return 0;
+  int code = 0;
+  try {
+    code = run_command();
+  } catch (const PeerStopped&) {
+    code = 0;  // a rank other than 0: rank 0 reports the error
+  } catch (...) {
+    const std::string text = describe_failure(std::current_exception(), &code);
+    if (processes() == nullptr || processes()->root()) std::fprintf(stderr, "%s\n", text.c_str());
+  }
+  if (processes() != nullptr) processes()->finish();
+  return code;
 }

@@ -13,7 +13,9 @@ namespace stickslip {
 // solve_case (model/case_model.h) with `reporter` (may be null) started with the number of
 // points (stepped; 0 for continuation), updated after every frequency point and finished when
 // the solve ends.
+// `runner` (may be null): model/case_model.h.
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& definition,
-                      const ProgressFn& progress, ProgressReporter* reporter);
+                      const ProgressFn& progress, ProgressReporter* reporter,
+                      const SweepRunner* runner = nullptr);
 
 }  // namespace stickslip

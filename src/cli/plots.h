@@ -46,6 +46,8 @@ class PlotLog {
   void failed(const std::filesystem::path& picture, const std::string& reason);
   void gnuplot_absent(const std::string& warning);  // printed once
   const std::vector<std::string>& missing() const { return missing_; }
+  // A picture another process could not draw (its warning printed there).
+  void add_missing(const std::string& picture) { missing_.push_back(picture); }
 
  private:
   std::vector<std::string> missing_;

@@ -109,7 +109,8 @@ nlohmann::ordered_json start_summary(const StageRun& run) {
   summary["case_file"] = def.file;
   summary["title"] = def.title;
   summary["fingerprint"] = solve_fingerprint(def);
-  summary["output_directory"] = std::filesystem::absolute(run.dir).lexically_normal().string();
+  const std::filesystem::path& dir = run.reported_dir.empty() ? run.dir : run.reported_dir;
+  summary["output_directory"] = std::filesystem::absolute(dir).lexically_normal().string();
   if (def.study.active()) {
     summary["study"] = {
         {"parameter", def.study.parameter}, {"value", run.value}, {"folder", run.folder}};

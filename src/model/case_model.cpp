@@ -1402,7 +1402,8 @@ std::string describe_window(const SweepWindow& w) {
 }
 
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
-                      const ProgressFn& progress, const SweepProgress* sweep) {
+                      const ProgressFn& progress, const SweepProgress* sweep,
+                      const SweepRunner* runner) {
   const auto t0 = Clock::now();
   SolvedCase solved;
   solved.warn_aft_fallback = def.analysis.aft_given && def.analysis.aft != AftChoice::kSampled;
@@ -1505,7 +1506,8 @@ SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& def,
     sweep->start("harmonic balance", static_cast<int>(o.omegas.size()));  // 0: continuation
   }
   if (sweep && sweep->on_point) o.sweep.on_point = o.arclength.on_point = sweep->on_point;
-  solved.response = frequency_response(*solved.system, o);
+  const bool run_elsewhere = runner && *runner && o.method == ContinuationMethod::kSteppedSweep;
+  solved.response = run_elsewhere ? (*runner)(*solved.system, o) : frequency_response(*solved.system, o);
   if (sweep && sweep->finish) sweep->finish();
   if (an.predict_from_mode) predict_from_nonlinear_mode(model, def, progress, sweep, solved);
   solved.seconds_solve = seconds_since(t0);

@@ -309,8 +309,15 @@ struct SweepProgress {
   std::function<void()> finish;
 };
 
-// `progress` (may be null) receives one line per stage; `sweep` (may be null) the points.
+// Computes the frequency response of a stepped sweep in place of frequency_response(system,
+// options) (hbm/frequency_response.h), e.g. spread over processes (cli/distributed_run.h).
+using SweepRunner = std::function<FrequencyResponse(const HarmonicBalanceSystem& system,
+                                                    const FrequencyResponseOptions& options)>;
+
+// `progress` (may be null) receives one line per stage; `sweep` (may be null) the points;
+// `runner` (may be null) computes a stepped sweep's response.
 SolvedCase solve_case(const PreparedModel& model, const CaseDefinition& definition,
-                      const ProgressFn& progress, const SweepProgress* sweep = nullptr);
+                      const ProgressFn& progress, const SweepProgress* sweep = nullptr,
+                      const SweepRunner* runner = nullptr);
 
 }  // namespace stickslip
