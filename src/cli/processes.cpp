@@ -10,6 +10,7 @@
 #include "cli/mpi_plugin_api.h"
 #include "core/errors.h"
 #include "io/gmsh_plugin.h"
+#include "io/plugin_loader.h"
 
 #ifndef STICKSLIP_MPI_PLUGIN_BUILD_PATH
 #define STICKSLIP_MPI_PLUGIN_BUILD_PATH ""
@@ -34,52 +35,20 @@ int environment_integer(const char* name) {
   return *end == '\0' && n >= 0 && n < (1L << 30) ? static_cast<int>(n) : -1;
 }
 
-std::filesystem::path own_folder() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&own_folder), &info) == 0 || info.dli_fname == nullptr) {
-    return {};
-  }
-  std::error_code ec;
-  const std::filesystem::path file = std::filesystem::canonical(info.dli_fname, ec);
-  return ec ? std::filesystem::path() : file.parent_path();
-}
-
-std::vector<std::string> candidates() {
-  if (const char* env = std::getenv("STICKSLIP_MPI_PLUGIN"); env != nullptr && *env != '\0') {
-    return {env};
-  }
-  std::vector<std::string> paths;
-  if (const std::filesystem::path folder = own_folder(); !folder.empty()) {
-    paths.push_back((folder / kPluginFile).string());
-    paths.push_back((folder.parent_path() / "lib" / "stickslip" / kPluginFile).string());
-  }
-  if (*STICKSLIP_MPI_PLUGIN_BUILD_PATH != '\0') paths.emplace_back(STICKSLIP_MPI_PLUGIN_BUILD_PATH);
-  return paths;
-}
-
 const MpiPluginApi* load(std::string& failures) {
-  for (const std::string& path : candidates()) {
-    if (!std::filesystem::exists(path)) {
-      failures += "\n  " + path + ": no such file";
-      continue;
-    }
-    // RTLD_GLOBAL: Open MPI loads its own components with dlopen and they need libmpi's symbols.
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);
-    if (handle == nullptr) {
-      const char* error = dlerror();
-      failures += "\n  " + path + ": " + (error != nullptr ? error : "dlopen failed");
-      continue;
-    }
-    using Entry = const MpiPluginApi* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(handle, "stickslip_mpi_plugin_api"));
-    const MpiPluginApi* api = entry != nullptr ? entry() : nullptr;
-    if (api == nullptr || api->abi != kMpiPluginAbi) {
-      failures += "\n  " + path + ": not an MPI plugin of this version of stickslip";
-      continue;
-    }
-    return api;
-  }
-  return nullptr;
+  // RTLD_GLOBAL: Open MPI loads its own components with dlopen and they need libmpi's symbols.
+  const PluginSearch search{kPluginFile, "STICKSLIP_MPI_PLUGIN", STICKSLIP_MPI_PLUGIN_BUILD_PATH,
+                            "an MPI plugin of this version of stickslip",
+                            /*global_symbols=*/true};
+  return static_cast<const MpiPluginApi*>(open_plugin(
+      search,
+      [](void* handle) -> const void* {
+        using Entry = const MpiPluginApi* (*)();
+        const auto entry = reinterpret_cast<Entry>(dlsym(handle, "stickslip_mpi_plugin_api"));
+        const MpiPluginApi* api = entry != nullptr ? entry() : nullptr;
+        return api != nullptr && api->abi == kMpiPluginAbi ? api : nullptr;
+      },
+      failures));
 }
 
 [[noreturn]] void mpi_failed(const char* what) {

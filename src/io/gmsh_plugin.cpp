@@ -2,13 +2,12 @@
 
 #include <dlfcn.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <mutex>
 
 #include "core/errors.h"
 #include "io/msh_lines.h"
+#include "io/plugin_loader.h"
 
 #ifndef STICKSLIP_GMSH_PLUGIN_BUILD_PATH
 #define STICKSLIP_GMSH_PLUGIN_BUILD_PATH ""
@@ -19,54 +18,20 @@ namespace {
 
 constexpr const char* kPluginFile = "libstickslip_gmsh.so";
 
-// The folder of the executable or shared object that holds this code (empty if unknown).
-std::filesystem::path own_folder() {
-  Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&own_folder), &info) == 0 || info.dli_fname == nullptr) {
-    return {};
-  }
-  std::error_code ec;
-  const std::filesystem::path file = std::filesystem::canonical(info.dli_fname, ec);
-  return ec ? std::filesystem::path() : file.parent_path();
-}
-
-std::vector<std::string> candidates() {
-  if (const char* env = std::getenv("STICKSLIP_GMSH_PLUGIN"); env != nullptr && *env != '\0') {
-    return {env};
-  }
-  std::vector<std::string> paths;
-  if (const std::filesystem::path folder = own_folder(); !folder.empty()) {
-    paths.push_back((folder / kPluginFile).string());
-    paths.push_back((folder.parent_path() / "lib" / "stickslip" / kPluginFile).string());
-  }
-  if (*STICKSLIP_GMSH_PLUGIN_BUILD_PATH != '\0')
-    paths.emplace_back(STICKSLIP_GMSH_PLUGIN_BUILD_PATH);
-  return paths;
-}
-
 const GmshPluginApi* load(std::string& failures) {
-  for (const std::string& path : candidates()) {
-    if (!std::filesystem::exists(path)) {
-      failures += "\n  " + path + ": no such file";
-      continue;
-    }
-    // Never unloaded: Gmsh keeps global state and registers handlers.
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (handle == nullptr) {
-      const char* error = dlerror();
-      failures += "\n  " + path + ": " + (error != nullptr ? error : "dlopen failed");
-      continue;
-    }
-    using Entry = const GmshPluginApi* (*)();
-    const auto entry = reinterpret_cast<Entry>(dlsym(handle, "stickslip_gmsh_plugin_api"));
-    const GmshPluginApi* api = entry != nullptr ? entry() : nullptr;
-    if (api == nullptr || api->abi != kGmshPluginAbi) {
-      failures += "\n  " + path + ": not a Gmsh plugin of this version of stickslip";
-      continue;
-    }
-    return api;
-  }
-  return nullptr;
+  const PluginSearch search{kPluginFile, "STICKSLIP_GMSH_PLUGIN", STICKSLIP_GMSH_PLUGIN_BUILD_PATH,
+                            "a Gmsh plugin of this version of stickslip",
+                            /*global_symbols=*/false};
+  // Never unloaded: Gmsh keeps global state and registers handlers.
+  return static_cast<const GmshPluginApi*>(open_plugin(
+      search,
+      [](void* handle) -> const void* {
+        using Entry = const GmshPluginApi* (*)();
+        const auto entry = reinterpret_cast<Entry>(dlsym(handle, "stickslip_gmsh_plugin_api"));
+        const GmshPluginApi* api = entry != nullptr ? entry() : nullptr;
+        return api != nullptr && api->abi == kGmshPluginAbi ? api : nullptr;
+      },
+      failures));
 }
 
 }  // namespace
