@@ -216,6 +216,19 @@ int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const dou
   return recovered;
 }
 
+// A bisection on the continuation's curve (bisect_on_arc) with its scales and corrector; the
+// tolerance relative to lambda_scale.
+ArcBisectionOptions bisection_on(const ContinuationResult& curve, double relative_tolerance,
+                                 int max_bisections, const FrequencyResponseOptions& options) {
+  ArcBisectionOptions bisection;
+  bisection.tolerance = relative_tolerance * curve.lambda_scale;
+  bisection.max_bisections = max_bisections;
+  bisection.x_scale = curve.x_scale;
+  bisection.lambda_scale = curve.lambda_scale;
+  bisection.newton = options.arclength.newton;
+  return bisection;
+}
+
 // The bifurcations of an arc-length continuation (frequency_response.h), in the order of the curve.
 std::vector<Bifurcation> locate_bifurcations(const HarmonicBalanceSystem& system,
                                              const ContinuationResult& curve,
@@ -223,12 +236,8 @@ std::vector<Bifurcation> locate_bifurcations(const HarmonicBalanceSystem& system
                                              const FrequencyResponseOptions& options) {
   std::vector<Bifurcation> found;
   const int n = system.size();
-  ArcBisectionOptions bisection;
-  bisection.tolerance = options.bifurcations.tolerance * curve.lambda_scale;
-  bisection.max_bisections = options.bifurcations.max_bisections;
-  bisection.x_scale = curve.x_scale;
-  bisection.lambda_scale = curve.lambda_scale;
-  bisection.newton = options.arclength.newton;
+  const ArcBisectionOptions bisection = bisection_on(curve, options.bifurcations.tolerance,
+                                                     options.bifurcations.max_bisections, options);
   if (!(curve.x_scale > 0 && curve.lambda_scale > 0)) return found;  // only a first point
   const auto add = [&](BifurcationType type, int i, const ArcBisectionResult& r,
                        MultiplierKind kind) {
@@ -323,12 +332,8 @@ std::vector<ResponsePeak> locate_peaks(const HarmonicBalanceSystem& system,
       std::find_if(harmonics.begin(), harmonics.end(), [](int h) { return h != 0; });
   const int column =
       first_dynamic == harmonics.end() ? -1 : static_cast<int>(first_dynamic - harmonics.begin());
-  ArcBisectionOptions bisection;
-  bisection.tolerance = options.peaks.tolerance * curve.lambda_scale;
-  bisection.max_bisections = options.peaks.max_bisections;
-  bisection.x_scale = curve.x_scale;
-  bisection.lambda_scale = curve.lambda_scale;
-  bisection.newton = options.arclength.newton;
+  const ArcBisectionOptions bisection =
+      bisection_on(curve, options.peaks.tolerance, options.peaks.max_bisections, options);
   const int count = static_cast<int>(std::min(curve.points.size(), points.size()));
   const auto converged = [&](int i) {
     return i >= 0 && i < count && curve.points[i].newton.converged() &&
