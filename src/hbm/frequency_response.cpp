@@ -13,6 +13,18 @@ namespace stickslip {
 
 namespace {
 
+// The complex harmonics of the contact displacements (unknowns x) and forces (rows × output
+// harmonics), harmonic 0 from the frozen static state when the unknowns have none (uncoupled).
+struct ContactHarmonics {
+  Eigen::MatrixXcd u, f;
+};
+ContactHarmonics contact_harmonics(const HarmonicBalanceSystem& system, const Eigen::VectorXd& x,
+                                   const Eigen::VectorXd& forces) {
+  const bool frozen = !system.unknown_harmonics().has_static();
+  return {system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd()),
+          system.to_complex(forces, frozen ? system.static_force() : Eigen::VectorXd())};
+}
+
 // The balance at a fixed Ω with the dynamic excitation (harmonics ≥ 1) scaled by λ ∈ (0, 1]:
 //   R_λ(x) = R(x, Ω) + (1 − λ) u_lin,dyn(Ω),  dR_λ/dx = dR/dx,  dR_λ/dλ = −u_lin,dyn(Ω).
 class ExcitationRamp final : public ParametrizedSystem {
@@ -312,12 +324,8 @@ double amplitude_squared(const HarmonicBalanceSystem& system, const Eigen::Vecto
                          double omega, int dof, int column) {
   Eigen::VectorXd forces;
   system.contact_forces(x, forces, nullptr);
-  const bool frozen = !system.unknown_harmonics().has_static();
-  const Eigen::MatrixXcd u =
-      system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd());
-  const Eigen::MatrixXcd f =
-      system.to_complex(forces, frozen ? system.static_force() : Eigen::VectorXd());
-  return std::norm(system.master_response(f, omega, &u)(dof, column));
+  const ContactHarmonics c = contact_harmonics(system, x, forces);
+  return std::norm(system.master_response(c.f, omega, &c.u)(dof, column));
 }
 
 // The response peaks of an arc-length continuation (frequency_response.h, PeakOptions).
@@ -453,10 +461,7 @@ FrequencyPoint evaluate_point(const HarmonicBalanceSystem& system, const Eigen::
   std::vector<CycleStatistics> stats;
   system.contact_forces(x, forces, &stats);  // usually the last residual's, kept by the system
   const bool frozen = !system.unknown_harmonics().has_static();
-  const Eigen::MatrixXcd u =
-      system.to_complex(x, frozen ? system.static_displacement() : Eigen::VectorXd());
-  const Eigen::MatrixXcd f =
-      system.to_complex(forces, frozen ? system.static_force() : Eigen::VectorXd());
+  const auto [u, f] = contact_harmonics(system, x, forces);
   point.master = system.master_response(f, omega, &u);
   point.pairs.resize(system.pairs().size());
   for (size_t p = 0; p < system.pairs().size(); ++p) {
