@@ -253,7 +253,9 @@ std::string joint_case(const std::string& solver) {
 
 // A results table of `actual` against `expected`: every number within `tolerance` of its
 // column's largest magnitude. Not compared: the columns that measure the solve's round-off
-// (Newton's residual, the static mismatch: ~1e-13 of their scale, noise in both runs).
+// (Newton's residual, the static mismatch: ~1e-13 of their scale, noise in both runs) and
+// Newton's iterations (0 or 1 at a point whose start already meets the tolerance to round-off;
+// under mpirun a segment's points start from elsewhere, cli/distributed_run.h).
 void expect_close_csv(const fs::path& expected, const fs::path& actual, double tolerance) {
   SCOPED_TRACE(actual.string());
   const auto e = read_csv(expected), a = read_csv(actual);
@@ -271,7 +273,7 @@ void expect_close_csv(const fs::path& expected, const fs::path& actual, double t
     for (const auto& [column, cell] : e[i]) {
       double x, y;
       if (!parse_number(cell, &x) || column == "residual_m" || column == "residual_relative" ||
-          column == "static_mismatch") {
+          column == "static_mismatch" || column == "iterations") {
         continue;
       }
       ASSERT_TRUE(parse_number(a[i].at(column), &y)) << column;
@@ -280,7 +282,7 @@ void expect_close_csv(const fs::path& expected, const fs::path& actual, double t
       ++compared;
     }
   }
-  EXPECT_GT(compared, 50);
+  EXPECT_GT(compared, 20);
 }
 
 TEST(PetscReduction, RunAloneAndUnderMpirunGivesThePointsOfTheDirectReduction) {
