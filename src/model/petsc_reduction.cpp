@@ -231,10 +231,9 @@ CraigBamptonResult craig_bampton_petsc(const SparseMatrix& K, const SparseMatrix
     for (int k = 0; k < nb; ++k) result.T(boundary_dofs[k], k) = 1.0;
     for (int k = 0; k < ni; ++k) result.T.row(interior[k]) = basis.row(k);
   }
-  summary.seconds_projection = out.seconds_projection +
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                             t_projection)
-                                   .count();
+  summary.seconds_projection =
+      out.seconds_projection +
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_projection).count();
   return result;
 }
 

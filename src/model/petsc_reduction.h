@@ -34,13 +34,13 @@ class PetscUnavailable : public std::runtime_error {
 
 // What the PETSc reduction did, beside CraigBamptonSummary's phases.
 struct PetscReductionInfo {
-  int processes = 0;               // processes that shared the work
-  std::string solver;              // the constraint modes' KSP+PC(factor), e.g. preonly+cholesky(mumps)
-  int constraint_iterations = 0;   // Krylov iterations over all constraint modes (0: direct)
-  int eigen_iterations = 0;        // SLEPc's iterations
-  double max_eigen_residual = 0.0; // SLEPc's largest relative residual of the kept modes
-  long peak_rss_kb_max = 0;        // peak resident memory of the busiest process, KiB
-  long peak_rss_kb_min = 0;        // and of the lightest
+  int processes = 0;   // processes that shared the work
+  std::string solver;  // the constraint modes' KSP+PC(factor), e.g. preonly+cholesky(mumps)
+  int constraint_iterations = 0;    // Krylov iterations over all constraint modes (0: direct)
+  int eigen_iterations = 0;         // SLEPc's iterations
+  double max_eigen_residual = 0.0;  // SLEPc's largest relative residual of the kept modes
+  long peak_rss_kb_max = 0;         // peak resident memory of the busiest process, KiB
+  long peak_rss_kb_min = 0;         // and of the lightest
 };
 
 // Whether the plugin loads (false with the reason in *why).

@@ -5,7 +5,8 @@
 //
 // With x_i = Φ_c x_b + Φ_n η (reduction/craig_bampton.h), K_ii Φ_c = −K_ib and
 // K_ii Φ_n = M_ii Φ_n Ω², Φ_nᵀ M_ii Φ_n = I, the plugin returns the parts of
-//   K_r = [K_bb + K_bi Φ_c, 0; 0, Ω²],  M_r = [M_bb + X + Xᵀ + Φ_cᵀ M_ii Φ_c, (M_bi + Φ_cᵀ M_ii) Φ_n; ., I]
+//   K_r = [K_bb + K_bi Φ_c, 0; 0, Ω²],  M_r = [M_bb + X + Xᵀ + Φ_cᵀ M_ii Φ_c, (M_bi + Φ_cᵀ M_ii)
+//   Φ_n; ., I]
 // (X = M_bi Φ_c) that need the interior: the caller adds K_bb and M_bb.
 //
 // Every process of the communicator calls reduce() with the same request (the whole interior
@@ -53,9 +54,9 @@ struct PetscReductionResult {
   double seconds_modes = 0.0;       // the fixed-interface eigen-solve
   double seconds_projection = 0.0;  // the reduced matrices and the basis
   double max_eigen_residual = 0.0;  // max ‖K_ii φ − λ M_ii φ‖ / (|λ| ‖M_ii φ‖) (SLEPc's error)
-  long peak_rss_kb_max = 0;         // peak resident memory of the busiest process, KiB
-  long peak_rss_kb_min = 0;         // and of the lightest
-  char solver[128] = {0};           // e.g. "preonly+cholesky(mumps)" or "cg+gamg"
+  long peak_rss_kb_max = 0;  // peak resident memory of the busiest process, KiB
+  long peak_rss_kb_min = 0;  // and of the lightest
+  char solver[128] = {0};    // e.g. "preonly+cholesky(mumps)" or "cg+gamg"
 };
 
 struct PetscPluginApi {

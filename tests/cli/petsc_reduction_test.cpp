@@ -44,16 +44,17 @@ const std::string kDriver = STICKSLIP_PETSC_DRIVER;
 bool petsc_available() { return fs::exists(kPetscPlugin); }
 bool mpirun_available() { return shell("command -v mpirun", "/dev/null") == 0; }
 
-#define SKIP_WITHOUT_PETSC() \
-  if (!petsc_available())    \
-  GTEST_SKIP() << "no " << kPetscPlugin.string() << " (STICKSLIP_PETSC, libpetsc-real-dev, libslepc-real-dev)"
+#define SKIP_WITHOUT_PETSC()                     \
+  if (!petsc_available())                        \
+  GTEST_SKIP() << "no " << kPetscPlugin.string() \
+               << " (STICKSLIP_PETSC, libpetsc-real-dev, libslepc-real-dev)"
 
 // A process that ran PETSc itself (the tests above, in this process) is an MPI singleton whose
 // environment (OMPI_*, PMIX_*) would make a child mpirun fail at once: not passed on.
 std::string mpirun(int processes) {
   return "for v in $(env | sed -n 's/^\\(OMPI_[^=]*\\|PMIX_[^=]*\\)=.*/\\1/p'); do unset $v; "
-         "done; timeout 600 mpirun --allow-run-as-root --oversubscribe -n " + std::to_string(processes) +
-         " ";
+         "done; timeout 600 mpirun --allow-run-as-root --oversubscribe -n " +
+         std::to_string(processes) + " ";
 }
 
 // The driver's box (petsc_reduction_driver.cpp): 9 x 3 x 3 C3D8 elements, clamped at x = 0,
@@ -108,7 +109,8 @@ Reduced read_driver_file(const fs::path& p) {
   r.M.resize(nr, nr);
   r.eigenvalues.resize(m);
   r.T.resize(n, nr);
-  for (Eigen::MatrixXd* a : {&r.K, &r.M}) in.read(reinterpret_cast<char*>(a->data()), a->size() * 8);
+  for (Eigen::MatrixXd* a : {&r.K, &r.M})
+    in.read(reinterpret_cast<char*>(a->data()), a->size() * 8);
   in.read(reinterpret_cast<char*>(r.eigenvalues.data()), m * 8);
   in.read(reinterpret_cast<char*>(r.T.data()), r.T.size() * 8);
   EXPECT_TRUE(in.good()) << p << " ends early";
@@ -195,10 +197,10 @@ nlohmann::json run_driver(int processes, const fs::path& dir, const std::string&
   const CraigBamptonResult want = direct_reduction(driver_box());
   const fs::path out = dir / ("p" + std::to_string(processes));
   const fs::path log = dir / ("p" + std::to_string(processes) + ".log");
-  const std::string command = mpirun(processes) + env + kDriver + " petsc " +
-                              std::to_string(kEx) + " " + std::to_string(kEy) + " " +
-                              std::to_string(kEz) + " " + std::to_string(kMasters) + " " +
-                              std::to_string(kModes) + " " + out.string() + " basis";
+  const std::string command = mpirun(processes) + env + kDriver + " petsc " + std::to_string(kEx) +
+                              " " + std::to_string(kEy) + " " + std::to_string(kEz) + " " +
+                              std::to_string(kMasters) + " " + std::to_string(kModes) + " " +
+                              out.string() + " basis";
   EXPECT_EQ(shell(command, log), 0) << command << "\n" << slurp(log);
   for (int rank = 0; rank < processes; ++rank) {
     const fs::path file = out.string() + "." + std::to_string(rank);
@@ -232,10 +234,8 @@ TEST(PetscReduction, CgWithAlgebraicMultigridUnderMpirunGivesTheSameBodyToItsTol
   const fs::path dir = fresh_dir("petsc_gamg");
   // Relative residual 1e-12 per solve (the plugin's default for a Krylov solver): the error of
   // a solution is at most cond(K_ii) times that (~1e5 for this box): 1e-7 still holds.
-  const nlohmann::json info =
-      run_driver(2, dir,
-                 "-x PETSC_OPTIONS='-cb_constraint_ksp_type cg -cb_constraint_pc_type gamg' ",
-                 1e-7);
+  const nlohmann::json info = run_driver(
+      2, dir, "-x PETSC_OPTIONS='-cb_constraint_ksp_type cg -cb_constraint_pc_type gamg' ", 1e-7);
   EXPECT_EQ(info.value("petsc_solver", ""), "cg+gamg");
   EXPECT_GT(info.value("krylov_iterations", 0), 0);
 }
@@ -300,13 +300,14 @@ TEST(PetscReduction, RunAloneAndUnderMpirunGivesThePointsOfTheDirectReduction) {
   for (const std::string f : {"points.csv", "master_response.csv"}) {
     expect_close_csv(dir / "direct" / f, dir / "petsc" / f, 1e-6);
   }
-  if (!mpirun_available() || !fs::exists(fs::path(STICKSLIP_BINARY_DIR) / "lib" / "libstickslip_mpi.so")) {
+  if (!mpirun_available() ||
+      !fs::exists(fs::path(STICKSLIP_BINARY_DIR) / "lib" / "libstickslip_mpi.so")) {
     GTEST_SKIP() << "no mpirun or no MPI plugin: the run under mpirun is not tried";
   }
-  ASSERT_EQ(shell(mpirun(2) + kProgram + " run " + petsc.string() + " -o " +
-                      (dir / "petsc2").string(),
-                  dir / "petsc2.log"),
-            0)
+  ASSERT_EQ(
+      shell(mpirun(2) + kProgram + " run " + petsc.string() + " -o " + (dir / "petsc2").string(),
+            dir / "petsc2.log"),
+      0)
       << slurp(dir / "petsc2.log");
   for (const std::string f : {"points.csv", "master_response.csv"}) {
     expect_close_csv(dir / "direct" / f, dir / "petsc2" / f, 1e-6);

@@ -23,8 +23,8 @@
 // clang-format on
 #include <sys/resource.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <numeric>
@@ -220,7 +220,8 @@ int reduce_impl(const PetscReductionRequest& rq, PetscReductionResult& out) {
     CHK(VecDuplicate(v.v, &x.v));
     PetscScalar* vv = nullptr;
     CHK(VecGetArray(v.v, &vv));
-    for (PetscInt r = 0; r < nloc; ++r) vv[r] = 1.0 + 0.5 * std::sin(0.7 * static_cast<double>(first + r));
+    for (PetscInt r = 0; r < nloc; ++r)
+      vv[r] = 1.0 + 0.5 * std::sin(0.7 * static_cast<double>(first + r));
     CHK(VecRestoreArray(v.v, &vv));
     CHK(MatMult(Kii.m, v.v, b.v));
     CHK(KSPSolve(ksp.k, b.v, x.v));
@@ -250,7 +251,8 @@ int reduce_impl(const PetscReductionRequest& rq, PetscReductionResult& out) {
         for (std::int64_t e = rq.K_ib.row_start[first + r]; e < rq.K_ib.row_start[first + r + 1];
              ++e) {
           const int c = rq.K_ib.columns[e];
-          if (c >= c0 && c < c0 + bs) rhs[r + static_cast<size_t>(c - c0) * nloc] -= rq.K_ib.values[e];
+          if (c >= c0 && c < c0 + bs)
+            rhs[r + static_cast<size_t>(c - c0) * nloc] -= rq.K_ib.values[e];
         }
       }
       MatHolder B, X;
@@ -327,7 +329,8 @@ int reduce_impl(const PetscReductionRequest& rq, PetscReductionResult& out) {
     }
     std::vector<int> order(static_cast<size_t>(converged));
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return lambda[a] < lambda[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return lambda[a] < lambda[b]; });
     VecHolder x, Mx;
     CHK(MatCreateVecs(Kii.m, &x.v, &Mx.v));
     for (int j = 0; j < m; ++j) {
@@ -359,7 +362,9 @@ int reduce_impl(const PetscReductionRequest& rq, PetscReductionResult& out) {
     std::vector<double> X(nbb, 0.0);  // M_bi Φ_c
     add_csr_transpose_times(rq.M_ib, first, nloc, nb, phic.data(), nb, X.data());
     for (int i = 0; i < nb; ++i) {
-      for (int j = 0; j < nb; ++j) mbb[i + static_cast<size_t>(j) * nb] = X[i + static_cast<size_t>(j) * nb] + X[j + static_cast<size_t>(i) * nb];
+      for (int j = 0; j < nb; ++j)
+        mbb[i + static_cast<size_t>(j) * nb] =
+            X[i + static_cast<size_t>(j) * nb] + X[j + static_cast<size_t>(i) * nb];
     }
   }
   add_csr_transpose_times(rq.M_ib, first, nloc, nb, phin.data(), m, mbe);  // M_bi Φ_n
