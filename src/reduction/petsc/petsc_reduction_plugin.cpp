@@ -11,8 +11,9 @@
 //     any other KSP (e.g. cg with gamg or hypre) solves them one by one to a relative residual of
 //     1e-12 unless told otherwise.
 //   - Fixed-interface modes: SLEPc's EPS (prefix cb_modes_), generalised Hermitian, shift-invert
-//     about 0, the m eigenvalues nearest 0, to a relative residual of 1e-10; its inner solves by
-//     the KSP above (one factorisation of K_ii serves both) unless -cb_modes_ options say else.
+//     about 0, the m eigenvalues nearest 0, to a relative residual of 1e-10; its inner solves
+//     always by the KSP above (STSetKSP: one factorisation of K_ii serves both; the KSP keeps its
+//     prefix cb_constraint_, so -cb_modes_st_ksp_* options do not apply).
 //     The eigenvectors are M_ii-normalised here.
 // Options come from PETSc's usual sources (PETSC_OPTIONS, ~/.petscrc); PETSc's signal handlers
 // are off (-no_signal_handler): the program keeps its own.
