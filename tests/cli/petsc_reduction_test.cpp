@@ -6,8 +6,8 @@
 //    modes' signs aligned; and K_r, M_r equal TᵀKT, TᵀMT formed plainly from its own T;
 //  - under `mpirun -n 2` and `-n 3` (the interior rows shared by the processes): every process
 //    gets the same body, that of the direct reduction; with CG and algebraic multigrid (GAMG)
-//    for the constraint modes and the shift-invert solves instead of MUMPS, the same to the
-//    Krylov tolerance;
+//    instead of MUMPS for the constraint modes, and then for the eigen-solve's shift-invert too
+//    (no factor at all), the same to the Krylov tolerance;
 //  - `stickslip run` of the coarse joint with `reduction_solver: petsc`, alone and under
 //    `mpirun -n 2` (one stepped sweep: the processes reduce together), gives the points of the
 //    direct run;
@@ -238,6 +238,12 @@ TEST(PetscReduction, CgWithAlgebraicMultigridUnderMpirunGivesTheSameBodyToItsTol
       2, dir, "-x PETSC_OPTIONS='-cb_constraint_ksp_type cg -cb_constraint_pc_type gamg' ", 1e-7);
   EXPECT_EQ(info.value("petsc_solver", ""), "cg+gamg");
   EXPECT_GT(info.value("krylov_iterations", 0), 0);
+  const nlohmann::json all_iterative =
+      run_driver(2, fresh_dir("petsc_gamg_modes"),
+                 "-x PETSC_OPTIONS='-cb_constraint_ksp_type cg -cb_constraint_pc_type gamg "
+                 "-cb_modes_st_ksp_type cg -cb_modes_st_pc_type gamg' ",
+                 1e-7);
+  EXPECT_EQ(all_iterative.value("petsc_solver", ""), "cg+gamg");
 }
 
 // The coarse joint (two C3D8 beams, 4 modes each) in 7 frequency steps, `reduction_solver` as

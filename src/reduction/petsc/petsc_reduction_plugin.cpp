@@ -11,9 +11,11 @@
 //     any other KSP (e.g. cg with gamg or hypre) solves them one by one to a relative residual of
 //     1e-12 unless told otherwise.
 //   - Fixed-interface modes: SLEPc's EPS (prefix cb_modes_), generalised Hermitian, shift-invert
-//     about 0, the m eigenvalues nearest 0, to a relative residual of 1e-10; its inner solves
-//     always by the KSP above (STSetKSP: one factorisation of K_ii serves both; the KSP keeps its
-//     prefix cb_constraint_, so -cb_modes_st_ksp_* options do not apply).
+//     about 0, the m eigenvalues nearest 0, to a relative residual of 1e-10. Its inner solves:
+//     with the direct default above, that same KSP (STSetKSP: one factorisation of K_ii serves
+//     both); with a Krylov KSP for the constraint modes, the ST's own KSP (prefix cb_modes_st_),
+//     MUMPS's Cholesky unless -cb_modes_st_ksp_type etc. say else (an iterative eigen-solve
+//     needs no factor at all, but each shift-invert step is then a solve to 1e-12).
 //     The eigenvectors are M_ii-normalised here.
 // Options come from PETSc's usual sources (PETSC_OPTIONS, ~/.petscrc); PETSc's signal handlers
 // are off (-no_signal_handler): the program keeps its own.
@@ -311,7 +313,20 @@ int reduce_impl(const PetscReductionRequest& rq, PetscReductionResult& out) {
     ST st = nullptr;
     CHK(EPSGetST(eps.e, &st));
     CHK(STSetType(st, STSINVERT));
-    CHK(STSetKSP(st, ksp.k));  // the factor of K_ii (shift 0) serves the eigen-solve too
+    if (direct) {
+      CHK(STSetKSP(st, ksp.k));  // the factor of K_ii (shift 0) serves the eigen-solve too
+    } else {
+      // A Krylov solver for the constraint modes: the shift-invert's own KSP (prefix
+      // cb_modes_st_), by default MUMPS's Cholesky; -cb_modes_st_ksp_type etc. change it.
+      KSP inner = nullptr;
+      CHK(STGetKSP(st, &inner));
+      CHK(KSPSetType(inner, KSPPREONLY));
+      PC inner_pc = nullptr;
+      CHK(KSPGetPC(inner, &inner_pc));
+      CHK(PCSetType(inner_pc, PCCHOLESKY));
+      CHK(PCFactorSetMatSolverType(inner_pc, MATSOLVERMUMPS));
+      CHK(KSPSetTolerances(inner, 1e-12, 0.0, PETSC_DEFAULT, 100000));
+    }
     CHK(EPSSetFromOptions(eps.e));
     CHK(EPSSolve(eps.e));
     PetscInt converged = 0, its = 0;
