@@ -10,6 +10,7 @@ packages=(
   calculix-ccx gnuplot-nox clang-format
   libopenblas0-pthread time
   libopenmpi-dev openmpi-bin
+  libpetsc-real-dev libslepc-real-dev
   python3-numpy python3-scipy python3-matplotlib python3-vtk9 python3-pandas zlib1g-dev
   python3-dev pybind11-dev python3-pytest
 )

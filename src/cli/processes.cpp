@@ -11,6 +11,7 @@
 #include "core/errors.h"
 #include "io/gmsh_plugin.h"
 #include "io/plugin_loader.h"
+#include "model/petsc_reduction.h"
 
 #ifndef STICKSLIP_MPI_PLUGIN_BUILD_PATH
 #define STICKSLIP_MPI_PLUGIN_BUILD_PATH ""
@@ -91,6 +92,9 @@ std::string describe_failure(std::exception_ptr error, int* exit_code) {
     *exit_code = 5;
     return std::string("stickslip: error: ") + e.what();
   } catch (const MpiUnavailable& e) {
+    *exit_code = 5;
+    return std::string("stickslip: error: ") + e.what();
+  } catch (const PetscUnavailable& e) {
     *exit_code = 5;
     return std::string("stickslip: error: ") + e.what();
   } catch (const std::exception& e) {

@@ -32,6 +32,7 @@
 #include "cli/results_files.h"
 #include "cli/summary_file.h"
 #include "io/case_file.h"
+#include "model/petsc_reduction.h"
 
 namespace stickslip {
 namespace {
@@ -145,6 +146,9 @@ int run_case(const StageCommand& command) {
     // One stepped sweep: its frequencies in segments over the processes.
     bool reached = false;
     const SweepRunner runner = segment_runner(*processes, &reached);
+    // Every process prepares the same model at once: a body with reduction_solver: petsc is
+    // reduced by all of them together (model/petsc_reduction.h).
+    set_petsc_reduction_collective(true);
     ProgressReporter reporter(std::cerr, stderr_progress_options(quiet || !root));
     try {
       analyse(runs.front(), &cache, progress, &reporter, &runner, tally);

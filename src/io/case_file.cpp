@@ -929,7 +929,7 @@ void parse_bodies(Parser& p, const MapView& top) {
         if (m.has("reduced")) {
           d.source = BodyDefinition::Source::kReduced;
           for (const char* key : {"mesh", "element_set", "material", "clamp", "supports", "masters",
-                                  "modes", "mass_rule", "cyclic"})
+                                  "modes", "mass_rule", "cyclic", "reduction_solver"})
             m.forbid(key, "with 'reduced' (the matrices are the body)");
           MapView r(p, m.value("reduced"), m.full("reduced"), m.line("reduced"),
                     case_keys_in("bodies.NAME.reduced"));
@@ -990,6 +990,15 @@ void parse_bodies(Parser& p, const MapView& top) {
           d.mass_rule =
               rule == "calculix" ? MassIntegration::kStiffnessRule : MassIntegration::kExact;
           if (m.has("cyclic")) d.cyclic = parse_cyclic(p, m);
+          std::string solver = "direct";
+          m.choice("reduction_solver", &solver, {"direct", "petsc"});
+          d.reduction_solver =
+              solver == "petsc" ? ReductionSolver::kPetsc : ReductionSolver::kDirect;
+          if (d.cyclic && d.reduction_solver == ReductionSolver::kPetsc) {
+            p.fail(m.full("reduction_solver"), m.line("reduction_solver"),
+                   "'petsc' does not reduce a cyclic sector (its complex constraint modes): use "
+                   "'direct'");
+          }
         }
         p.out().bodies[name] = d;
       });
@@ -2333,6 +2342,8 @@ std::string describe_case(const CaseDefinition& c) {
       e << YAML::Key << "modes" << YAML::Value << b.modes;
       if (b.mass_rule == MassIntegration::kStiffnessRule)  // exact (the default): not written
         e << YAML::Key << "mass_rule" << YAML::Value << "calculix";
+      if (b.reduction_solver == ReductionSolver::kPetsc)  // direct (the default): not written
+        e << YAML::Key << "reduction_solver" << YAML::Value << "petsc";
       if (b.cyclic) {
         const CyclicDefinition& cd = *b.cyclic;
         e << YAML::Key << "cyclic" << YAML::Value << YAML::BeginMap;

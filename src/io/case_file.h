@@ -183,6 +183,8 @@ struct CyclicDefinition {
 // bladed disk (tens to ~200 blades) and stops a typo before N/2 eigen-solves.
 inline constexpr int kMaxCyclicSectors = 1000;
 
+enum class ReductionSolver { kDirect, kPetsc };
+
 struct BodyDefinition {
   enum class Source { kMesh, kReduced };
   Source source = Source::kMesh;
@@ -198,6 +200,10 @@ struct BodyDefinition {
   // Consistent-mass rule (fe/element.h): `exact` (kExact, default) or `calculix` (kStiffnessRule:
   // CalculiX's matrices; differs for C3D20R and C3D4 only).
   MassIntegration mass_rule = MassIntegration::kExact;
+  // Who reduces it (docs/distributed-reduction.md): kDirect, CHOLMOD and Lanczos in this process
+  // (reduction/craig_bampton.h), or kPetsc, PETSc and SLEPc, over the processes of mpirun when
+  // they reduce together (model/petsc_reduction.h). Not with cyclic.
+  ReductionSolver reduction_solver = ReductionSolver::kDirect;
   // Both sources: ζ added on every fixed-interface (modal) DOF, in [0, 1).
   double modal_damping_ratio = 0.0;
   ReducedMatricesDefinition reduced;       // kReduced

@@ -46,6 +46,7 @@ const std::vector<CaseKey>& case_keys() {
     {"bodies.NAME", "masters", "node selection", "", "none", false, "extra boundary"},
     {"bodies.NAME", "modes", "integer in [0, 20000]", "", "`60`", false, "fixed-interface modes kept"},
     {"bodies.NAME", "mass_rule", "`exact` or `calculix`", "", "`exact`", false, "how the consistent mass of the body's elements is integrated"},
+    {"bodies.NAME", "reduction_solver", "`direct` or `petsc`", "", "`direct`", false, "who reduces the body: CHOLMOD in one process, or PETSc/SLEPc over mpirun's processes"},
     {"bodies.NAME", "modal_damping_ratio", "number in [0, 1)", "–", "`0`", true, "ζ on every fixed-interface mode"},
     {"bodies.NAME", "reduced", "map", "", "–", false, "the body is given by matrices"},
     {"bodies.NAME", "cyclic", "map", "", "none", false, "the body is one sector of a cyclic structure (below)"},

@@ -14,6 +14,7 @@
 #include "io/ansys_mapping.h"
 #include "io/matrix_market.h"
 #include "mesh/mesh_tools.h"
+#include "model/petsc_reduction.h"
 #include "model/rotation_case.h"
 #include "reduction/craig_bampton.h"
 
@@ -113,10 +114,14 @@ void reduce_mesh_body(const CaseDefinition& def, const std::string& name, const 
   // Equations (*EQUATION): reduce TᵀKT, TᵀMT with the dependent DOFs among the constrained ones,
   // then give the basis its dependent rows (x = T x_f).
   const bool dependents = body.constraints.has_dependents();
+  // reduction_solver: petsc: the same reduction by PETSc/SLEPc (model/petsc_reduction.h).
+  const auto reduce = [&](const SparseMatrix& Kc, const SparseMatrix& Mc) {
+    return bd.reduction_solver == ReductionSolver::kPetsc
+               ? craig_bampton_petsc(Kc, Mc, constrained, boundary, options)
+               : craig_bampton(Kc, Mc, constrained, boundary, options);
+  };
   CraigBamptonResult cb =
-      dependents ? craig_bampton(body.constraints.condense(K), body.constraints.condense(M),
-                                 constrained, boundary, options)
-                 : craig_bampton(K, M, constrained, boundary, options);
+      dependents ? reduce(body.constraints.condense(K), body.constraints.condense(M)) : reduce(K, M);
   if (dependents && cb.summary.ok()) body.constraints.fill_dependent_rows(cb.T);
   if (!cb.summary.ok()) {
     throw InvalidInput(def.where(key), "Craig–Bampton reduction of body " + name +

@@ -154,13 +154,15 @@ TEST(CaseKeys, EveryDefaultGivenAsOneValueIsWhatTheParserFillsIn) {
   // `coupling` and `unpaired` only for mortar contacts (the default keeps the fingerprints of
   // earlier runs), `max_points` and recovery `modes` only with the method they belong to
   // (continuation, modal), `amplitude.points` only with nonlinear_mode, `gap` is exclusive with the
-  // preload this case gives, `mass_rule` only when it is calculix (describe_case enters the
+  // preload this case gives, `mass_rule` only when it is calculix and `reduction_solver` only when
+  // it is petsc (describe_case enters the
   // reduction's fingerprint, which stays that of earlier runs for the default), the .msh-only and
   // `supports` keys belong to blocks this case does not have, and so do `cyclic` (its
   // tolerance: tests/io/cyclic_case_test.cpp) and `rotation` (tests/io/rotation_case_test.cpp).
   const std::set<std::string> not_written{"output.directory",
                                           "analysis.aft",
                                           "bodies.NAME.mass_rule",
+                                          "bodies.NAME.reduction_solver",
                                           "contacts[].gap",
                                           "contacts[].coupling",
                                           "contacts[].unpaired",
