@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include "../bladed_ring.h"
+#include "annulus_check.h"
 #include "cli_test_support.h"
 
 namespace {
@@ -142,6 +143,7 @@ struct Options {
   std::string law = "linear";
   double start_hz = 900, stop_hz = 920, step_hz = 10;
   double rpm = 0;
+  bool recovery = false;  // every point: the sector with its annulus, the ring as it is
 };
 
 std::string head(const std::string& blades, const std::string& dampers, const Options& o) {
@@ -157,12 +159,16 @@ std::string head(const std::string& blades, const std::string& dampers, const Op
   return c.str();
 }
 
-std::string tail(const Options& o) {
+std::string tail(const Options& o, bool annulus) {
   std::ostringstream c;
   c << "analysis:\n  frequency: {start_hz: " << o.start_hz << ", stop_hz: " << o.stop_hz
     << ", step_hz: " << o.step_hz << "}\n  harmonics: " << o.harmonics
     << "\n  time_samples: 96\n  tolerance: 1.0e-11\n";
-  c << "recovery: {points: none}\noutput: {plots: false}\n";
+  c << "recovery: "
+    << (!o.recovery ? "{points: none}"
+        : annulus   ? "{points: all, annulus: true}"
+                    : "{points: all}")
+    << "\noutput: {plots: false}\n";
   return c.str();
 }
 
@@ -191,7 +197,7 @@ contacts:
     << contact(b, 0, true, true, o.law, "blade", "damper")
     << "excitation:\n  - {body: blade, node: " << b.mesh.node_ids[b.forced(0)]
     << ", force: " << vec(kForce) << ", engine_order: " << o.eo << "}\n"
-    << tail(o);
+    << tail(o, true);
   return c.str();
 }
 
@@ -226,7 +232,7 @@ contacts:
     }
     c << "]}\n";
   }
-  c << tail(o);
+  c << tail(o, false);
   return c.str();
 }
 
@@ -348,9 +354,39 @@ TEST(CyclicDamperCli, StickSlipDamperSectorEqualsTheWholeAnnulus) {
   o.law = "friction";
   o.start_hz = 1120;
   o.stop_hz = 1140;
+  o.recovery = true;
   const Runs r = run_both("cyclic_damper_friction", o);
   expect_sector_equals_ring(r, 1e-7);
   EXPECT_GT(largest_slip(r), 0.05);
+  // The recovery of both bodies (item 4): each body's annulus against the whole annulus's
+  // recovery of that body, read by VTK (annulus_check.h), every node of every sector.
+  std::ofstream(r.dir / "check.py") << kAnnulusCheck;
+  for (const auto& [body, ring_body] :
+       std::vector<std::pair<std::string, std::string>>{{"blade", "ring"}, {"damper", "dampers"}}) {
+    SCOPED_TRACE(body);
+    const fs::path log = r.dir / (body + ".python.log");
+    ASSERT_EQ(shell("/usr/bin/python3 " + (r.dir / "check.py").string() + " " +
+                        (r.dir / "sector").string() + " " + (r.dir / "ring").string() + " " +
+                        std::to_string(kN) + " " + body + " " + ring_body,
+                    log),
+              0)
+        << slurp(log);
+    const std::map<std::string, double> v = results(slurp(log));
+    for (const char* what : {"displacement", "stress"}) {
+      ASSERT_TRUE(v.count(what)) << what << "\n" << slurp(log);
+      EXPECT_LT(v.at(what), 1e-7) << what << "\n" << slurp(log);
+    }
+    ASSERT_TRUE(v.count("envelope"));
+    EXPECT_LT(v.at("envelope"), 1e-6) << slurp(log);
+    EXPECT_EQ(v.at("own_sector"), 0.0);
+    if (body == "blade") {  // clamped at the ring's inner radius; the damper is held by nothing
+      ASSERT_TRUE(v.count("reaction")) << slurp(log);
+      EXPECT_LT(v.at("reaction"), 1e-7) << slurp(log);
+      EXPECT_GT(v.at("reaction_rows"), 0.0);
+    } else {
+      EXPECT_EQ(v.at("reaction_rows"), 0.0);
+    }
+  }
 }
 
 // Rotation: every body's centrifugal load (the damper's presses it against both shrouds), no
