@@ -406,14 +406,44 @@ void expect_pressed_damper(const std::string& name, double start_hz, double slip
   const Runs r = run_both(name, o);
   expect_sector_equals_ring(r, 1e-7);
   EXPECT_GT(largest_slip(r), slip);
-  // The static normal loads (harmonic 0) of sector 0's pairs: compressive, from the rotation
-  // (the damper's centrifugal load m r Ω² ≈ 4 kN shared by 4 pairs at ±20° of its direction).
+  // The static (harmonic-0) forces of sector 0's pairs on the shrouds balance the damper's
+  // centrifugal load, closed form: ρ t Ω² ∫ x dA over its cross-section (the quadrilateral of its
+  // corners in the plane z = 0: the shoelace area and centroid), at every point.
+  std::vector<Eigen::Vector2d> corner;
+  for (const auto& [radius, angle] :
+       std::vector<std::pair<double, double>>{{cyc::kRadii[3] - kDamperDepth, theta_a(0)},
+                                              {cyc::kRadii[3], theta_a(0)},
+                                              {cyc::kRadii[3], theta_b(0)},
+                                              {cyc::kRadii[3] - kDamperDepth, theta_b(0)}})
+    corner.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
+  double area = 0.0;
+  Eigen::Vector2d moment = Eigen::Vector2d::Zero();  // ∫ x dA
+  for (size_t i = 0; i < corner.size(); ++i) {
+    const Eigen::Vector2d& p = corner[i];
+    const Eigen::Vector2d& q = corner[(i + 1) % corner.size()];
+    const double c = p.x() * q.y() - q.x() * p.y();
+    area += c / 2;
+    moment += (p + q) * c / 6;
+  }
+  const double omega = o.rpm * 2 * std::numbers::pi / 60;
+  const Eigen::Vector2d load = 7800 * cyc::kThickness * omega * omega * moment;
+  std::map<std::string, Eigen::Vector3d> total;  // point -> Σ force on the blades
   double normal = 0.0;
   for (const auto& row : read_csv(r.dir / "sector/contact_forces.csv")) {
-    if (row.at("frame") == "local" && row.at("axis") == "n" && row.at("harmonic") == "0")
-      normal = std::max(normal, std::stod(row.at("real_n")));
+    if (row.at("harmonic") != "0") continue;
+    const double f = std::stod(row.at("real_n"));
+    if (row.at("frame") == "local" && row.at("axis") == "n") normal = std::max(normal, f);
+    if (row.at("frame") != "global") continue;
+    Eigen::Vector3d& sum =
+        total.try_emplace(row.at("point"), Eigen::Vector3d::Zero()).first->second;
+    sum(row.at("axis") == "x" ? 0 : row.at("axis") == "y" ? 1 : 2) += f;
   }
-  EXPECT_GT(normal, 500.0);
+  EXPECT_GT(area, 0.0);
+  EXPECT_EQ(total.size(), 3u);
+  for (const auto& [point, sum] : total) {
+    EXPECT_LT((sum - Eigen::Vector3d(load.x(), load.y(), 0)).norm(), 1e-9 * load.norm()) << point;
+  }
+  EXPECT_GT(normal, 500.0);  // each pair pressed (≈ 850 N)
 }
 
 TEST(CyclicDamperCli, DamperPressedByItsCentrifugalLoadEqualsTheWholeAnnulus) {
