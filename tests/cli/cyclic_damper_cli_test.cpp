@@ -109,6 +109,20 @@ std::string vec(const Eigen::Vector3d& v) {
   return s.str();
 }
 
+// The frame's t1 and the law's parameters of every contact.
+std::string parameters(const std::string& law) {
+  std::ostringstream c;
+  c << "    t1: " << vec({0, 0, 1}) << "\n";
+  if (law == "linear") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
+  } else if (law == "friction") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3, preload: 300}\n";
+  } else {  // friction pressed by the centrifugal load: no typed preload
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3}\n";
+  }
+  return c.str();
+}
+
 // Damper s's contact with blade s (own) or blade s + 1 (next): A the damper's top nodes on that
 // side, B the shroud's underside nodes there; the normal e_r out of the damper into the shroud.
 // sector: B is sector 0's own node, with `neighbour: next` for the next blade.
@@ -127,14 +141,24 @@ std::string contact(const cyc::BladedRing& b, int s, bool next, bool sector, con
   c << "]\n";
   if (sector && next) c << "    neighbour: next\n";
   c << "    normal: " << vec({std::cos(t), std::sin(t), 0}) << "\n";
-  c << "    t1: " << vec({0, 0, 1}) << "\n";
-  if (law == "linear") {
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
-  } else if (law == "friction") {
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3, preload: 300}\n";
-  } else {  // friction pressed by the centrifugal load: no typed preload
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3}\n";
+  c << parameters(law);
+  return c.str();
+}
+
+// The same contact of the sector seen from the blade: A the blade's node under its shroud, B the
+// previous sector's damper (its sector-0 node ids), `neighbour: previous`, the normal out of the
+// blade into the damper (−e_r). The same springs (the frame's signs do not change kt, kt, kn).
+std::string previous_contact(const cyc::BladedRing& b, const std::string& law) {
+  const double t = theta_b(0) - 2 * std::numbers::pi / kN;
+  std::ostringstream c;
+  c << "  - name: previous0\n    law: " << law << "\n    bodies: [blade, damper]\n    pairs: [";
+  for (int k = 0; k < 2; ++k) {
+    c << (k ? ", " : "") << "[" << b.mesh.node_ids[b.node(0, 3, 1, k)] << ", "
+      << damper_node(0, 1, 1, k) << "]";
   }
+  c << "]\n    neighbour: previous\n";
+  c << "    normal: " << vec({-std::cos(t), -std::sin(t), 0}) << "\n";
+  c << parameters(law);
   return c.str();
 }
 
@@ -144,6 +168,7 @@ struct Options {
   double start_hz = 900, stop_hz = 920, step_hz = 10;
   double rpm = 0;
   bool recovery = false;  // every point: the sector with its annulus, the ring as it is
+  bool previous = false;  // the sector's neighbour contact seen from the blade (previous_contact)
 };
 
 std::string head(const std::string& blades, const std::string& dampers, const Options& o) {
@@ -194,7 +219,8 @@ std::string sector_case(const cyc::BladedRing& b, const Options& o) {
       axis: {point: [0, 0, 0], direction: z}
 contacts:
 )" << contact(b, 0, false, true, o.law, "blade", "damper")
-    << contact(b, 0, true, true, o.law, "blade", "damper")
+    << (o.previous ? previous_contact(b, o.law)
+                   : contact(b, 0, true, true, o.law, "blade", "damper"))
     << "excitation:\n  - {body: blade, node: " << b.mesh.node_ids[b.forced(0)]
     << ", force: " << vec(kForce) << ", engine_order: " << o.eo << "}\n"
     << tail(o, true);
@@ -294,8 +320,9 @@ Runs run_both(const std::string& name, const Options& o) {
 
 // Sector 0's contact forces, the forced blade node's and a damper node's response: sector
 // against ring, relative to the ring's largest value.
-void expect_sector_equals_ring(const Runs& r, double tolerance) {
+void expect_sector_equals_ring(const Runs& r, double tolerance, bool previous = false) {
   for (const char* c : {"own0", "next0"}) {
+    if (previous && std::string(c) == "next0") continue;  // another pair, in another frame
     SCOPED_TRACE(c);
     const std::string contact = c;
     const auto forces = [&](const fs::path& csv) {
@@ -335,6 +362,10 @@ TEST(CyclicDamperCli, LinearBladeAndDamperSectorEqualsTheWholeAnnulus) {
   const Runs r = run_both("cyclic_damper_linear", Options{});
   expect_sector_equals_ring(r, 1e-8);
   EXPECT_NE(slurp(r.dir / "sector.log").find("bodies blade, damper"), std::string::npos);
+  // The same contact written from the blade with `neighbour: previous`: the same responses.
+  Options o;
+  o.previous = true;
+  expect_sector_equals_ring(run_both("cyclic_damper_previous", o), 1e-8, /*previous=*/true);
 }
 
 // The largest slipping fraction of the cycle over the sector's pairs and points.
