@@ -91,7 +91,7 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
     rotation_load_ = (omega * omega) * centrifugal_force_per_speed_squared(*body_.M, body_.mesh,
                                                                            case_rotation_axis(def));
     std::optional<SectorBoundary> sector;
-    if (body_.cyclic) {
+    if (body_.cyclic && !body_.cyclic_pairs.empty()) {  // a body of a sector with boundaries
       sector = SectorBoundary{body_.cyclic_pairs, {}, *body_.cyclic};
       for (int d = 0; d < body_.constraints.num_dofs(); ++d) {
         if (body_.constraints.is_clamped(d)) sector->clamped_dofs.push_back(d);
