@@ -358,6 +358,43 @@ void expect_sector_equals_ring(const Runs& r, double tolerance, bool previous = 
   }
 }
 
+// The recovery of both bodies (item 4): each body's annulus against the whole annulus's
+// recovery of that body, read by VTK (annulus_check.h), every node of every sector.
+// `envelope`: the envelopes over the period (von Mises, principal) are compared to their own
+// accuracy, not the solver's: sector j's cycle is sector 0's shifted by EO·j/N periods, so the
+// ring's envelope samples fall at other phases and the refinement between samples decides
+// (docs/cyclic.md; measured 5.3e-8 with friction, 3.6e-6 on the spinning damper, not
+// investigated further).
+void expect_recovery_equals_ring(const Runs& r, double envelope = 1e-6) {
+  std::ofstream(r.dir / "check.py") << kAnnulusCheck;
+  for (const auto& [body, ring_body] :
+       std::vector<std::pair<std::string, std::string>>{{"blade", "ring"}, {"damper", "dampers"}}) {
+    SCOPED_TRACE(body);
+    const fs::path log = r.dir / (body + ".python.log");
+    ASSERT_EQ(shell("/usr/bin/python3 " + (r.dir / "check.py").string() + " " +
+                        (r.dir / "sector").string() + " " + (r.dir / "ring").string() + " " +
+                        std::to_string(kN) + " " + body + " " + ring_body,
+                    log),
+              0)
+        << slurp(log);
+    const std::map<std::string, double> v = results(slurp(log));
+    for (const char* what : {"displacement", "stress"}) {
+      ASSERT_TRUE(v.count(what)) << what << "\n" << slurp(log);
+      EXPECT_LT(v.at(what), 1e-7) << what << "\n" << slurp(log);
+    }
+    ASSERT_TRUE(v.count("envelope"));
+    EXPECT_LT(v.at("envelope"), envelope) << slurp(log);
+    EXPECT_EQ(v.at("own_sector"), 0.0);
+    if (body == "blade") {  // clamped at the ring's inner radius; the damper is held by nothing
+      ASSERT_TRUE(v.count("reaction")) << slurp(log);
+      EXPECT_LT(v.at("reaction"), 1e-7) << slurp(log);
+      EXPECT_GT(v.at("reaction_rows"), 0.0);
+    } else {
+      EXPECT_EQ(v.at("reaction_rows"), 0.0);
+    }
+  }
+}
+
 TEST(CyclicDamperCli, LinearBladeAndDamperSectorEqualsTheWholeAnnulus) {
   const Runs r = run_both("cyclic_damper_linear", Options{});
   expect_sector_equals_ring(r, 1e-8);
@@ -389,35 +426,7 @@ TEST(CyclicDamperCli, StickSlipDamperSectorEqualsTheWholeAnnulus) {
   const Runs r = run_both("cyclic_damper_friction", o);
   expect_sector_equals_ring(r, 1e-7);
   EXPECT_GT(largest_slip(r), 0.05);
-  // The recovery of both bodies (item 4): each body's annulus against the whole annulus's
-  // recovery of that body, read by VTK (annulus_check.h), every node of every sector.
-  std::ofstream(r.dir / "check.py") << kAnnulusCheck;
-  for (const auto& [body, ring_body] :
-       std::vector<std::pair<std::string, std::string>>{{"blade", "ring"}, {"damper", "dampers"}}) {
-    SCOPED_TRACE(body);
-    const fs::path log = r.dir / (body + ".python.log");
-    ASSERT_EQ(shell("/usr/bin/python3 " + (r.dir / "check.py").string() + " " +
-                        (r.dir / "sector").string() + " " + (r.dir / "ring").string() + " " +
-                        std::to_string(kN) + " " + body + " " + ring_body,
-                    log),
-              0)
-        << slurp(log);
-    const std::map<std::string, double> v = results(slurp(log));
-    for (const char* what : {"displacement", "stress"}) {
-      ASSERT_TRUE(v.count(what)) << what << "\n" << slurp(log);
-      EXPECT_LT(v.at(what), 1e-7) << what << "\n" << slurp(log);
-    }
-    ASSERT_TRUE(v.count("envelope"));
-    EXPECT_LT(v.at("envelope"), 1e-6) << slurp(log);
-    EXPECT_EQ(v.at("own_sector"), 0.0);
-    if (body == "blade") {  // clamped at the ring's inner radius; the damper is held by nothing
-      ASSERT_TRUE(v.count("reaction")) << slurp(log);
-      EXPECT_LT(v.at("reaction"), 1e-7) << slurp(log);
-      EXPECT_GT(v.at("reaction_rows"), 0.0);
-    } else {
-      EXPECT_EQ(v.at("reaction_rows"), 0.0);
-    }
-  }
+  expect_recovery_equals_ring(r);
 }
 
 // Rotation: every body's centrifugal load (the damper's presses it against both shrouds), no
@@ -434,6 +443,7 @@ void expect_pressed_damper(const std::string& name, double start_hz, double slip
   o.start_hz = start_hz;
   o.stop_hz = start_hz + 20;
   o.rpm = 3000;
+  o.recovery = true;
   const Runs r = run_both(name, o);
   expect_sector_equals_ring(r, 1e-7);
   EXPECT_GT(largest_slip(r), slip);
@@ -475,6 +485,8 @@ void expect_pressed_damper(const std::string& name, double start_hz, double slip
     EXPECT_LT((sum - Eigen::Vector3d(load.x(), load.y(), 0)).norm(), 1e-9 * load.norm()) << point;
   }
   EXPECT_GT(normal, 500.0);  // each pair pressed (≈ 850 N)
+  // The recovery of the spinning bodies: the centrifugal body force on every node at harmonic 0.
+  expect_recovery_equals_ring(r, /*envelope=*/1e-5);
 }
 
 TEST(CyclicDamperCli, DamperPressedByItsCentrifugalLoadEqualsTheWholeAnnulus) {
