@@ -32,8 +32,9 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
             ": its reduced model was given without them, so it cannot be recovered on its "
             "mesh (recovery.points: none)");
   }
-  if (model.wave && body_.cyclic) {
-    // A cyclic sector: each harmonic on its nodal diameter (recovery/cyclic_recovery.h).
+  if (model.wave && body_.cyclic && !body_.cyclic_pairs.empty()) {
+    // A cyclic sector: each harmonic on its nodal diameter (recovery/cyclic_recovery.h). A body
+    // of the sector without boundaries (a damper) is the same for every diameter: below.
     if (method_ != RecoveryMethod::kDirect) {
       throw InvalidInput(def.where("recovery.method"),
                          "body " + body_.name +
@@ -90,7 +91,7 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
     rotation_load_ = (omega * omega) * centrifugal_force_per_speed_squared(*body_.M, body_.mesh,
                                                                            case_rotation_axis(def));
     std::optional<SectorBoundary> sector;
-    if (body_.cyclic) {
+    if (body_.cyclic && !body_.cyclic_pairs.empty()) {  // a body of a sector with boundaries
       sector = SectorBoundary{body_.cyclic_pairs, {}, *body_.cyclic};
       for (int d = 0; d < body_.constraints.num_dofs(); ++d) {
         if (body_.constraints.is_clamped(d)) sector->clamped_dofs.push_back(d);
