@@ -12,12 +12,39 @@
 #include "core/errors.h"
 #include "core/format.h"
 #include "hbm/harmonic_balance.h"
+#include "linalg/blas.h"
 
 namespace stickslip {
 
 namespace {
 
 using Complex = std::complex<double>;
+
+// S = Ψ diag(d) Ψᴴ (Hermitian, returned full) for a complex Ψ and a real d, through BLAS zherk
+// (several times faster than Eigen's portable complex product; half the flops of a general one):
+// the columns of Ψ scaled by √|d_r| in two groups, d_r > 0 added and d_r < 0 subtracted, into the
+// lower triangle, then mirrored.
+void weighted_hermitian_gram(const Eigen::MatrixXcd& Psi, const Eigen::VectorXd& d,
+                             Eigen::MatrixXcd& S) {
+  const int n = static_cast<int>(Psi.rows());
+  S.setZero(n, n);
+  if (n == 0) return;  // no contact rows (BLAS refuses a leading dimension of 0)
+  Eigen::MatrixXcd scaled;
+  for (const double sign : {1.0, -1.0}) {
+    int count = 0;
+    for (Eigen::Index r = 0; r < d.size(); ++r) count += sign * d[r] > 0 ? 1 : 0;
+    if (count == 0) continue;
+    scaled.resize(n, count);
+    int c = 0;
+    for (Eigen::Index r = 0; r < d.size(); ++r) {
+      if (sign * d[r] > 0) scaled.col(c++) = std::sqrt(sign * d[r]) * Psi.col(r);
+    }
+    const double beta = 1.0;
+    const char uplo = 'L', trans = 'N';
+    zherk_(&uplo, &trans, &n, &count, &sign, scaled.data(), &n, &beta, S.data(), &n);
+  }
+  S.triangularView<Eigen::StrictlyUpper>() = S.adjoint();
+}
 
 // H = diag(h) on complex modes: G = Ψ diag(h) Ψᴴ, u_lin = Ψ diag(h) q, dG/dΩ z = Ψ diag(dh) Ψᴴ z.
 class ComplexModesHarmonic final : public ModalFlexibility::Harmonic {
@@ -27,9 +54,12 @@ class ComplexModesHarmonic final : public ModalFlexibility::Harmonic {
       : Psi_(Psi), load_(load), h_(std::move(h)), dh_(std::move(dh)) {}
   Eigen::MatrixXcd times(const Eigen::MatrixXcd& X) const override { return h_.asDiagonal() * X; }
   void receptance(Eigen::MatrixXd& real, Eigen::MatrixXd& imag) const override {
-    const Eigen::MatrixXcd G = (Psi_ * h_.asDiagonal()) * Psi_.adjoint();
-    real = G.real();
-    imag = G.imag();
+    // G = A + iB with the Hermitian A = Ψ diag(Re h) Ψᴴ, B = Ψ diag(Im h) Ψᴴ.
+    Eigen::MatrixXcd A, B;
+    weighted_hermitian_gram(Psi_, h_.real(), A);
+    weighted_hermitian_gram(Psi_, h_.imag(), B);
+    real = A.real() - B.imag();
+    imag = A.imag() + B.real();
   }
   Eigen::VectorXcd load_response() const override {
     if (load_.size() == 0) return Eigen::VectorXcd::Zero(Psi_.rows());
