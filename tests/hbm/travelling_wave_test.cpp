@@ -486,9 +486,8 @@ TEST(TravellingWave, ReceptanceEqualsItsModalSumWithTheHighModesSummedAsASeries)
       ComplexModalModel m;
       m.omega2.resize(kModes);
       for (int r = 0; r < kModes; ++r) m.omega2[r] = std::pow(10.0, 2.0 + 10.0 * r / (kModes - 1));
-      m.Phi = Eigen::MatrixXcd::NullaryExpr(kRows, kModes, [&] {
-        return std::complex<double>(normal(rng), normal(rng));
-      });
+      m.Phi = Eigen::MatrixXcd::NullaryExpr(
+          kRows, kModes, [&] { return std::complex<double>(normal(rng), normal(rng)); });
       m.modal_damping = rayleigh_modal_damping(m.omega2, 20.0, 2e-7);
       if (!rayleigh) m.modal_damping[kModes / 2] *= 1.5;
       w.harmonics[k] = std::move(m);
