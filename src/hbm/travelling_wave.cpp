@@ -64,10 +64,12 @@ constexpr double kRayleighTolerance = 1e-12;
 }  // namespace
 
 struct TravellingWaveFlexibility::Series {
-  double limit = 0.0;                   // used while |s| ≤ limit = kSeriesRatio λ_c
-  std::vector<Eigen::Index> low;        // the modes below λ_c
-  Eigen::MatrixXcd psi_low;             // their columns of Ψ
-  std::vector<Eigen::MatrixXcd> terms;  // C_j, j = 0..kSeriesTerms − 1
+  double limit = 0.0;             // used while |s| ≤ limit = kSeriesRatio λ_c
+  std::vector<Eigen::Index> low;  // the modes below λ_c
+  Eigen::MatrixXcd psi_low;       // their columns of Ψ
+  // nu² x kSeriesTerms, column j the column-major C_j; rows contiguous, so that the sum reads
+  // each entry once and writes G once.
+  Eigen::Matrix<Complex, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> terms;
 };
 
 namespace {
@@ -130,11 +132,12 @@ void ComplexModesHarmonic::receptance(Eigen::MatrixXd& real, Eigen::MatrixXd& im
   Eigen::MatrixXcd G(A.rows(), A.cols());
   G.real() = A.real() - B.imag();
   G.imag() = A.imag() + B.real();
+  // Σ_j (s^j / a) C_j as one matrix-vector product over the stacked terms: each term is read
+  // once (the sum is bound by memory traffic, not flops).
+  Eigen::VectorXcd factors(series.terms.cols());
   Complex factor = 1.0 / a_;
-  for (const Eigen::MatrixXcd& C : series.terms) {
-    G += factor * C;
-    factor *= s_;
-  }
+  for (Eigen::Index j = 0; j < factors.size(); ++j, factor *= s_) factors[j] = factor;
+  Eigen::Map<Eigen::VectorXcd>(G.data(), G.size()).noalias() += series.terms * factors;
   real = G.real();
   imag = G.imag();
 }
@@ -270,9 +273,12 @@ std::shared_ptr<const TravellingWaveFlexibility::Series> TravellingWaveFlexibili
     inverse[static_cast<Eigen::Index>(i)] = 1.0 / m.omega2[high[i]];
   }
   weight = inverse;
+  const Eigen::Index nu = m.Psi.rows();
+  out->terms.resize(nu * nu, kSeriesTerms);
+  Eigen::MatrixXcd C;
   for (int j = 0; j < kSeriesTerms; ++j) {
-    out->terms.emplace_back();
-    weighted_hermitian_gram(psi_high, weight, out->terms.back());
+    weighted_hermitian_gram(psi_high, weight, C);
+    out->terms.col(j) = Eigen::Map<const Eigen::VectorXcd>(C.data(), C.size());
     weight = weight.cwiseProduct(inverse);
   }
   series_[k] = out;

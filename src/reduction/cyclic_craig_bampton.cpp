@@ -69,6 +69,7 @@ CyclicReducedSector cyclic_craig_bampton(const SparseMatrix& K, const SparseMatr
     // Every fixed-interface eigenvalue of the real form is double: a Lanczos block of at least
     // 2 finds both copies (a single-vector Krylov space holds one in exact arithmetic).
     real_options.modal.block_size = std::max(real_options.modal.block_size, kPairBlockSize);
+    real_options.hermitian_real_form = true;  // half the constraint modes solved
   }
 
   CyclicReducedSector out;
