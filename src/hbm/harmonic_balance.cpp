@@ -1121,7 +1121,8 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
         P.middleCols(r, m).noalias() +=
             op->G[pos].middleCols(r, m) * stuck_tangent_[pos].block(r, r, m, m).cast<Complex>();
       }
-      op->precondition.emplace_back(P);
+      op->precondition.emplace_back();
+      op->precondition.back().compute(P);
     }
   }
   if (!structured_) op->Gdense = dense_G(*op);  // for the dense Jacobians at this Ω

@@ -103,6 +103,7 @@
 #include "hbm/fourier.h"
 #include "hbm/modal_flexibility.h"
 #include "hbm/travelling_wave.h"
+#include "linalg/dense_lu.h"
 
 namespace stickslip {
 
@@ -314,7 +315,7 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     std::vector<Eigen::MatrixXcd> G;  // per harmonic position
     // H_k(Ω) per position (null for harmonic 0 with held rigid-body modes: the shifted G̃_0).
     std::vector<std::unique_ptr<const ModalFlexibility::Harmonic>> H;
-    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> precondition;  // I + G_k K_0
+    std::vector<ComplexDenseLu> precondition;  // I + G_k K_0 (LAPACK's zgetrf)
     Eigen::VectorXd ulin, dulin;
     Eigen::MatrixXd Gdense;  // 𝔾 (n x n, real split), dense solver path only
   };

@@ -23,6 +23,7 @@
 #include <complex>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include <Eigen/Core>
@@ -79,6 +80,9 @@ class TravellingWaveFlexibility final : public ModalFlexibility {
   // harmonic k (a scale).
   Eigen::VectorXcd quasi_static_response(int k) const;
   const Eigen::MatrixXcd& contact_modes(int k) const { return of(k).Psi; }
+  // The receptance's modes far above kΩ summed as a power series in Ω (travelling_wave.cpp):
+  // built on first need per harmonic, rebuilt when Ω leaves its range.
+  struct Series;
 
  protected:
   std::unique_ptr<const Harmonic> dynamic(int k, double omega, bool derivative) const override;
@@ -88,9 +92,14 @@ class TravellingWaveFlexibility final : public ModalFlexibility {
     Eigen::VectorXd omega2, c;
     Eigen::MatrixXcd Phi, Psi;  // ndof x nm, nu x nm
     Eigen::VectorXcd load;      // q_k, empty without a load
+    bool rayleigh = false;      // c_r = alpha + beta ω_r² for every mode (to round-off)
+    double alpha = 0.0, beta = 0.0;
   };
   const Model& of(int k) const;
+  std::shared_ptr<const Series> series(int k, std::complex<double> s) const;
   std::map<int, Model> models_;
+  mutable std::mutex series_mutex_;
+  mutable std::map<int, std::shared_ptr<const Series>> series_;
 };
 
 // B_k Φ for the pairs (rows stacked as the harmonic balance's contact rows): sector-0 nodes with

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/errors.h"
 #include "linalg/blas.h"
@@ -91,6 +92,33 @@ Eigen::VectorXd DenseLu::solve(const Eigen::VectorXd& b) const {
   STICKSLIP_VERIFY(ok_ && b.size() == lu_.rows(), "DenseLu::solve: no factorisation or wrong size");
   const ScopedBlasThreads single_thread(1);
   return solve_with('N', b);
+}
+
+bool ComplexDenseLu::compute(const Eigen::MatrixXcd& A) {
+  STICKSLIP_VERIFY(A.rows() == A.cols(), "ComplexDenseLu: the matrix must be square");
+  ok_ = false;
+  const int n = static_cast<int>(A.rows());
+  if (n == 0 || !A.allFinite()) return false;
+  const ScopedBlasThreads single_thread(1);
+  lu_ = A;
+  pivots_.resize(n);
+  int info = 0;
+  zgetrf_(&n, &n, lu_.data(), &n, pivots_.data(), &info);
+  ok_ = info == 0;  // info > 0: exact zero pivot
+  return ok_;
+}
+
+Eigen::VectorXcd ComplexDenseLu::solve(const Eigen::VectorXcd& b) const {
+  if (!ok_) {
+    return Eigen::VectorXcd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  Eigen::VectorXcd x = b;
+  const int n = static_cast<int>(lu_.rows()), nrhs = 1;
+  const char trans = 'N';
+  int info = 0;
+  const ScopedBlasThreads single_thread(1);
+  zgetrs_(&trans, &n, &nrhs, lu_.data(), &n, pivots_.data(), x.data(), &n, &info);
+  return x;
 }
 
 }  // namespace stickslip

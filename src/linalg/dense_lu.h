@@ -12,6 +12,7 @@
 // A⁻¹ b (only after a successful factorisation). Same contract as Eigen::PartialPivLU.
 #pragma once
 
+#include <complex>
 #include <vector>
 
 #include <Eigen/Core>
@@ -33,6 +34,21 @@ class DenseLu {
   std::vector<int> pivots_;
   double anorm_ = 0.0;           // ‖A‖₁
   mutable double rcond_ = -1.0;  // < 0: not estimated yet
+  bool ok_ = false;
+};
+
+// The same for a complex matrix (zgetrf, zgetrs; one BLAS thread): compute(A) returns false when
+// A is not finite or exactly singular, and solve(b) then returns NaNs (as a singular Eigen LU
+// would give infinities), so that an iterative solver using it as a preconditioner fails.
+class ComplexDenseLu {
+ public:
+  bool compute(const Eigen::MatrixXcd& A);
+  bool factored() const { return ok_; }
+  Eigen::VectorXcd solve(const Eigen::VectorXcd& b) const;
+
+ private:
+  Eigen::MatrixXcd lu_;
+  std::vector<int> pivots_;
   bool ok_ = false;
 };
 

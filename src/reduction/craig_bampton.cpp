@@ -233,6 +233,22 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
                        std::to_string(ni) + ")");
   }
   int nr = nb + nm;
+  // The real form of a Hermitian pair: interior DOF p < ni/2 and p + ni/2 are d and d + n.
+  const bool paired = options.hermitian_real_form;
+  if (paired) {
+    bool symmetric = n % 2 == 0 && nb % 2 == 0 && ni % 2 == 0;
+    for (int k = 0; symmetric && k < nb / 2; ++k)
+      symmetric = boundary[k] < n / 2 && boundary[nb / 2 + k] == boundary[k] + n / 2;
+    for (int p = 0; symmetric && p < ni / 2; ++p)
+      symmetric = interior[ni / 2 + p] == interior[p] + n / 2;
+    if (!symmetric) {
+      throw InvalidInput(
+          "craig_bampton: CraigBamptonOptions::hermitian_real_form needs an even size 2n and "
+          "boundary (and constrained) DOFs {b, n + b}, the second half the first plus n");
+    }
+  }
+  // Boundary columns whose constraint modes are solved for (the others are J times them).
+  const int solved = paired ? nb / 2 : nb;
 
   // Partition and factorise K_ii.
   auto start = std::chrono::steady_clock::now();
@@ -313,18 +329,23 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
       KbiPhic.selfadjointView<Eigen::Lower>().rankUpdate(Z.transpose(), -1.0);
       KbiPhic = KbiPhic.selfadjointView<Eigen::Lower>();
       Eigen::MatrixXd padded = Eigen::MatrixXd::Zero(ni, std::min(options.block_size, nb));
-      for (int c0 = 0; c0 < nb; c0 += options.block_size) {
-        const int bs = std::min(options.block_size, nb - c0);
+      for (int c0 = 0; c0 < solved; c0 += options.block_size) {
+        const int bs = std::min(options.block_size, solved - c0);
         if (bs < padded.cols()) padded = Eigen::MatrixXd::Zero(ni, bs);
         padded.bottomRows(m) = -Z.middleCols(c0, bs);  // Φ_c = G⁻ᵀ [0; −Z]
         Psi.middleCols(c0, bs) = cholesky.solve_upper(padded);
       }
     } else if (ni > 0) {
-      for (int c0 = 0; c0 < nb; c0 += options.block_size) {
-        const int bs = std::min(options.block_size, nb - c0);
+      for (int c0 = 0; c0 < solved; c0 += options.block_size) {
+        const int bs = std::min(options.block_size, solved - c0);
         const Eigen::MatrixXd rhs = -Eigen::MatrixXd(K_ib.middleCols(c0, bs));
         Psi.middleCols(c0, bs) = cholesky.solve(rhs);
       }
+    }
+    if (paired && ni > 0) {  // column nb/2 + j = J column j: (x; y) -> (−y; x)
+      const int h = ni / 2, half = nb / 2;
+      Psi.block(0, half, h, half) = -Psi.block(h, 0, h, half);
+      Psi.block(h, half, h, half) = Psi.block(0, 0, h, half);
     }
     summary.seconds_constraint = seconds_since(start);
     summary.cpu_seconds_constraint = process_cpu_seconds() - cpu;

@@ -66,6 +66,12 @@ struct CraigBamptonOptions {
   // Cholesky of K_ii: G⁻¹K_ib is then Z in the trailing rows only, the constraint modes need only
   // the backward half solves, and K_bi Φ_c = −ZᵀZ. kAuto: when the flop estimate says it pays.
   LastOrdering coupled_last = LastOrdering::kAuto;
+  // K, M are the real form [A −B; B A] of a complex Hermitian pair (2n square; see
+  // reduction/cyclic_craig_bampton.h) and boundary_dofs = {b, n + b} (the second half the first
+  // plus n), the constrained DOFs likewise: the constraint modes of the second half are J times
+  // those of the first, J(x; y) = (−y; x) (K commutes with J), and only the first half is solved
+  // for. Otherwise InvalidInput. Ignored for a floating interior.
+  bool hermitian_real_form = false;
   // Fixed-interface eigen-solve settings; modal.num_modes is ignored. Shift 0 (default): the
   // Lanczos reuses the Cholesky of K_ii (positive definite once the interior is held); any other
   // shift costs a second factorisation, of K_ii − σM_ii.

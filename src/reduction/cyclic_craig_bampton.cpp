@@ -69,6 +69,7 @@ CyclicReducedSector cyclic_craig_bampton(const SparseMatrix& K, const SparseMatr
     // Every fixed-interface eigenvalue of the real form is double: a Lanczos block of at least
     // 2 finds both copies (a single-vector Krylov space holds one in exact arithmetic).
     real_options.modal.block_size = std::max(real_options.modal.block_size, kPairBlockSize);
+    real_options.hermitian_real_form = true;  // half the constraint modes solved
   }
 
   CyclicReducedSector out;
@@ -92,6 +93,7 @@ CyclicReducedSector cyclic_craig_bampton(const SparseMatrix& K, const SparseMatr
   // Rayleigh–Ritz in the span of the complex mode vectors: an M-orthonormal basis Q of it from
   // the Gram matrix's dominant eigenvectors, then the Hermitian eigen-problem Qᴴ K Q.
   Eigen::MatrixXcd modes(n, 0);
+  Eigen::MatrixXcd coefficients(real_modes, 0);  // modes = Z coefficients
   Eigen::VectorXd eigenvalues(0);
   if (real_modes > 0) {
     const Eigen::MatrixXcd Z = complex_columns(cb.T, n, 2 * nb, real_modes);
@@ -114,15 +116,17 @@ CyclicReducedSector cyclic_craig_bampton(const SparseMatrix& K, const SparseMatr
           " (a pair (x; y), (-y; x) of one complex mode was split by the eigen-solve)";
       return out;
     }
-    Eigen::MatrixXcd Q(n, static_cast<Eigen::Index>(kept.size()));
+    Eigen::MatrixXcd W(real_modes, static_cast<Eigen::Index>(kept.size()));  // Q = Z W
     for (size_t c = 0; c < kept.size(); ++c) {
-      Q.col(static_cast<Eigen::Index>(c)) =
-          Z * gram.eigenvectors().col(kept[c]) / std::sqrt(g(kept[c]));
+      W.col(static_cast<Eigen::Index>(c)) =
+          gram.eigenvectors().col(kept[c]) / std::sqrt(g(kept[c]));
     }
+    const Eigen::MatrixXcd Q = Z * W;
     Eigen::MatrixXcd H = Q.adjoint() * (Kc * Q);
     H = 0.5 * (H + H.adjoint()).eval();
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> ritz(H);
     eigenvalues = ritz.eigenvalues();
+    coefficients = W * ritz.eigenvectors();
     modes = Q * ritz.eigenvectors();
   }
   out.summary.num_modes = static_cast<int>(modes.cols());
@@ -132,13 +136,42 @@ CyclicReducedSector cyclic_craig_bampton(const SparseMatrix& K, const SparseMatr
   out.summary.num_dofs = static_cast<int>(n);
   out.mode_eigenvalues = eigenvalues;
 
-  Eigen::MatrixXcd T(n, nb + modes.cols());
-  T.leftCols(nb) = complex_columns(cb.T, n, 0, nb);
-  T.rightCols(modes.cols()) = modes;
-  Eigen::MatrixXcd Kr = T.adjoint() * (Kc * T), Mr = T.adjoint() * (Mc * T);
+  // The reduced matrices from the real form's, without products of size n (docs/cyclic.md,
+  // "Reduction per nodal diameter"). For complex vectors u, v with real forms U, V:
+  //   uᴴ K_h v = Uᵀ K V − i Uᵀ K J V,  J(x; y) = (−y; x) (the real form of i·),
+  // and J commutes with K and M. The real form's constraint mode of boundary DOF n + b is J times
+  // that of b (their equations are J times each other's), so Uᵀ K J V = −(J U)ᵀ K V is a block of
+  // the real form's K_r: for constraint modes u = z_j, v = z_l (real-form reduced DOFs j, l; J z_j
+  // is nb + j), z_jᴴ K_h z_l = K_r(j, l) + i K_r(nb + j, l), and for a real-form mode y_i (reduced
+  // DOF 2nb + i) z_jᴴ M_h (x_i + i y_i) = M_r(j, 2nb + i) + i M_r(nb + j, 2nb + i). The kept modes
+  // are combinations of those, Φ_n = Z C; Kᴴ-orthogonality of constraint and fixed-interface
+  // modes and the Ritz step's Φ_nᴴ K Φ_n = Ω², Φ_nᴴ M Φ_n = I give the other blocks, as
+  // craig_bampton sets them for a real body.
+  const Eigen::MatrixXd& Kreal = cb.body.K;
+  const Eigen::MatrixXd& Mreal = cb.body.M;
+  const Eigen::Index nr = nb + modes.cols();
+  Eigen::MatrixXcd Kr = Eigen::MatrixXcd::Zero(nr, nr), Mr = Eigen::MatrixXcd::Zero(nr, nr);
+  Kr.topLeftCorner(nb, nb).real() = Kreal.topLeftCorner(nb, nb);
+  Kr.topLeftCorner(nb, nb).imag() = Kreal.block(nb, 0, nb, nb);
+  Mr.topLeftCorner(nb, nb).real() = Mreal.topLeftCorner(nb, nb);
+  Mr.topLeftCorner(nb, nb).imag() = Mreal.block(nb, 0, nb, nb);
+  if (modes.cols() > 0) {
+    Eigen::MatrixXcd Mbz(nb, real_modes);  // z_jᴴ M_h (x_i + i y_i)
+    Mbz.real() = Mreal.block(0, 2 * nb, nb, real_modes);
+    Mbz.imag() = Mreal.block(nb, 2 * nb, nb, real_modes);
+    Kr.bottomRightCorner(modes.cols(), modes.cols()).diagonal() = eigenvalues.cast<Complex>();
+    Mr.topRightCorner(nb, modes.cols()) = Mbz * coefficients;
+    Mr.bottomLeftCorner(modes.cols(), nb) = Mr.topRightCorner(nb, modes.cols()).adjoint();
+    Mr.bottomRightCorner(modes.cols(), modes.cols()).setIdentity();
+  }
   out.K = 0.5 * (Kr + Kr.adjoint());
   out.M = 0.5 * (Mr + Mr.adjoint());
-  if (options.keep_basis) out.T = std::move(T);
+  if (options.keep_basis) {
+    Eigen::MatrixXcd T(n, nr);
+    T.leftCols(nb) = complex_columns(cb.T, n, 0, nb);
+    T.rightCols(modes.cols()) = modes;
+    out.T = std::move(T);
+  }
   return out;
 }
 

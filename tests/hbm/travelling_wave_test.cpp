@@ -16,6 +16,7 @@
 #include <complex>
 #include <memory>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -75,6 +76,7 @@ struct Case {
   std::map<int, double> load{{1, 1.0}};  // k -> force amplitude, N
   Law law;
   StaticCoupling coupling = StaticCoupling::kUncoupled;
+  HbmLinearSolver solver = HbmLinearSolver::kDense;
 };
 
 HarmonicBalanceOptions options(const Case& c) {
@@ -85,7 +87,7 @@ HarmonicBalanceOptions options(const Case& c) {
   // ring sees the same sampling of its cycle as the sector.
   o.time_samples = 16 * kN;
   o.static_coupling = c.coupling;
-  o.linear_solver = HbmLinearSolver::kDense;
+  o.linear_solver = c.solver;
   o.static_newton.tolerance = 1e-12;
   return o;
 }
@@ -427,6 +429,100 @@ TEST(TravellingWave, BadInputIsRefused) {
                                      .element = c.law.element(),
                                      .b_sector = 1}};
   EXPECT_THROW(HarmonicBalanceSystem(m.real.at(0), pairs, none, options(c)), InvalidInput);
+}
+
+TEST(TravellingWave, StructuredSolverEqualsTheDenseOneOnTheStickSlipSector) {
+  // The structured Newton step (GMRES on I + 𝔾 J_f, preconditioned per harmonic by the complex
+  // LU of I + G_k K_0) with the wave's complex, non-symmetric G_k and neighbour pairs, against
+  // the dense LU of the same Jacobian: the same solution to Newton's tolerance times the
+  // problem's conditioning (as the ring above), coupled and uncoupled statics.
+  constexpr double kNewtonTolerance = 1e-10;
+  constexpr double kAgreement = 1e-7;
+  for (const StaticCoupling coupling : {StaticCoupling::kUncoupled, StaticCoupling::kCoupled}) {
+    for (const int eo : {1, 2}) {
+      SCOPED_TRACE("EO = " + std::to_string(eo));
+      Case c;
+      c.engine_order = eo;
+      c.law.friction = true;
+      c.load = {{1, 400.0}};
+      c.coupling = coupling;
+      const HarmonicBalanceSystem dense = sector_system(c);
+      c.solver = HbmLinearSolver::kStructured;
+      const HarmonicBalanceSystem structured = sector_system(c);
+      ASSERT_TRUE(structured.has_structured_jacobian());
+      ASSERT_FALSE(dense.has_structured_jacobian());
+      const double omega = first_frequency(eo);
+      const Solution d = solve(dense, omega, kNewtonTolerance);
+      const Solution s = solve(structured, omega, kNewtonTolerance);
+      ASSERT_TRUE(d.summary.converged()) << d.summary.message;
+      ASSERT_TRUE(s.summary.converged()) << s.summary.message;
+      std::vector<CycleStatistics> stats;
+      Eigen::VectorXd F;
+      structured.contact_forces(s.x, F, &stats);
+      double slip = 0.0;
+      for (const CycleStatistics& st : stats) slip = std::max(slip, st.slip_fraction);
+      EXPECT_GT(slip, 0.05) << "the case must slip";
+      EXPECT_LT((s.x - d.x).cwiseAbs().maxCoeff() / d.x.cwiseAbs().maxCoeff(), kAgreement);
+    }
+  }
+}
+
+TEST(TravellingWave, ReceptanceEqualsItsModalSumWithTheHighModesSummedAsASeries) {
+  // G_k = Ψ diag(h) Ψᴴ, h_r = 1/(ω_r² − (kΩ)² + ikΩc_r), summed here term by term, against the
+  // flexibility's receptance, which with Rayleigh damping sums the modes far above kΩ as a power
+  // series in Ω (travelling_wave.cpp): 300 modes with ω² from 1e2 to 1e12 (rad/s)², most of them
+  // far above kΩ, at several Ω up and down (the series is rebuilt when Ω grows out of its
+  // range). Without Rayleigh damping the receptance is the direct sum. Both to round-off.
+  constexpr double kRoundOff = 1e-12;  // relative to the largest entry of G_k
+  constexpr int kModes = 300, kPairs = 4, kRows = 3 * kPairs;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  for (const bool rayleigh : {true, false}) {
+    SCOPED_TRACE(rayleigh ? "Rayleigh damping" : "other modal damping");
+    TravellingWave w;
+    w.sectors = 6;
+    w.engine_order = 1;
+    for (int k = 1; k <= 2; ++k) {
+      ComplexModalModel m;
+      m.omega2.resize(kModes);
+      for (int r = 0; r < kModes; ++r) m.omega2[r] = std::pow(10.0, 2.0 + 10.0 * r / (kModes - 1));
+      m.Phi = Eigen::MatrixXcd::NullaryExpr(
+          kRows, kModes, [&] { return std::complex<double>(normal(rng), normal(rng)); });
+      m.modal_damping = rayleigh_modal_damping(m.omega2, 20.0, 2e-7);
+      if (!rayleigh) m.modal_damping[kModes / 2] *= 1.5;
+      w.harmonics[k] = std::move(m);
+    }
+    std::vector<ContactPair> pairs;
+    std::vector<int> rows;
+    for (int p = 0; p < kPairs; ++p) {
+      pairs.push_back({.dofs_a = {3 * p, 3 * p + 1, 3 * p + 2},
+                       .frame = Eigen::Matrix3d::Identity(),
+                       .element = Law{}.element()});
+      rows.push_back(3 * p);
+    }
+    ModalProjection statics{.omega2 = Eigen::VectorXd::Ones(1),
+                            .Psi = Eigen::MatrixXd::Zero(kRows, 1)};
+    const TravellingWaveFlexibility flexibility(statics, w, pairs, rows, kRows, {});
+    for (const double omega : {300.0, 290.0, 1500.0, 310.0, 4000.0}) {
+      for (int k = 1; k <= 2; ++k) {
+        const ComplexModalModel& m = w.harmonics.at(k);
+        const double kw = k * omega;
+        Eigen::MatrixXcd expected = Eigen::MatrixXcd::Zero(kRows, kRows);
+        for (int r = 0; r < kModes; ++r) {
+          const std::complex<double> h =
+              1.0 / std::complex<double>(m.omega2[r] - kw * kw, kw * m.modal_damping[r]);
+          expected += h * m.Phi.col(r) * m.Phi.col(r).adjoint();
+        }
+        Eigen::MatrixXd re, im;
+        flexibility.at(k, omega, false)->receptance(re, im);
+        const double scale = expected.cwiseAbs().maxCoeff();
+        EXPECT_LT((re - expected.real()).cwiseAbs().maxCoeff(), kRoundOff * scale)
+            << "k = " << k << ", Ω = " << omega;
+        EXPECT_LT((im - expected.imag()).cwiseAbs().maxCoeff(), kRoundOff * scale)
+            << "k = " << k << ", Ω = " << omega;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -206,6 +206,13 @@ TEST(CyclicCraigBampton, BadBoundariesAreRefused) {
   EXPECT_THROW(cyclic_craig_bampton(p.K, p.M, p.doubled, 1, twice, with_modes(2)), InvalidInput);
   const std::vector<int> ok{3};
   EXPECT_THROW(cyclic_craig_bampton(p.K, p.M, p.doubled, 1, ok, with_modes(n)), InvalidInput);
+  // The real form's shortcut (half the constraint modes, the rest J times them) needs the
+  // boundary {b, n + b}.
+  CraigBamptonOptions paired_options = with_modes(2);
+  paired_options.hermitian_real_form = true;
+  const std::vector<int> unpaired{3, 4}, paired{3, n + 3};
+  EXPECT_THROW(craig_bampton(p.K, p.M, {}, unpaired, paired_options), InvalidInput);
+  EXPECT_TRUE(craig_bampton(p.K, p.M, {}, paired, paired_options).summary.ok());
 }
 
 }  // namespace
