@@ -293,9 +293,9 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
     // recovery.annulus: the whole annulus of a cyclic sector, one mesh of N sectors.
     std::optional<Mesh> annulus;
     Eigen::MatrixXd annulus_sector;  // 1 x nodes: the sector of each node
-    if (def.recovery.annulus && def.output.vtu && recovery.cyclic()) {
-      annulus = annulus_mesh(body.mesh, recovery.cyclic()->symmetry());
-      const int n = body.mesh.num_nodes(), N = recovery.cyclic()->symmetry().sectors;
+    if (def.recovery.annulus && def.output.vtu && model.wave && body.cyclic) {
+      annulus = annulus_mesh(body.mesh, *body.cyclic);
+      const int n = body.mesh.num_nodes(), N = body.cyclic->sectors;
       annulus_sector.resize(1, static_cast<Eigen::Index>(n) * N);
       for (int j = 0; j < N; ++j)
         annulus_sector.middleCols(static_cast<Eigen::Index>(j) * n, n).setConstant(j);
@@ -386,8 +386,8 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       write_vtu((dir / file).string(), body.mesh, data);
       vtu_files.push_back({pi, body.name, file});
       if (annulus) {  // every sector's fields from sector 0's (recovery/cyclic_recovery.h)
-        const CyclicSymmetry& sym = recovery.cyclic()->symmetry();
-        const int eo = recovery.cyclic()->engine_order();
+        const CyclicSymmetry& sym = *body.cyclic;
+        const int eo = model.wave->engine_order;
         StressEnvelope env_a;
         if (want_stress) {
           const int N = sym.sectors;
@@ -421,7 +421,7 @@ void run_recovery(const std::filesystem::path& dir, const CaseDefinition& def,
       write_vtu((dir / file).string(), body.mesh, data);
       envelope_blocks.push_back({body.name, file});
       if (annulus) {
-        const int N = recovery.cyclic()->symmetry().sectors;
+        const int N = body.cyclic->sectors;
         VtuData a;
         for (const VtuField& f : data.point_data)
           a.point_data.push_back({f.name, annulus_scalars(f.values, N)});

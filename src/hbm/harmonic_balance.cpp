@@ -197,9 +197,12 @@ void validate_travelling_wave(const TravellingWave& w, const LinearModel& model,
                 (nm == 0 || m.modal_damping.minCoeff() >= 0),
             key + ".modal_damping", "size " + std::to_string(m.modal_damping.size()),
             "one finite c_r >= 0 per mode");
-    require(m.omega2.allFinite() && elastic_modes(m.omega2).sum() == static_cast<double>(nm),
-            key + ".omega2", "a rigid-body mode or a non-finite entry",
-            "finite and elastic (a nodal diameter with rigid-body modes is not supported)");
+    // Rigid-body modes (a damper held only by its contacts, a free disk at diameter 1) are
+    // allowed: the harmonics k ≥ 1 see them through 1/(−(kΩ)² + i kΩ c_r), finite for Ω > 0.
+    require(m.omega2.allFinite() && (nm == 0 || m.omega2.minCoeff() >= 0) &&
+                elastic_modes(m.omega2).sum() > 0,
+            key + ".omega2", "a negative or non-finite entry, or no elastic mode",
+            "finite, >= 0, at least one elastic mode");
   }
 }
 

@@ -72,6 +72,8 @@ ComplexModalModel complex_modal_model_from_matrices(const Eigen::MatrixXcd& K,
           "M Hermitian positive definite");
   ComplexModalModel model;
   model.omega2 = eig.eigenvalues().cwiseMax(0.0);
+  // Rigid-body modes (a body held only by contacts): exactly 0, not round-off of either sign.
+  model.omega2 = model.omega2.cwiseProduct(elastic_modes(model.omega2));
   model.Phi = s.asDiagonal() * eig.eigenvectors();  // Φᴴ M Φ = I
   model.modal_damping = rayleigh_modal_damping(model.omega2, alpha, beta);
   return model;
@@ -173,7 +175,12 @@ Eigen::VectorXcd TravellingWaveFlexibility::master_response(
 Eigen::VectorXcd TravellingWaveFlexibility::quasi_static_response(int k) const {
   const Model& m = of(k);
   if (m.load.size() == 0) return Eigen::VectorXcd::Zero(m.Psi.rows());
-  return m.Psi * m.omega2.cwiseInverse().cast<Complex>().cwiseProduct(m.load);
+  // Over the elastic modes (a rigid-body mode has no static flexibility; this is a scale).
+  const Eigen::VectorXd elastic = elastic_modes(m.omega2);
+  Eigen::VectorXcd h = Eigen::VectorXcd::Zero(m.omega2.size());
+  for (Eigen::Index r = 0; r < h.size(); ++r)
+    if (elastic[r] > 0) h[r] = 1.0 / m.omega2[r];
+  return m.Psi * h.cwiseProduct(m.load);
 }
 
 }  // namespace stickslip

@@ -35,12 +35,13 @@ struct ContactPair;
 
 // The complex modal model of one dynamic harmonic.
 struct ComplexModalModel {
-  Eigen::VectorXd omega2{};         // ω_r², (rad/s)², > kRigidModeRatio max ω², size nm
+  Eigen::VectorXd omega2{};         // ω_r², (rad/s)², ≥ 0 (0: rigid-body mode), size nm
   Eigen::MatrixXcd Phi{};           // ndof x nm, Φᴴ M Φ = I (rows: the LinearModel's DOFs)
   Eigen::VectorXd modal_damping{};  // c_r, 1/s, ≥ 0, size nm
 };
 
-// All modes of a dense Hermitian pair (K, M), M positive definite; c_r = α + β ω_r².
+// All modes of a dense Hermitian pair (K, M), M positive definite; c_r = α + β ω_r²; ω² at or
+// below kRigidModeRatio · max ω² (rigid-body modes) exactly 0.
 // InvalidInput when M is not positive definite.
 ComplexModalModel complex_modal_model_from_matrices(const Eigen::MatrixXcd& K,
                                                     const Eigen::MatrixXcd& M, double alpha,
@@ -74,7 +75,8 @@ class TravellingWaveFlexibility final : public ModalFlexibility {
   // forces (nu).
   Eigen::VectorXcd master_response(int k, double omega,
                                    const Eigen::VectorXcd& contact_force) const;
-  // Ψ_k diag(1/ω²) q_k: the quasi-static contact response to the load of harmonic k.
+  // Ψ_k diag(1/ω²) q_k over the elastic modes: the quasi-static contact response to the load of
+  // harmonic k (a scale).
   Eigen::VectorXcd quasi_static_response(int k) const;
   const Eigen::MatrixXcd& contact_modes(int k) const { return of(k).Psi; }
 

@@ -895,7 +895,12 @@ std::vector<SupportDefinition> parse_supports(Parser& p, const MapView& body) {
 CyclicDefinition parse_cyclic(Parser& p, const MapView& body) {
   MapView m(p, body.value("cyclic"), body.full("cyclic"), body.line("cyclic"),
             case_keys_in("bodies.NAME.cyclic"));
-  for (const char* key : {"sectors", "axis", "low", "high"}) m.require(key);
+  for (const char* key : {"sectors", "axis"}) m.require(key);
+  // A body of the sector that crosses no boundary (a damper between two blades) has neither.
+  p.check(m.has("low") == m.has("high"), m.full(m.has("low") ? "low" : "high"),
+          m.line(m.has("low") ? "low" : "high"),
+          "give both boundaries (low and high) or neither (a body of the sector that crosses "
+          "no sector boundary, e.g. a damper between two blades)");
   CyclicDefinition d;
   m.integer("sectors", &d.sectors, 2, kMaxCyclicSectors,
             "one modal analysis per nodal diameter 0..N/2");
@@ -906,8 +911,10 @@ CyclicDefinition parse_cyclic(Parser& p, const MapView& body) {
   d.axis_point = p.vector3(axis.value("point"), axis.full("point"), axis.line("point"));
   d.axis_direction =
       p.direction(axis.value("direction"), axis.full("direction"), axis.line("direction"));
-  d.low = node_selection(p, m.value("low"), m.full("low"), m.line("low"));
-  d.high = node_selection(p, m.value("high"), m.full("high"), m.line("high"));
+  if (m.has("low")) {
+    d.low = node_selection(p, m.value("low"), m.full("low"), m.line("low"));
+    d.high = node_selection(p, m.value("high"), m.full("high"), m.line("high"));
+  }
   if (m.has("tolerance")) {
     d.tolerance = p.number(m.value("tolerance"), m.full("tolerance"), m.line("tolerance"));
     p.check(d.tolerance > 0, m.full("tolerance"), m.line("tolerance"),
@@ -1156,17 +1163,18 @@ void parse_contacts(Parser& p, const MapView& top) {
       }
     }
 
-    // A cyclic sector's contact with its neighbour (docs/cyclic.md): the B ids are nodes of the
-    // same body, the contact joins them in the next (previous) sector.
+    // A cyclic sector's contact with its neighbour (docs/cyclic.md): the B ids are nodes of body
+    // B (a body of the sector: checked by the model), the contact joins them in the next
+    // (previous) sector.
     if (m.has("neighbour")) {
-      m.forbid("between", "with 'neighbour' (list the pairs: 'bodies: [S, S]' and 'pairs' or "
+      m.forbid("between", "with 'neighbour' (list the pairs: 'bodies: [A, B]' and 'pairs' or "
                           "'pairs_file', B's ids being its nodes in this sector)");
       std::string side;
       m.choice("neighbour", &side, {"next", "previous"});
       d.neighbour = side == "next" ? 1 : -1;
-      p.check(d.body_a == d.body_b, m.full("neighbour"), m.line("neighbour"),
-              "a contact with the neighbour sector joins one cyclic body to itself: 'bodies: [" +
-                  d.body_a + ", " + d.body_a + "]', got [" + d.body_a + ", " + d.body_b + "]");
+      p.check(d.body_b != "ground", m.full("neighbour"), m.line("neighbour"),
+              "a contact with the neighbour sector joins two bodies of the sector (B is in the "
+              "next or previous sector), not the ground");
     }
 
     // A law registered both along a direction (1D) and in a frame (e.g. linear: one spring k
@@ -2337,10 +2345,12 @@ std::string describe_case(const CaseDefinition& c) {
         e << YAML::Key << "direction" << YAML::Value << YAML::Flow
           << std::vector<double>(cd.axis_direction.begin(), cd.axis_direction.end());
         e << YAML::EndMap;
-        e << YAML::Key << "low" << YAML::Value;
-        selection(cd.low);
-        e << YAML::Key << "high" << YAML::Value;
-        selection(cd.high);
+        if (!cd.low.empty()) {
+          e << YAML::Key << "low" << YAML::Value;
+          selection(cd.low);
+          e << YAML::Key << "high" << YAML::Value;
+          selection(cd.high);
+        }
         e << YAML::Key << "tolerance" << YAML::Value << num(cd.tolerance);
         e << YAML::EndMap;
       }

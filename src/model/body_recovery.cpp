@@ -30,8 +30,9 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
             ": its reduced model was given without them, so it cannot be recovered on its "
             "mesh (recovery.points: none)");
   }
-  if (model.wave && body_.cyclic) {
-    // A cyclic sector: each harmonic on its nodal diameter (recovery/cyclic_recovery.h).
+  if (model.wave && body_.cyclic && !body_.cyclic_pairs.empty()) {
+    // A cyclic sector: each harmonic on its nodal diameter (recovery/cyclic_recovery.h). A body
+    // of the sector without boundaries (a damper) is the same for every diameter: below.
     if (method_ != RecoveryMethod::kDirect) {
       throw InvalidInput(def.where("recovery.method"),
                          "body " + body_.name +

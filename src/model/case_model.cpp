@@ -616,6 +616,14 @@ std::vector<double> pair_shares(const CaseDefinition& def, const ContactDefiniti
 void resolve_cyclic(const CaseDefinition& def, const std::string& name, const CyclicDefinition& cd,
                     CaseBody& body) {
   const std::string key = "bodies." + name + ".cyclic";
+  CyclicSymmetry symmetry;
+  symmetry.sectors = cd.sectors;
+  symmetry.axis_point = vec3(cd.axis_point);
+  symmetry.axis_direction = vec3(cd.axis_direction);
+  if (cd.low.empty()) {  // a body of the sector that crosses no boundary (a damper)
+    body.cyclic = symmetry;
+    return;
+  }
   const std::vector<int> low = resolve_nodes(def, key + ".low", body, cd.low);
   const std::vector<int> high = resolve_nodes(def, key + ".high", body, cd.high);
   for (int n : low) {
@@ -625,10 +633,6 @@ void resolve_cyclic(const CaseDefinition& def, const std::string& name, const Cy
                                      body.mesh.node_ids[n], name));
     }
   }
-  CyclicSymmetry symmetry;
-  symmetry.sectors = cd.sectors;
-  symmetry.axis_point = vec3(cd.axis_point);
-  symmetry.axis_direction = vec3(cd.axis_direction);
   try {
     body.cyclic_pairs = match_cyclic_boundaries(body.mesh, low, high, symmetry, cd.tolerance);
   } catch (const InvalidInput& e) {
@@ -925,7 +929,8 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                            "run` (and the library) only, for now: the stage commands do not store "
                            "a sector's reductions per nodal diameter");
   }
-  std::map<int, CyclicReducedSector> cyclic_reductions;
+  // Per body of the sector with boundaries: its reduction per nodal diameter.
+  std::map<std::string, std::map<int, CyclicReducedSector>> cyclic_reductions;
   const auto say = [&](const std::string& s) {
     if (progress) progress(s);
   };
@@ -952,13 +957,16 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
     const int b = body_index.at(name);
     PreparedBody& body = model.bodies[b];
     const std::vector<int>& m = resolved.bodies[b].masters;
-    if (body.from_mesh && cyclic && name == cyclic->body) {
-      cyclic_reductions = reduce_cyclic_body(
+    if (body.from_mesh && cyclic && !resolved.bodies[b].cyclic_pairs.empty()) {
+      cyclic_reductions[name] = reduce_cyclic_body(
           def, resolved.bodies[b], body,
           reached_nodal_diameters(def, cyclic->engine_order, cyclic->symmetry.sectors), progress);
     } else if (body.from_mesh) {
       // The resolved body without its mesh (moved into `body`): its clamps, supports, masters.
+      // A body of a sector that crosses no boundary: its ordinary reduction serves every
+      // nodal diameter (model/cyclic_forced_response.h).
       reduction.reduce(def, resolved.bodies[b], body, progress);
+      body.cyclic = resolved.bodies[b].cyclic;
     }
     body.offset = model.num_dofs;
     for (int j = 0; j < body.reduced.size(); ++j) {
@@ -1213,7 +1221,7 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
       if (!body.from_mesh) continue;
       const CaseBody& rb = resolved.bodies[b];
       std::optional<SectorBoundary> sector;
-      if (rb.cyclic) {
+      if (rb.cyclic && !rb.cyclic_pairs.empty()) {
         sector = SectorBoundary{rb.cyclic_pairs, {}, *rb.cyclic};
         for (int d = 0; d < body.constraints.num_dofs(); ++d) {
           if (body.constraints.is_clamped(d)) sector->clamped_dofs.push_back(d);
@@ -1281,13 +1289,15 @@ PreparedModel prepare_model(const CaseDefinition& def, CaseBodies resolved,
                                   ? StaticCoupling::kCoupled
                                   : StaticCoupling::kUncoupled;
   if (cyclic) {
-    model.wave = cyclic_travelling_wave(def, *cyclic, cyclic_reductions);
-    std::string diameters;
-    for (const auto& [h, r] : cyclic_reductions)
+    model.wave = cyclic_travelling_wave(def, *cyclic, model, cyclic_reductions);
+    std::string diameters, bodies;
+    for (int h : reached_nodal_diameters(def, cyclic->engine_order, cyclic->symmetry.sectors))
       diameters += (diameters.empty() ? "" : ", ") + std::to_string(h);
-    say(fmt::format("cyclic sector {} of {}: engine order {}, the travelling wave of a tuned "
-                    "structure (every sector identical); nodal diameters {}",
-                    cyclic->body, cyclic->symmetry.sectors, cyclic->engine_order, diameters));
+    for (const std::string& b : cyclic->bodies) bodies += (bodies.empty() ? "" : ", ") + b;
+    say(fmt::format("cyclic sector {} of {} (bodies {}): engine order {}, the travelling wave of "
+                    "a tuned structure (every sector identical); nodal diameters {}",
+                    cyclic->body, cyclic->symmetry.sectors, bodies, cyclic->engine_order,
+                    diameters));
   }
   model.hbm.static_increments = an.static_increments;
   model.seconds_prepare = seconds_since(t0);

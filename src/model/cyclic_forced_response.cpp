@@ -25,9 +25,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition& def) {
+  // The body named in messages: the first with boundaries (the blade, the disk), else the first.
   std::string name;
   for (const auto& [body, bd] : def.bodies) {
-    if (bd.cyclic) name = body;
+    if (bd.cyclic &&
+        (name.empty() || (!bd.cyclic->low.empty() && def.bodies.at(name).cyclic->low.empty())))
+      name = body;
   }
   for (size_t i = 0; i < def.excitation.size(); ++i) {
     const ExcitationDefinition& e = def.excitation[i];
@@ -39,10 +42,13 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
     }
   }
   for (const ContactDefinition& c : def.contacts) {
-    if (c.neighbour != 0 && !(def.bodies.count(c.body_a) && def.bodies.at(c.body_a).cyclic)) {
-      throw InvalidInput(def.where("contacts." + c.name + ".neighbour"),
-                         "contact " + c.name + ": body " + c.body_a +
-                             " is not a cyclic sector: it has no neighbour sector");
+    for (const std::string& b : {c.body_a, c.body_b}) {
+      if (c.neighbour != 0 && !(def.bodies.count(b) && def.bodies.at(b).cyclic)) {
+        throw InvalidInput(def.where("contacts." + c.name + ".neighbour"),
+                           "contact " + c.name + ": body " + b +
+                               " is not a cyclic sector (bodies." + b +
+                               ".cyclic): it has no neighbour sector");
+      }
     }
   }
   if (def.recovery.annulus && name.empty()) {
@@ -52,13 +58,47 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
   }
   if (name.empty()) return std::nullopt;
   const BodyDefinition& bd = def.bodies.at(name);
-  const std::string key = "bodies." + name;
+  // Every body is a body of the sector (a blade, a disk, a damper): the same N and axis.
+  const Eigen::Vector3d direction(bd.cyclic->axis_direction[0], bd.cyclic->axis_direction[1],
+                                  bd.cyclic->axis_direction[2]);
+  const Eigen::Vector3d point(bd.cyclic->axis_point[0], bd.cyclic->axis_point[1],
+                              bd.cyclic->axis_point[2]);
+  std::vector<std::string> bodies;
   for (const auto& [other, obd] : def.bodies) {
+    bodies.push_back(other);
+    if (!obd.cyclic) {
+      throw InvalidInput(def.where("bodies." + other),
+                         "body " + other + ": in a case with a cyclic sector (body " + name +
+                             ") every body is a body of the sector: give it `cyclic: {sectors: " +
+                             std::to_string(bd.cyclic->sectors) +
+                             ", axis}` (without low and high when it crosses no sector "
+                             "boundary, e.g. a damper between two blades)");
+    }
     if (other == name) continue;
-    throw InvalidInput(def.where("bodies." + other),
-                       "body " + other + ": a case with a cyclic sector (body " + name +
-                           ") holds that body only, for now (sectors made of several bodies, a "
-                           "blade with its damper, are still to come)");
+    const CyclicDefinition& oc = *obd.cyclic;
+    if (oc.sectors != bd.cyclic->sectors) {
+      throw InvalidInput(def.where("bodies." + other + ".cyclic.sectors"),
+                         fmt::format("body {} is one of {} sectors, body {} of {}: the bodies of "
+                                     "a sector share N",
+                                     other, oc.sectors, name, bd.cyclic->sectors));
+    }
+    // The same axis: parallel, same sense, and through the same line (a point within the
+    // matching tolerance; the directions are unit vectors, checked to round-off).
+    constexpr double kParallel = 1e-9;
+    const Eigen::Vector3d d(oc.axis_direction[0], oc.axis_direction[1], oc.axis_direction[2]);
+    const Eigen::Vector3d x(oc.axis_point[0], oc.axis_point[1], oc.axis_point[2]);
+    const Eigen::Vector3d off = (x - point) - (x - point).dot(direction) * direction;
+    if ((d - direction).norm() > kParallel ||
+        off.norm() > std::min(oc.tolerance, bd.cyclic->tolerance)) {
+      throw InvalidInput(
+          def.where("bodies." + other + ".cyclic.axis"),
+          fmt::format("body {}'s cyclic axis (point ({:.6g}, {:.6g}, {:.6g}), "
+                      "direction ({:.6g}, {:.6g}, {:.6g})) is not body {}'s (point "
+                      "({:.6g}, {:.6g}, {:.6g}), direction ({:.6g}, {:.6g}, "
+                      "{:.6g})): the bodies of a sector share the axis",
+                      other, x.x(), x.y(), x.z(), d.x(), d.y(), d.z(), name, point.x(), point.y(),
+                      point.z(), direction.x(), direction.y(), direction.z()));
+    }
   }
   int first = -1, engine_order = 0;
   for (size_t i = 0; i < def.excitation.size(); ++i) {
@@ -81,11 +121,13 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
     if (first < 0) first = static_cast<int>(i);
     engine_order = e.engine_order;
   }
-  if (bd.modal_damping_ratio > 0.0) {
-    throw InvalidInput(def.where(key + ".modal_damping_ratio"),
-                       "body " + name +
-                           ": a cyclic sector takes Rayleigh damping only "
-                           "(damping.alpha, damping.beta), for now");
+  for (const std::string& b : bodies) {
+    if (def.bodies.at(b).modal_damping_ratio > 0.0) {
+      throw InvalidInput(def.where("bodies." + b + ".modal_damping_ratio"),
+                         "body " + b +
+                             ": a cyclic sector takes Rayleigh damping only "
+                             "(damping.alpha, damping.beta), for now");
+    }
   }
   const AnalysisDefinition& an = def.analysis;
   if (an.method == SweepMethod::kNonlinearMode) {
@@ -133,6 +175,7 @@ std::optional<CyclicForcedResponse> cyclic_forced_response(const CaseDefinition&
   }
   CyclicForcedResponse out;
   out.body = name;
+  out.bodies = bodies;
   out.engine_order = engine_order;
   out.symmetry.sectors = bd.cyclic->sectors;
   out.symmetry.axis_point = {bd.cyclic->axis_point[0], bd.cyclic->axis_point[1],
@@ -262,27 +305,46 @@ std::map<int, CyclicReducedSector> reduce_cyclic_body(const CaseDefinition& def,
   return out;
 }
 
-TravellingWave cyclic_travelling_wave(const CaseDefinition& def, const CyclicForcedResponse& cyclic,
-                                      const std::map<int, CyclicReducedSector>& reductions) {
+TravellingWave cyclic_travelling_wave(
+    const CaseDefinition& def, const CyclicForcedResponse& cyclic, const PreparedModel& model,
+    const std::map<std::string, std::map<int, CyclicReducedSector>>& reductions) {
   TravellingWave w;
   w.sectors = cyclic.symmetry.sectors;
   w.engine_order = cyclic.engine_order;
   w.rotation = cyclic.symmetry.rotation();
+  // The assembled model of diameter h: each body with boundaries by its reduction of h, each
+  // body without by its ordinary reduced model (the same for every diameter), block diagonal in
+  // the bodies' order of the assembled reduced model.
+  const auto assembled = [&](int h) {
+    const int n = model.num_dofs;
+    Eigen::MatrixXcd K = Eigen::MatrixXcd::Zero(n, n), M = Eigen::MatrixXcd::Zero(n, n);
+    for (const PreparedBody& body : model.bodies) {
+      const int m = body.reduced.size();
+      const auto it = reductions.find(body.name);
+      if (it == reductions.end()) {
+        K.block(body.offset, body.offset, m, m) = body.reduced.K.cast<std::complex<double>>();
+        M.block(body.offset, body.offset, m, m) = body.reduced.M.cast<std::complex<double>>();
+        continue;
+      }
+      const CyclicReducedSector& r = it->second.at(h);
+      STICKSLIP_VERIFY(r.K.rows() == m && r.M.rows() == m,
+                       fmt::format("cyclic_travelling_wave: body {}'s model of diameter {} has "
+                                   "{} DOFs, its diameter-0 model {}",
+                                   body.name, h, r.K.rows(), m));
+      K.block(body.offset, body.offset, m, m) = r.K;
+      M.block(body.offset, body.offset, m, m) = r.M;
+    }
+    return complex_modal_model_from_matrices(K, M, def.damping.alpha, def.damping.beta);
+  };
   std::map<int, ComplexModalModel> by_diameter;
   for (int k : def.analysis.harmonics) {
     bool conjugate = false;
     const int h = travelling_wave_nodal_diameter(k, w.engine_order, w.sectors, &conjugate);
     auto it = by_diameter.find(h);
-    if (it == by_diameter.end()) {
-      const CyclicReducedSector& r = reductions.at(h);
-      it = by_diameter
-               .emplace(h, complex_modal_model_from_matrices(r.K, r.M, def.damping.alpha,
-                                                             def.damping.beta))
-               .first;
-    }
-    ComplexModalModel model = it->second;
-    if (conjugate) model.Phi = model.Phi.conjugate().eval();
-    w.harmonics[k] = std::move(model);
+    if (it == by_diameter.end()) it = by_diameter.emplace(h, assembled(h)).first;
+    ComplexModalModel m = it->second;
+    if (conjugate) m.Phi = m.Phi.conjugate().eval();
+    w.harmonics[k] = std::move(m);
   }
   return w;
 }

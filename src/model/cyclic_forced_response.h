@@ -29,7 +29,8 @@
 namespace stickslip {
 
 struct CyclicForcedResponse {
-  std::string body;
+  std::string body;                 // the first body with boundaries (else the first body)
+  std::vector<std::string> bodies;  // every body of the case: the bodies of the sector
   int engine_order = 0;
   CyclicSymmetry symmetry;
 };
@@ -50,10 +51,16 @@ std::map<int, CyclicReducedSector> reduce_cyclic_body(const CaseDefinition& defi
                                                       const std::vector<int>& diameters,
                                                       const ProgressFn& progress);
 
-// The wave of the analysis's dynamic harmonics from the reductions (their complex modes, damping
-// c_r = α + βω_r²).
-TravellingWave cyclic_travelling_wave(const CaseDefinition& definition,
-                                      const CyclicForcedResponse& cyclic,
-                                      const std::map<int, CyclicReducedSector>& reductions);
+// The wave of the analysis's dynamic harmonics: per harmonic the complex modes (damping
+// c_r = α + βω_r²) of the assembled model of its diameter, block diagonal over the bodies of
+// `model` (their offsets): a body with boundaries by its reduction of that diameter
+// (`reductions`: body -> diameter -> model, reduce_cyclic_body), a body without by its ordinary
+// reduced model (model.bodies[b].reduced), the same for every diameter. A body held only by
+// contacts (a damper) brings rigid-body modes (ω² = 0), whose receptance 1/(−(kΩ)² + ikΩα) is
+// finite for k ≥ 1.
+TravellingWave cyclic_travelling_wave(
+    const CaseDefinition& definition, const CyclicForcedResponse& cyclic,
+    const PreparedModel& model,
+    const std::map<std::string, std::map<int, CyclicReducedSector>>& reductions);
 
 }  // namespace stickslip

@@ -1,0 +1,334 @@
+// A cyclic sector made of two bodies through `stickslip run` (issue 13, items 1 and 3): a blade
+// with its share of the ring (tests/bladed_ring.h, cyclic boundaries low/high) and an
+// under-platform damper, a body of its own held only by its contacts (no clamp: six rigid-body
+// modes), under the shroud between blade j and blade j + 1. The damper touches its own blade
+// (an ordinary contact) and the next sector's blade (`neighbour: next`, bodies [damper, blade]).
+// Reference: the whole annulus, 6 blades on the ring and 6 dampers (one body holding the 6), run
+// through `stickslip run` as an ordinary multi-body model on the same geometry with 12 contacts
+// and 6 phased forces; both keep every interior mode (exact reductions). Sector 0's contact forces
+// and the responses of the forced blade node and of a damper node agree: linear springs (EO 1) to
+// round-off, friction (EO 2, harmonics 1..3) to the Newton tolerance, and with rotation (the
+// damper pressed against the shrouds by its centrifugal load, no typed preload: the coupled
+// statics find the contact's preload). Then bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "../bladed_ring.h"
+#include "cli_test_support.h"
+
+namespace {
+
+using namespace stickslip::cli_test;
+using stickslip::Mesh;
+namespace cyc = stickslip::testing_cyclic;
+
+constexpr int kN = 6;
+const Eigen::Vector3d kForce{80.0, 200.0, 400.0};  // on sector 0's forced blade node, N
+
+// The damper under the shrouds of blades s and s + 1: one C3D8, its top face at the shroud's
+// underside (r level 3) between θ_a = 2π(s + 2/3)/N (over blade s, its node (s, 3, 2, k)) and
+// θ_b = 2π(s + 4/3)/N (blade s + 1's node (s + 1, 3, 1, k)), its bottom face 10 mm lower.
+constexpr double kDamperDepth = 0.01;  // m
+double theta_a(int s) { return 2 * std::numbers::pi * (s + 2.0 / 3.0) / kN; }
+double theta_b(int s) { return 2 * std::numbers::pi * (s + 4.0 / 3.0) / kN; }
+// Node id of damper s's node at side (0: θ_a, 1: θ_b), level (0: bottom, 1: top), layer k.
+int damper_node(int s, int side, int top, int k) { return 8 * s + 4 * side + 2 * top + k + 1; }
+
+void write_dampers(const fs::path& file, int count) {
+  std::ofstream deck(file);
+  deck.precision(17);
+  deck << "*NODE\n";
+  for (int s = 0; s < count; ++s) {
+    for (int side = 0; side < 2; ++side) {
+      for (int top = 0; top < 2; ++top) {
+        for (int k = 0; k < 2; ++k) {
+          const double t = side == 0 ? theta_a(s) : theta_b(s);
+          const double r = cyc::kRadii[3] - (top ? 0.0 : kDamperDepth);
+          deck << damper_node(s, side, top, k) << ", " << r * std::cos(t) << ", " << r * std::sin(t)
+               << ", " << cyc::kThickness * k << "\n";
+        }
+      }
+    }
+  }
+  deck << "*ELEMENT, TYPE=C3D8, ELSET=ALL\n";
+  for (int s = 0; s < count; ++s) {
+    // Face z = 0: a-bottom, a-top, b-top, b-bottom (counter-clockwise seen from +z); then z = t.
+    deck << s + 1;
+    for (int k = 0; k < 2; ++k) {
+      for (const auto& [side, top] :
+           std::vector<std::pair<int, int>>{{0, 0}, {0, 1}, {1, 1}, {1, 0}})
+        deck << ", " << damper_node(s, side, top, k);
+    }
+    deck << "\n";
+  }
+}
+
+void write_blades(const fs::path& file, const cyc::BladedRing& b) {
+  std::ofstream deck(file);
+  deck.precision(17);
+  const Mesh& m = b.mesh;
+  deck << "*NODE\n";
+  for (int n = 0; n < m.num_nodes(); ++n) {
+    deck << m.node_ids[n] << ", " << m.coordinates(0, n) << ", " << m.coordinates(1, n) << ", "
+         << m.coordinates(2, n) << "\n";
+  }
+  deck << "*ELEMENT, TYPE=C3D8, ELSET=ALL\n";
+  for (int e = 0; e < m.num_elements(); ++e) {
+    deck << m.element_ids[e];
+    for (int n : m.element_nodes(e)) deck << ", " << m.node_ids[n];
+    deck << "\n";
+  }
+  const auto nset = [&](const char* name, const std::vector<int>& nodes) {
+    deck << "*NSET, NSET=" << name << "\n";
+    for (int n : nodes) deck << m.node_ids[n] << "\n";
+  };
+  nset("INNER", b.clamped_nodes());
+  if (b.sectors == 1) {
+    nset("LOW", b.ring_low());
+    nset("HIGH", b.ring_high());
+  }
+}
+
+std::string vec(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return s.str();
+}
+
+// Damper s's contact with blade s (own) or blade s + 1 (next): A the damper's top nodes on that
+// side, B the shroud's underside nodes there; the normal e_r out of the damper into the shroud.
+// sector: B is sector 0's own node, with `neighbour: next` for the next blade.
+std::string contact(const cyc::BladedRing& b, int s, bool next, bool sector, const std::string& law,
+                    const std::string& blade_body, const std::string& damper_body) {
+  const double t = next ? theta_b(s) : theta_a(s);
+  const int bs = sector ? 0 : (next ? (s + 1) % kN : s);
+  std::ostringstream c;
+  c << "  - name: " << (next ? "next" : "own") << s
+    << "\n    law: " << (law == "pressed" ? "friction" : law) << "\n    bodies: [" << damper_body
+    << ", " << blade_body << "]\n    pairs: [";
+  for (int k = 0; k < 2; ++k) {
+    c << (k ? ", " : "") << "[" << damper_node(sector ? 0 : s, next ? 1 : 0, 1, k) << ", "
+      << b.mesh.node_ids[b.node(bs, 3, next ? 1 : 2, k)] << "]";
+  }
+  c << "]\n";
+  if (sector && next) c << "    neighbour: next\n";
+  c << "    normal: " << vec({std::cos(t), std::sin(t), 0}) << "\n";
+  c << "    t1: " << vec({0, 0, 1}) << "\n";
+  if (law == "linear") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
+  } else if (law == "friction") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3, preload: 300}\n";
+  } else {  // friction pressed by the centrifugal load: no typed preload
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3}\n";
+  }
+  return c.str();
+}
+
+struct Options {
+  int eo = 1, harmonics = 1;
+  std::string law = "linear";
+  double start_hz = 900, stop_hz = 920, step_hz = 10;
+  double rpm = 0;
+};
+
+std::string head(const std::string& blades, const std::string& dampers, const Options& o) {
+  std::ostringstream c;
+  c << "stickslip: 1\nmaterials:\n  steel: {youngs_modulus: 2.1e11, poisson_ratio: 0.3, "
+       "density: 7800}\nmeshes:\n  m: {file: "
+    << blades << "}\n  d: {file: " << dampers << "}\ndamping: {alpha: 20, beta: 2.0e-7}\n";
+  if (o.rpm > 0) {
+    c << "rotation: {speed_rpm: " << o.rpm
+      << ", axis: {point: [0, 0, 0], direction: z}, stress_stiffening: false, spin_softening: "
+         "false}\n";
+  }
+  return c.str();
+}
+
+std::string tail(const Options& o) {
+  std::ostringstream c;
+  c << "analysis:\n  frequency: {start_hz: " << o.start_hz << ", stop_hz: " << o.stop_hz
+    << ", step_hz: " << o.step_hz << "}\n  harmonics: " << o.harmonics
+    << "\n  time_samples: 96\n  tolerance: 1.0e-11\n";
+  if (o.rpm > 0) c << "  static: coupled\n";
+  c << "recovery: {points: none}\noutput: {plots: false}\n";
+  return c.str();
+}
+
+std::string sector_case(const cyc::BladedRing& b, const Options& o) {
+  std::ostringstream c;
+  c << head("sector.inp", "damper.inp", o) << R"(bodies:
+  blade:
+    mesh: m
+    material: steel
+    clamp: INNER
+    modes: 1000
+    cyclic:
+      sectors: 6
+      axis: {point: [0, 0, 0], direction: z}
+      low: LOW
+      high: HIGH
+  damper:
+    mesh: d
+    material: steel
+    modes: 1000
+    cyclic:
+      sectors: 6
+      axis: {point: [0, 0, 0], direction: z}
+contacts:
+)" << contact(b, 0, false, true, o.law, "blade", "damper")
+    << contact(b, 0, true, true, o.law, "blade", "damper")
+    << "excitation:\n  - {body: blade, node: " << b.mesh.node_ids[b.forced(0)]
+    << ", force: " << vec(kForce) << ", engine_order: " << o.eo << "}\n"
+    << tail(o);
+  return c.str();
+}
+
+std::string ring_case(const cyc::BladedRing& b, const Options& o) {
+  std::ostringstream c;
+  c.precision(17);
+  c << head("ring.inp", "dampers.inp", o) << R"(bodies:
+  ring:
+    mesh: m
+    material: steel
+    clamp: INNER
+    modes: 1000
+  dampers:
+    mesh: d
+    material: steel
+    modes: 1000
+contacts:
+)";
+  for (int s = 0; s < kN; ++s) {
+    c << contact(b, s, false, false, o.law, "ring", "dampers")
+      << contact(b, s, true, false, o.law, "ring", "dampers");
+  }
+  c << "excitation:\n";
+  for (int s = 0; s < kN; ++s) {
+    const Eigen::Vector3d f =
+        Eigen::AngleAxisd(2 * std::numbers::pi * s / kN, Eigen::Vector3d::UnitZ()) * kForce;
+    const std::complex<double> phase = std::polar(1.0, 2 * std::numbers::pi * o.eo * s / kN);
+    c << "  - {body: ring, node: " << b.mesh.node_ids[b.forced(s)] << ", force: [";
+    for (int i = 0; i < 3; ++i) {
+      const std::complex<double> v = phase * f[i];
+      c << (i ? ", " : "") << "[" << v.real() << ", " << v.imag() << "]";
+    }
+    c << "]}\n";
+  }
+  c << tail(o);
+  return c.str();
+}
+
+// (key columns) -> complex value of a CSV's rows that satisfy `keep`.
+std::map<std::string, std::complex<double>> table(
+    const fs::path& csv, const std::function<bool(const std::map<std::string, std::string>&)>& keep,
+    const std::vector<std::string>& key, const std::string& re, const std::string& im) {
+  std::map<std::string, std::complex<double>> out;
+  for (const auto& row : read_csv(csv)) {
+    if (!keep(row)) continue;
+    std::string k;
+    for (const std::string& column : key) k += row.at(column) + "|";
+    out[k] = {std::stod(row.at(re)), std::stod(row.at(im))};
+  }
+  return out;
+}
+
+// Largest difference of two tables over their keys, relative to the largest value.
+double mismatch(const std::map<std::string, std::complex<double>>& a,
+                const std::map<std::string, std::complex<double>>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  EXPECT_FALSE(a.empty());
+  double worst = 0.0, scale = 0.0;
+  for (const auto& [k, v] : a) {
+    const auto it = b.find(k);
+    if (it == b.end()) {
+      ADD_FAILURE() << "missing " << k;
+      continue;
+    }
+    worst = std::max(worst, std::abs(v - it->second));
+    scale = std::max(scale, std::abs(v));
+  }
+  EXPECT_GT(scale, 0.0);
+  return worst / scale;
+}
+
+struct Runs {
+  fs::path dir;
+  cyc::BladedRing sector, ring;
+};
+
+Runs run_both(const std::string& name, const Options& o) {
+  Runs r{fresh_dir(name), cyc::bladed_ring(kN, 1), cyc::bladed_ring(kN, kN)};
+  write_blades(r.dir / "sector.inp", r.sector);
+  write_blades(r.dir / "ring.inp", r.ring);
+  write_dampers(r.dir / "damper.inp", 1);
+  write_dampers(r.dir / "dampers.inp", kN);
+  std::ofstream(r.dir / "sector.yaml") << sector_case(r.sector, o);
+  std::ofstream(r.dir / "ring.yaml") << ring_case(r.ring, o);
+  for (const char* which : {"sector", "ring"}) {
+    const std::string w = which;
+    EXPECT_EQ(run("run " + (r.dir / (w + ".yaml")).string() + " -o " + (r.dir / w).string(),
+                  r.dir / (w + ".log")),
+              0)
+        << slurp(r.dir / (w + ".log"));
+  }
+  return r;
+}
+
+// Sector 0's contact forces, the forced blade node's and a damper node's response: sector
+// against ring, relative to the ring's largest value.
+void expect_sector_equals_ring(const Runs& r, double tolerance) {
+  for (const char* c : {"own0", "next0"}) {
+    SCOPED_TRACE(c);
+    const std::string contact = c;
+    const auto forces = [&](const fs::path& csv) {
+      return table(
+          csv,
+          [&](const auto& row) {
+            return row.at("contact") == contact && row.at("frame") == "local";
+          },
+          {"point", "pair", "axis", "harmonic"}, "real_n", "imag_n");
+    };
+    EXPECT_LT(mismatch(forces(r.dir / "sector/contact_forces.csv"),
+                       forces(r.dir / "ring/contact_forces.csv")),
+              tolerance);
+  }
+  const auto response = [&](const fs::path& csv, const std::string& body, const std::string& node) {
+    return table(
+        csv, [&](const auto& row) { return row.at("body") == body && row.at("node") == node; },
+        {"point", "axis", "harmonic"}, "real_m", "imag_m");
+  };
+  EXPECT_LT(mismatch(response(r.dir / "sector/master_response.csv", "blade",
+                              std::to_string(r.sector.mesh.node_ids[r.sector.forced(0)])),
+                     response(r.dir / "ring/master_response.csv", "ring",
+                              std::to_string(r.ring.mesh.node_ids[r.ring.forced(0)]))),
+            tolerance);
+  const std::string dn = std::to_string(damper_node(0, 1, 1, 1));
+  EXPECT_LT(mismatch(response(r.dir / "sector/master_response.csv", "damper", dn),
+                     response(r.dir / "ring/master_response.csv", "dampers", dn)),
+            tolerance);
+  for (const char* w : {"sector", "ring"}) {
+    const auto points = read_csv(r.dir / w / "points.csv");
+    EXPECT_EQ(points.size(), 3u) << w;
+    for (const auto& p : points) EXPECT_EQ(p.at("converged"), "1") << w;
+  }
+}
+
+TEST(CyclicDamperCli, LinearBladeAndDamperSectorEqualsTheWholeAnnulus) {
+  const Runs r = run_both("cyclic_damper_linear", Options{});
+  expect_sector_equals_ring(r, 1e-8);
+  EXPECT_NE(slurp(r.dir / "sector.log").find("bodies blade, damper"), std::string::npos);
+}
+
+}  // namespace
