@@ -51,6 +51,7 @@ PLATFORM_T = [0.5, 1.5, 3.0, 6.5, 8.5, 12.0, 13.5, 14.5]
 BLADE_R = [0.216, 0.23, 0.244, 0.258, 0.272, 0.286, 0.30]
 DAMPER_R = [0.204, 0.21]
 DAMPER_T = [13.5, 14.5, 15.5, 16.5]
+CHAMFER = 1.0e-4  # m: the damper's top is lowered by this at theta 14.5 and 15.5 (a crowned top)
 
 
 def main(path):
@@ -63,6 +64,8 @@ def main(path):
         if key not in nodes:
             nodes[key] = len(coords) + 1
             a = math.radians(t)
+            if part == 1 and r == DAMPER_R[-1] and t in (DAMPER_T[1], DAMPER_T[2]):
+                r -= CHAMFER
             coords.append((r * math.cos(a), r * math.sin(a), z))
         return nodes[key]
 
@@ -99,10 +102,10 @@ def main(path):
         "HUB": select(0, r=DISK_R[0]),
         "LOW": [i for i in select(0, ts=[0.0]) if True],
         "HIGH": select(0, ts=[DISK_T[-1]]),
-        "PLATFORM_OWN": select(0, r=PLATFORM_R[0], ts=[13.5, 14.5]),
-        "PLATFORM_NEXT_COPY": select(0, r=PLATFORM_R[0], ts=[0.5, 1.5]),
-        "DAMPER_OWN": select(1, r=DAMPER_R[-1], ts=[13.5, 14.5]),
-        "DAMPER_NEXT": select(1, r=DAMPER_R[-1], ts=[15.5, 16.5]),
+        "PLATFORM_OWN": select(0, r=PLATFORM_R[0], ts=[13.5]),
+        "PLATFORM_NEXT_COPY": select(0, r=PLATFORM_R[0], ts=[1.5]),
+        "DAMPER_OWN": select(1, r=DAMPER_R[-1], ts=[13.5]),
+        "DAMPER_NEXT": select(1, r=DAMPER_R[-1], ts=[16.5]),
         "TIP": [nodes[(0, BLADE_R[-1], BLADE_T[-1], Z[-1])]],
     }
     # The damper's next-side nodes sorted by (theta, z) are the copies' order shifted by 360/N.

@@ -167,4 +167,200 @@ TEST(BladedDiskExample, TheSectorsModesPerNodalDiameterAreCalculixsCyclicModes) 
   }
 }
 
+// --- The damper case ---
+
+// `text` with every occurrence of `from` replaced (at least one).
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "the example's file no longer holds: " << from;
+  for (; at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The example's case.yaml in `dir` (with its mesh and pairs file beside it) at one speed, without
+// the study and the plots, over `window` (the case's `frequency` map), with `mu`.
+fs::path damper_case(const fs::path& dir, const std::string& name, double rpm,
+                     const std::string& window, const std::string& mu, bool flags = true) {
+  for (const char* f : {"sector.inp", "damper_next_pairs.csv"})
+    fs::copy_file(kExample / f, dir / f, fs::copy_options::overwrite_existing);
+  std::string c = slurp(kExample / "case.yaml");
+  c = replace_once(c,
+                   "study:                              # one analysis per speed, curves overlaid\n"
+                   "  parameter: rotation.speed_rpm\n  values: [3000, 6000, 9000]\n",
+                   "");
+  c = replace_once(c, "  directory: ../../out/05_bladed_disk_damper", "  # directory");
+  c = replace_once(c, "  plots: true", "  plots: false");
+  c = replace_once(c, "speed_rpm: 9000 ", "speed_rpm: " + std::to_string(rpm) + " ");
+  c = replace_once(c, "frequency: {start_hz: 340, stop_hz: 600, step_hz: 1}",
+                   "frequency: " + window);
+  if (!flags) {
+    c = replace_once(
+        c, "  campbell:", "  stress_stiffening: false\n  spin_softening: false\n  campbell:");
+  }
+  if (mu == "linear") {
+    c = replace_all(c, "law: friction", "law: linear");
+    c = replace_once(c, "{kt: 2.0e7, kn: 5.0e7, mu: 0.5, preload: computed}",
+                     "{kt: 2.0e7, kn: 5.0e7}");
+  } else {
+    c = replace_once(c, "mu: 0.5,", "mu: " + mu + ",");
+  }
+  return write_case(dir, name, c);
+}
+
+// Harmonic 1 of the forced (tip) node along y at every point: frequency -> complex amplitude.
+std::map<double, std::complex<double>> tip_response(const fs::path& out) {
+  std::map<int, double> frequency;
+  for (const auto& r : read_csv(out / "points.csv")) {
+    EXPECT_EQ(r.at("converged"), "1") << out << " point " << r.at("point");
+    frequency[std::stoi(r.at("point"))] = std::stod(r.at("frequency_hz"));
+  }
+  std::map<double, std::complex<double>> x;
+  for (const auto& r : read_csv(out / "master_response.csv")) {
+    if (r.at("body") == "blade" && r.at("node") == "240" && r.at("axis") == "y" &&
+        r.at("harmonic") == "1")
+      x[frequency.at(std::stoi(r.at("point")))] = {std::stod(r.at("real_m")),
+                                                   std::stod(r.at("imag_m"))};
+  }
+  EXPECT_EQ(x.size(), frequency.size()) << out;
+  return x;
+}
+
+std::pair<double, double> peak(const std::map<double, std::complex<double>>& x) {
+  std::pair<double, double> best{0.0, 0.0};
+  for (const auto& [f, v] : x)
+    if (std::abs(v) > best.second) best = {f, std::abs(v)};
+  return best;
+}
+
+TEST(BladedDiskExample, TheDampersStaticContactForcesBalanceItsCentrifugalForce) {
+  const fs::path dir = fresh_dir("bladed_disk_static");
+  constexpr double kRpm = 9000;
+  // Without stress stiffening and spin softening the centrifugal load is exactly ρΩ² r⊥ over the
+  // undeformed damper, which its two contacts alone hold (it has no clamp).
+  const fs::path c =
+      damper_case(dir, "case", kRpm, "{start_hz: 400, stop_hz: 402, step_hz: 1}", "0.5", false);
+  ASSERT_EQ(run("run " + c.string() + " -o " + (dir / "out").string(), dir / "log.txt"), 0)
+      << slurp(dir / "log.txt");
+
+  // m r_c from the mesh file: every damper element is a straight-sided quadrilateral (in x, y)
+  // extruded along z, so its volume is the quadrilateral's area times the height and its centroid
+  // the quadrilateral's centroid.
+  const Deck deck = read_deck(kExample / "sector.inp");
+  const double rho = 7800, omega = kRpm * 2 * M_PI / 60;
+  std::array<double, 2> first_moment{0, 0};  // ∫ r⊥ dV
+  double volume = 0;
+  for (const std::vector<int>& e : deck.elements.at("DAMPER")) {
+    ASSERT_EQ(e.size(), 8u);
+    double a = 0, cx = 0, cy = 0;
+    for (int i = 0; i < 4; ++i) {
+      const auto& p = deck.nodes.at(e[static_cast<size_t>(i)]);
+      const auto& q = deck.nodes.at(e[static_cast<size_t>((i + 1) % 4)]);
+      ASSERT_NEAR(deck.nodes.at(e[static_cast<size_t>(i + 4)])[0], p[0], 1e-15);  // extruded
+      const double cross = p[0] * q[1] - q[0] * p[1];
+      a += cross / 2;
+      cx += (p[0] + q[0]) * cross / 6;
+      cy += (p[1] + q[1]) * cross / 6;
+    }
+    const double h = deck.nodes.at(e[4])[2] - deck.nodes.at(e[0])[2];
+    ASSERT_GT(a, 0);
+    ASSERT_GT(h, 0);
+    volume += a * h;
+    first_moment[0] += cx * h;
+    first_moment[1] += cy * h;
+  }
+  const std::array<double, 3> centrifugal{rho * omega * omega * first_moment[0],
+                                          rho * omega * omega * first_moment[1], 0.0};
+  // About 2.8 kN for a 15 g damper at r = 0.207 m, along the radius at 15 degrees.
+  ASSERT_GT(rho * volume, 0.01);
+
+  // The contact forces on node B (the platforms) at harmonic 0: the damper (node A) receives
+  // their negatives, so their sum over both contacts is the centrifugal force.
+  std::array<double, 3> sum{0, 0, 0};
+  std::map<std::string, double> normal;  // contact -> Σ n
+  int closed = 0;
+  for (const auto& r : read_csv(dir / "out/contact_forces.csv")) {
+    if (r.at("point") != "0" || r.at("harmonic") != "0") continue;
+    const double f = std::stod(r.at("real_n"));
+    if (r.at("frame") == "global") {
+      sum[static_cast<size_t>(r.at("axis")[0] - 'x')] += f;
+    } else if (r.at("axis") == "n") {
+      normal[r.at("contact")] += f;
+      closed += f > 0;
+    }
+  }
+  const double scale = std::hypot(centrifugal[0], centrifugal[1]);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(sum[static_cast<size_t>(i)], centrifugal[static_cast<size_t>(i)], 1e-10 * scale)
+        << "axis " << i;
+  // Every pair pressed; the contact inside the sector and the one across its boundary carry
+  // mirror-equal loads (the sector is symmetric about the plane through the damper's middle), each
+  // about half the centrifugal force (the faces' normals are 1 degree off the damper's radius).
+  EXPECT_EQ(closed, 8);
+  ASSERT_EQ(normal.size(), 2u);
+  EXPECT_NEAR(normal.at("own"), normal.at("next"), 1e-8 * scale);
+  EXPECT_NEAR(normal.at("own") + normal.at("next"), scale, 0.01 * scale);
+}
+
+TEST(BladedDiskExample, TheFrictionDampedResonanceLiesBetweenItsFreeAndStuckLimits) {
+  const fs::path dir = fresh_dir("bladed_disk_limits");
+  constexpr double kRpm = 9000;
+  const std::string window = "{start_hz: 400, stop_hz: 560, step_hz: 0.5}";
+  std::map<std::string, std::map<double, std::complex<double>>> x;
+  for (const std::string mu : {"0.5", "0.0", "1.0e4", "linear"}) {
+    const std::string name = mu == "linear" ? "linear" : "mu" + mu;
+    const fs::path c = damper_case(dir, name, kRpm, window, mu);
+    ASSERT_EQ(run("run " + c.string() + " -o " + (dir / name).string(), dir / (name + ".log")), 0)
+        << slurp(dir / (name + ".log"));
+    x[mu] = tip_response(dir / name);
+  }
+  // The stuck limit: with μ = 10⁴ no pair slips or opens, and the response is the one of the
+  // damper joined by linear springs kt, kt, kn (no AFT): equal to the solver's tolerance.
+  for (const auto& r : read_csv(dir / "mu1.0e4/contact_state.csv")) {
+    EXPECT_EQ(std::stod(r.at("slip")), 0.0);
+    EXPECT_EQ(std::stod(r.at("separation")), 0.0);
+  }
+  const double stuck_peak = peak(x.at("linear")).second;
+  for (const auto& [f, v] : x.at("linear"))
+    EXPECT_LT(std::abs(x.at("1.0e4").at(f) - v), 1e-7 * stuck_peak) << f << " Hz";
+
+  // The free limit: with μ = 0 the damper only presses on the platforms (no tangential force),
+  // and the resonance is the blade-disk's own in nodal diameter 3 at this speed (`stickslip modes`
+  // on modes.yaml: no damper, no contacts, no harmonic balance), moved by the damper's mass and
+  // normal springs by less than 1 Hz.
+  {
+    std::string modes = slurp(kExample / "modes.yaml");
+    modes = replace_once(modes, "speeds_rpm: [0, 5000, 10000, 15000]", "speeds_rpm: [0, 9000]");
+    modes = replace_once(modes, "  plots: true", "  plots: false");
+    modes =
+        replace_once(modes, "  directory: ../../out/05_bladed_disk_damper_modes", "  # directory");
+    const fs::path m = write_case(dir, "modes", modes);
+    ASSERT_EQ(
+        run("modes " + m.string() + " --modes 1 -o " + (dir / "modes").string(), dir / "modes.log"),
+        0)
+        << slurp(dir / "modes.log");
+  }
+  double free_hz = 0;
+  for (const auto& r : read_csv(dir / "modes/modes/campbell.csv")) {
+    if (r.at("speed_rpm") == "9000" && r.at("nodal_diameter") == "3" && r.at("mode") == "1")
+      free_hz = std::stod(r.at("frequency_hz"));
+  }
+  ASSERT_GT(free_hz, 0);
+  const auto [free_peak_hz, free_peak] = peak(x.at("0.0"));
+  EXPECT_NEAR(free_peak_hz, free_hz, 1.0);
+
+  // With μ = 0.5 the damper sticks and slips: its resonance lies between the two limits', and
+  // friction damps it far below both.
+  const auto [stuck_hz, stuck_amplitude] = peak(x.at("1.0e4"));
+  const auto [damped_hz, damped_amplitude] = peak(x.at("0.5"));
+  EXPECT_GT(stuck_hz, free_peak_hz + 50);  // the damper stiffens the family
+  EXPECT_GT(damped_hz, free_peak_hz);
+  EXPECT_LT(damped_hz, stuck_hz);
+  EXPECT_LT(damped_amplitude, 0.2 * std::min(stuck_amplitude, free_peak));
+  double slip = 0;
+  for (const auto& r : read_csv(dir / "mu0.5/contact_state.csv"))
+    slip = std::max(slip, std::stod(r.at("slip")));
+  EXPECT_GT(slip, 0.1);
+}
+
 }  // namespace
