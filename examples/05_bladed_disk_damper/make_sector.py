@@ -19,18 +19,22 @@ rotated by 360/N lands exactly on the high boundary theta = 360/N):
     blade     r 0.216..0.30, a straight plate 2 degrees thick (theta 6.5..8.5), chord 0.03 along z;
     damper    r 0.204..0.21, theta 13.5..16.5: a separate part (its own nodes, element set DAMPER)
               under the slot between this blade's platform (theta 13.5..14.5) and the next blade's
-              (theta 15.5..16.5 = the next sector's 0.5..1.5). Its top face touches both platforms'
-              undersides node to node; spinning, the centrifugal force presses it onto them.
+              (theta 15.5..16.5 = the next sector's 0.5..1.5). Its top is crowned: the nodes at
+              theta 14.5 and 15.5 lie CHAMFER below r = 0.21, so it touches each platform's
+              underside along one line of nodes (theta 13.5 and 16.5, node to node); spinning, the
+              centrifugal force presses it onto them. (With a flat top the platforms, bent by their
+              own centrifugal load, rest on the damper's outer edges only and the inner nodes hang
+              a fraction of a micrometre open: every vibration opens and closes them.)
 
 Sets written (ids of sector 0):
     BLADE_DISK, DAMPER     element sets of the two bodies
     HUB                    the bore, clamped
     LOW, HIGH              the disk's cyclic boundaries (theta 0 and 360/N)
-    PLATFORM_OWN           platform underside nodes the damper touches (theta 13.5, 14.5)
-    PLATFORM_NEXT_COPY     platform underside nodes at theta 0.5, 1.5: their copies in the next
+    PLATFORM_OWN           platform underside nodes the damper touches (theta 13.5)
+    PLATFORM_NEXT_COPY     platform underside nodes at theta 1.5: their copies in the next
                            sector touch the damper's DAMPER_NEXT nodes
-    DAMPER_OWN             damper top nodes under this blade's platform (theta 13.5, 14.5)
-    DAMPER_NEXT            damper top nodes under the next blade's platform (theta 15.5, 16.5)
+    DAMPER_OWN             damper top nodes on this blade's platform (theta 13.5)
+    DAMPER_NEXT            damper top nodes on the next blade's platform (theta 16.5)
     TIP                    one node at the blade tip's trailing corner (the forced node)
 and damper_next_pairs.csv beside the mesh: one line "damper node,blade node" per pair of the
 contact with the next sector (the blade node is the sector-0 copy, PLATFORM_NEXT_COPY).
@@ -100,7 +104,7 @@ def main(path):
 
     sets = {
         "HUB": select(0, r=DISK_R[0]),
-        "LOW": [i for i in select(0, ts=[0.0]) if True],
+        "LOW": select(0, ts=[0.0]),
         "HIGH": select(0, ts=[DISK_T[-1]]),
         "PLATFORM_OWN": select(0, r=PLATFORM_R[0], ts=[13.5]),
         "PLATFORM_NEXT_COPY": select(0, r=PLATFORM_R[0], ts=[1.5]),
