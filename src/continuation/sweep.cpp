@@ -73,6 +73,8 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
     point.lambda = target;
     point.x = history.guess(target, x0, options.secant_predictor);
     point.newton = solve_newton(sys, target, point.x, options.newton);
+    std::ostringstream why;  // the failure's one line (ContinuationPoint::failure)
+    if (!point.newton.converged()) why << "Newton: " << point.newton.message;
 
     if (point.newton.converged()) {
       history.push(target, point.x);
@@ -98,6 +100,8 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
             break;
           }
         } else if (halvings >= options.max_step_halvings) {
+          why << "; " << halvings << " step halving" << (halvings == 1 ? "" : "s")
+              << " did not reach it (the last: " << s.message << ")";
           history = saved;
           break;
         } else {
@@ -131,9 +135,14 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
         point.newton = std::move(arc.points.back().newton);
         point.by_arclength = true;
         history.reset_to(target, point.x);  // no secant across a jump
+      } else {
+        why << "; arc-length fallback: " << arc.message;
       }
     }
-    if (!point.newton.converged()) failed.push_back(target);
+    if (!point.newton.converged()) {
+      failed.push_back(target);
+      point.failure = why.str();
+    }
     const bool converged = point.newton.converged();
     result.points.push_back(std::move(point));
     if (options.on_point) {
@@ -151,6 +160,11 @@ ContinuationResult stepped_sweep(const ParametrizedSystem& sys, const Eigen::Vec
     constexpr std::size_t kListed = 10;  // keep the message one readable line
     for (std::size_t i = 0; i < failed.size() && i < kListed; ++i) m << " " << failed[i];
     if (failed.size() > kListed) m << " ... (" << failed.size() - kListed << " more)";
+    for (const ContinuationPoint& p : result.points) {
+      if (p.newton.converged()) continue;
+      m << "; at lambda = " << p.lambda << ": " << p.failure;  // the first failure's reason
+      break;
+    }
   }
   result.message = m.str();
   return result;

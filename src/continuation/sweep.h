@@ -42,6 +42,10 @@ struct ContinuationPoint {
   // and whether the arc-length fallback reached it (typically a jump after a fold).
   int step_halvings = 0;
   bool by_arclength = false;
+  // stepped_sweep only, for a point that did not converge: why, in one line — Newton's own
+  // message at the point, how far the step halvings got, and what stopped the arc-length
+  // fallback (its message); empty for a converged point.
+  std::string failure;
   // arclength_continuation only: the unit tangent of the curve at this point in the scaled
   // variables y = (x / x_scale, λ / lambda_scale) (size n + 1, λ last), oriented in the direction
   // of travel; empty for a point clipped onto lambda_end or the return limit, and in a stepped

@@ -223,6 +223,16 @@ int retry_failed_points(const HarmonicBalanceSystem& system, std::span<const dou
   if (failed > 0) m << "; not converged at lambda =" << list.str();
   if (failed > kListed) m << " ... (" << failed - kListed << " more)";
   m << "; " << recovered << " of them recovered by sweeping again from a converged neighbour";
+  for (int i = 0; i < n; ++i) {  // the first failure's reason
+    if (ok(i)) continue;
+    m << "; at lambda = " << points[i].lambda << ": ";
+    if (points[i].failure.empty()) {
+      m << "Newton: " << points[i].newton.message;
+    } else {
+      m << points[i].failure;
+    }
+    break;
+  }
   result.completed = failed == 0;
   result.message = m.str();
   return recovered;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -554,7 +555,7 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
     q.iterations = p.newton.iterations;
     q.residual_norm = p.newton.residual_norm;
     q.residual_scale = sys.residual_scale_at(p.lambda);
-    q.message = p.newton.message;
+    q.message = p.failure.empty() ? p.newton.message : p.failure;
     if (q.converged) {
       q.master = sys.master_response(p.x, &q.modal_norm);
       Eigen::VectorXd F;
@@ -579,6 +580,13 @@ NonlinearModeResult nonlinear_mode(const HarmonicBalanceSystem& system,
                        ? "every amplitude converged"
                        : std::to_string(failed) + " of " + std::to_string(result.points.size()) +
                              " amplitudes did not converge";
+  for (const NonlinearModePoint& q : result.points) {  // the first failure's reason
+    if (q.converged) continue;
+    std::ostringstream m;
+    m << "; at amplitude " << q.amplitude << ": " << q.message;
+    result.message += m.str();
+    break;
+  }
   return result;
 }
 

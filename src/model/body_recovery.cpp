@@ -6,7 +6,9 @@
 #include <string>
 
 #include "core/errors.h"
+#include "fe/rotation.h"
 #include "model/recovery_loads.h"
+#include "model/rotation_case.h"
 
 namespace stickslip {
 
@@ -82,6 +84,26 @@ BodyRecovery::BodyRecovery(const CaseDefinition& def, const PreparedModel& model
       }
     }
   }
+  // A spinning body: its centrifugal body force on every node replaces the condensed one that
+  // the reduced model carried at its master rows (the excitation's harmonic 0, recovery_loads).
+  if (def.rotation && case_rotation_speed(def) != 0.0) {
+    const double omega = case_rotation_speed(def);
+    rotation_load_ = (omega * omega) * centrifugal_force_per_speed_squared(*body_.M, body_.mesh,
+                                                                           case_rotation_axis(def));
+    std::optional<SectorBoundary> sector;
+    if (body_.cyclic) {
+      sector = SectorBoundary{body_.cyclic_pairs, {}, *body_.cyclic};
+      for (int d = 0; d < body_.constraints.num_dofs(); ++d) {
+        if (body_.constraints.is_clamped(d)) sector->clamped_dofs.push_back(d);
+      }
+    }
+    const Eigen::VectorXd condensed =
+        reduced_centrifugal_load(def, body_, sector ? &*sector : nullptr);
+    for (int j = 0; j < body_.reduced.size(); ++j) {
+      const ReducedDof& d = body_.reduced.dofs[j];
+      if (d.kind == ReducedDof::Kind::kPhysical) rotation_load_(d.full_dof) -= condensed(j);
+    }
+  }
   // Nodal stresses as one sparse operator, built once per body (element by element per point
   // would re-condense every C3D8I at every call).
   if (options.stresses) stress_operator_.emplace(body_.mesh, body_.material, AssemblyOptions{});
@@ -95,6 +117,9 @@ RecoveredPoint BodyRecovery::recover(const FrequencyPoint& p,
   const int n = body_.mesh.num_dofs();
   RecoveredPoint out;
   out.loads = recovery_loads(model_, body_, harmonics, p);
+  for (int h = 0; h < nh && rotation_load_.size() > 0; ++h) {
+    if (harmonics[h] == 0) out.loads.col(h) += rotation_load_.cast<std::complex<double>>();
+  }
   out.displacement = cyclic_ ? cyclic_->solve(out.loads, harmonics, p.omega, &out.summary)
                      : method_ == RecoveryMethod::kExpansion
                          ? expand_reduced_response(

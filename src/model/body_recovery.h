@@ -7,6 +7,13 @@
 // supports do not hold gets, at harmonic 0, the rigid motion that fits the reduced response at its
 // master DOFs (recovery/harmonic_response.h, add_rigid_motion).
 //
+// A spinning body (`rotation`, docs/rotation.md): its full K already holds Ω² (K_σ1 − S) (the
+// reduction's), and its harmonic-0 load is the centrifugal body force Ω² M r⊥ on every node, in
+// place of the condensed one the reduced model carried at its masters (model/rotation_case.h:
+// Tᵀ f_c's master rows, or f_b − K_bi K_ii⁻¹ f_i): the recovered harmonic 0 is then the static
+// state of the spinning body under its centrifugal load and the contact forces, and its stresses
+// the mean stresses.
+//
 // A cyclic sector under engine-order excitation (PreparedModel::wave) is recovered on its sector
 // with the cyclic constraint of each harmonic's nodal diameter (recovery/cyclic_recovery.h;
 // recovery.method: direct only): sector 0's fields, the reactions and the nodal stresses of its
@@ -93,6 +100,9 @@ class BodyRecovery {
   std::optional<NodalStressOperator> stress_operator_;
   std::unique_ptr<CyclicSectorRecovery> cyclic_;
   std::vector<int> elements_at_node_;  // cyclic: elements holding each node
+  // Rotation: added to the harmonic-0 loads, Ω² M r⊥ minus the condensed centrifugal load the
+  // master rows carry (empty without rotation).
+  Eigen::VectorXd rotation_load_;
 };
 
 }  // namespace stickslip

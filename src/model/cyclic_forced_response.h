@@ -1,18 +1,21 @@
 // The forced response of a cyclic sector under engine-order excitation (issue 13, item 3;
-// docs/cyclic.md): what prepare_model does differently for a case whose body is one sector of N.
+// docs/cyclic.md): what prepare_model does differently for a case whose bodies are one sector of
+// N (a blade with its disk, a damper: every body of the case).
 //
-//   the sector's Craig–Bampton per nodal diameter (reduction/cyclic_craig_bampton.h) onto its
-//   master nodes: diameter 0 is the body's ordinary (real) reduced model, the diameters of the
-//   dynamic harmonics (k·EO mod N, conjugated above N/2) give the TravellingWave
-//   (hbm/travelling_wave.h) the harmonic balance takes; contacts with `neighbour` get
-//   ContactPair::b_sector.
+//   each body with boundaries (low/high): its Craig–Bampton per nodal diameter
+//   (reduction/cyclic_craig_bampton.h) onto its master nodes, diameter 0 its ordinary (real)
+//   reduced model; each body without: its ordinary Craig–Bampton, the same in every diameter;
+//   per dynamic harmonic (diameter k·EO mod N, conjugated above N/2) the assembled model of all
+//   bodies gives the TravellingWave (hbm/travelling_wave.h) the harmonic balance takes; contacts
+//   with `neighbour` get ContactPair::b_sector.
 //
-// Scope, each refusal an InvalidInput at the case key it is about: the case holds the cyclic body
-// only (a mesh body; clamps and supports along the global axes); every excitation entry gives the
-// same `engine_order`, and no entry of a case without a cyclic body gives one; contacts with
-// `neighbour` join the cyclic body to itself; Rayleigh damping only (no modal_damping_ratio); the
-// window in Hz (no around_mode: the stuck modes of a diameter are not computed); method stepped or
-// continuation; no recovery yet (recovery.points: none; item 5); not through the stage commands.
+// Scope, each refusal an InvalidInput at the case key it is about: every body of the case is a
+// mesh body with `cyclic`, the same N and axis (clamps and supports along the global axes); every
+// excitation entry gives the same `engine_order`, and no entry of a case without a cyclic body
+// gives one; contacts with `neighbour` join two bodies of the sector (not the ground); Rayleigh
+// damping only (no modal_damping_ratio); the window in Hz (no around_mode: the stuck modes of a
+// diameter are not computed); method stepped or continuation; recovery direct only; not through
+// the stage commands.
 #pragma once
 
 #include <map>

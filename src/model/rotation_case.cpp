@@ -132,7 +132,7 @@ Eigen::VectorXd reduced_centrifugal_load(const CaseDefinition& def, const Prepar
   if (omega == 0.0) return out;
   if (!body.M || (!body.T && !body.K)) {
     throw InvalidInput(def.where("rotation"),
-                       "rotation: the full matrices of body " + body.name +
+                       "the full matrices of body " + body.name +
                            " are not at hand here (a stage command reading stored reduced "
                            "matrices): the centrifugal load needs them; use `stickslip run`");
   }
@@ -158,7 +158,7 @@ Eigen::VectorXd reduced_centrifugal_load(const CaseDefinition& def, const Prepar
   SparseCholesky factor(Kii);
   if (!factor_holds(Kii, factor)) {
     throw InvalidInput(def.where("rotation"),
-                       "rotation: the interior of body " + body.name +
+                       "the interior of body " + body.name +
                            " is not held by its masters, clamps and supports: its centrifugal "
                            "load cannot be condensed onto the masters");
   }

@@ -109,6 +109,20 @@ std::string vec(const Eigen::Vector3d& v) {
   return s.str();
 }
 
+// The frame's t1 and the law's parameters of every contact.
+std::string parameters(const std::string& law) {
+  std::ostringstream c;
+  c << "    t1: " << vec({0, 0, 1}) << "\n";
+  if (law == "linear") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
+  } else if (law == "friction") {
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3, preload: 300}\n";
+  } else {  // friction pressed by the centrifugal load: no typed preload
+    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3}\n";
+  }
+  return c.str();
+}
+
 // Damper s's contact with blade s (own) or blade s + 1 (next): A the damper's top nodes on that
 // side, B the shroud's underside nodes there; the normal e_r out of the damper into the shroud.
 // sector: B is sector 0's own node, with `neighbour: next` for the next blade.
@@ -127,14 +141,24 @@ std::string contact(const cyc::BladedRing& b, int s, bool next, bool sector, con
   c << "]\n";
   if (sector && next) c << "    neighbour: next\n";
   c << "    normal: " << vec({std::cos(t), std::sin(t), 0}) << "\n";
-  c << "    t1: " << vec({0, 0, 1}) << "\n";
-  if (law == "linear") {
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7}\n";
-  } else if (law == "friction") {
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3, preload: 300}\n";
-  } else {  // friction pressed by the centrifugal load: no typed preload
-    c << "    per_pair: {kt: 2.0e7, kn: 3.0e7, mu: 0.3}\n";
+  c << parameters(law);
+  return c.str();
+}
+
+// The same contact of the sector seen from the blade: A the blade's node under its shroud, B the
+// previous sector's damper (its sector-0 node ids), `neighbour: previous`, the normal out of the
+// blade into the damper (−e_r). The same springs (the frame's signs do not change kt, kt, kn).
+std::string previous_contact(const cyc::BladedRing& b, const std::string& law) {
+  const double t = theta_b(0) - 2 * std::numbers::pi / kN;
+  std::ostringstream c;
+  c << "  - name: previous0\n    law: " << law << "\n    bodies: [blade, damper]\n    pairs: [";
+  for (int k = 0; k < 2; ++k) {
+    c << (k ? ", " : "") << "[" << b.mesh.node_ids[b.node(0, 3, 1, k)] << ", "
+      << damper_node(0, 1, 1, k) << "]";
   }
+  c << "]\n    neighbour: previous\n";
+  c << "    normal: " << vec({-std::cos(t), -std::sin(t), 0}) << "\n";
+  c << parameters(law);
   return c.str();
 }
 
@@ -144,6 +168,7 @@ struct Options {
   double start_hz = 900, stop_hz = 920, step_hz = 10;
   double rpm = 0;
   bool recovery = false;  // every point: the sector with its annulus, the ring as it is
+  bool previous = false;  // the sector's neighbour contact seen from the blade (previous_contact)
 };
 
 std::string head(const std::string& blades, const std::string& dampers, const Options& o) {
@@ -194,7 +219,8 @@ std::string sector_case(const cyc::BladedRing& b, const Options& o) {
       axis: {point: [0, 0, 0], direction: z}
 contacts:
 )" << contact(b, 0, false, true, o.law, "blade", "damper")
-    << contact(b, 0, true, true, o.law, "blade", "damper")
+    << (o.previous ? previous_contact(b, o.law)
+                   : contact(b, 0, true, true, o.law, "blade", "damper"))
     << "excitation:\n  - {body: blade, node: " << b.mesh.node_ids[b.forced(0)]
     << ", force: " << vec(kForce) << ", engine_order: " << o.eo << "}\n"
     << tail(o, true);
@@ -294,8 +320,9 @@ Runs run_both(const std::string& name, const Options& o) {
 
 // Sector 0's contact forces, the forced blade node's and a damper node's response: sector
 // against ring, relative to the ring's largest value.
-void expect_sector_equals_ring(const Runs& r, double tolerance) {
+void expect_sector_equals_ring(const Runs& r, double tolerance, bool previous = false) {
   for (const char* c : {"own0", "next0"}) {
+    if (previous && std::string(c) == "next0") continue;  // another pair, in another frame
     SCOPED_TRACE(c);
     const std::string contact = c;
     const auto forces = [&](const fs::path& csv) {
@@ -335,6 +362,10 @@ TEST(CyclicDamperCli, LinearBladeAndDamperSectorEqualsTheWholeAnnulus) {
   const Runs r = run_both("cyclic_damper_linear", Options{});
   expect_sector_equals_ring(r, 1e-8);
   EXPECT_NE(slurp(r.dir / "sector.log").find("bodies blade, damper"), std::string::npos);
+  // The same contact written from the blade with `neighbour: previous`: the same responses.
+  Options o;
+  o.previous = true;
+  expect_sector_equals_ring(run_both("cyclic_damper_previous", o), 1e-8, /*previous=*/true);
 }
 
 // The largest slipping fraction of the cycle over the sector's pairs and points.
@@ -406,14 +437,44 @@ void expect_pressed_damper(const std::string& name, double start_hz, double slip
   const Runs r = run_both(name, o);
   expect_sector_equals_ring(r, 1e-7);
   EXPECT_GT(largest_slip(r), slip);
-  // The static normal loads (harmonic 0) of sector 0's pairs: compressive, from the rotation
-  // (the damper's centrifugal load m r Ω² ≈ 4 kN shared by 4 pairs at ±20° of its direction).
+  // The static (harmonic-0) forces of sector 0's pairs on the shrouds balance the damper's
+  // centrifugal load, closed form: ρ t Ω² ∫ x dA over its cross-section (the quadrilateral of its
+  // corners in the plane z = 0: the shoelace area and centroid), at every point.
+  std::vector<Eigen::Vector2d> corner;
+  for (const auto& [radius, angle] :
+       std::vector<std::pair<double, double>>{{cyc::kRadii[3] - kDamperDepth, theta_a(0)},
+                                              {cyc::kRadii[3], theta_a(0)},
+                                              {cyc::kRadii[3], theta_b(0)},
+                                              {cyc::kRadii[3] - kDamperDepth, theta_b(0)}})
+    corner.emplace_back(radius * std::cos(angle), radius * std::sin(angle));
+  double area = 0.0;
+  Eigen::Vector2d moment = Eigen::Vector2d::Zero();  // ∫ x dA
+  for (size_t i = 0; i < corner.size(); ++i) {
+    const Eigen::Vector2d& p = corner[i];
+    const Eigen::Vector2d& q = corner[(i + 1) % corner.size()];
+    const double c = p.x() * q.y() - q.x() * p.y();
+    area += c / 2;
+    moment += (p + q) * c / 6;
+  }
+  const double omega = o.rpm * 2 * std::numbers::pi / 60;
+  const Eigen::Vector2d load = 7800 * cyc::kThickness * omega * omega * moment;
+  std::map<std::string, Eigen::Vector3d> total;  // point -> Σ force on the blades
   double normal = 0.0;
   for (const auto& row : read_csv(r.dir / "sector/contact_forces.csv")) {
-    if (row.at("frame") == "local" && row.at("axis") == "n" && row.at("harmonic") == "0")
-      normal = std::max(normal, std::stod(row.at("real_n")));
+    if (row.at("harmonic") != "0") continue;
+    const double f = std::stod(row.at("real_n"));
+    if (row.at("frame") == "local" && row.at("axis") == "n") normal = std::max(normal, f);
+    if (row.at("frame") != "global") continue;
+    Eigen::Vector3d& sum =
+        total.try_emplace(row.at("point"), Eigen::Vector3d::Zero()).first->second;
+    sum(row.at("axis") == "x" ? 0 : row.at("axis") == "y" ? 1 : 2) += f;
   }
-  EXPECT_GT(normal, 500.0);
+  EXPECT_GT(area, 0.0);
+  EXPECT_EQ(total.size(), 3u);
+  for (const auto& [point, sum] : total) {
+    EXPECT_LT((sum - Eigen::Vector3d(load.x(), load.y(), 0)).norm(), 1e-9 * load.norm()) << point;
+  }
+  EXPECT_GT(normal, 500.0);  // each pair pressed (≈ 850 N)
 }
 
 TEST(CyclicDamperCli, DamperPressedByItsCentrifugalLoadEqualsTheWholeAnnulus) {

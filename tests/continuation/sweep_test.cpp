@@ -108,6 +108,26 @@ TEST(SteppedSweep, HalvesTheStepToRecoverAFailedPoint) {
   EXPECT_FALSE(r.points[2].newton.converged());
   EXPECT_EQ(r.points[2].lambda, 4.0);
   EXPECT_NE(r.message.find("not converged at lambda = 4"), std::string::npos) << r.message;
+  // The failed point says why: Newton's message and the halving that did not get there.
+  EXPECT_NE(r.points[2].failure.find("Newton: "), std::string::npos) << r.points[2].failure;
+  EXPECT_NE(r.points[2].failure.find("1 step halving did not reach it"), std::string::npos)
+      << r.points[2].failure;
+  EXPECT_NE(r.message.find("; at lambda = 4: Newton: "), std::string::npos) << r.message;
+  EXPECT_TRUE(r.points[1].failure.empty());
+}
+
+TEST(SteppedSweep, AFailedPointCarriesTheArcLengthFallbacksReason) {
+  // x² = λ has no solution at λ = −1: the fallback from λ = 1 turns at the fold λ = 0 and goes
+  // back to the end of the range behind it, never reaching −1; its own message is kept.
+  const FunctionSystem sys = parabola();
+  const std::vector<double> lambdas{4.0, 1.0, -1.0};
+  const ContinuationResult r = stepped_sweep(sys, VectorXd{{3.0}}, lambdas, SteppedSweepOptions{});
+  ASSERT_EQ(r.points.size(), 3u);
+  ASSERT_FALSE(r.points[2].newton.converged());
+  EXPECT_NE(r.points[2].failure.find("arc-length fallback: "), std::string::npos)
+      << r.points[2].failure;
+  EXPECT_GT(r.points[2].failure.size(), std::string("arc-length fallback: ").size() + 20);
+  EXPECT_NE(r.message.find("at lambda = -1: Newton: "), std::string::npos) << r.message;
 }
 
 TEST(SteppedSweep, ReportsAPointWithoutSolutionAndContinuesFromTheLastGoodOne) {

@@ -77,6 +77,14 @@ TEST(CyclicCase, TheSectorIsReadWithItsLocationsAndWrittenBack) {
                         "      low: LOW\n      high: HIGH\n"));
   EXPECT_EQ(d2.bodies.at("beam1").cyclic->tolerance, 1.0e-6);
   EXPECT_EQ(d2.bodies.at("beam1").cyclic->axis_direction, (std::array<double, 3>{0, 0, -1}));
+  // A body of the sector without boundaries (a damper): no low, no high, written back so.
+  const CaseDefinition d3 =
+      parse(cyclic_case("      sectors: 6\n      axis: {point: [0, 0, 0], direction: z}\n"));
+  EXPECT_TRUE(d3.bodies.at("beam1").cyclic->low.empty());
+  EXPECT_TRUE(d3.bodies.at("beam1").cyclic->high.empty());
+  const std::string described3 = describe_case(d3);
+  EXPECT_EQ(described3.find("low:"), std::string::npos) << described3;
+  EXPECT_EQ(describe_case(parse(described3)), described3);
 }
 
 TEST(CyclicCase, BadValuesAreRefusedAtTheirLineAndKey) {
@@ -87,8 +95,11 @@ TEST(CyclicCase, BadValuesAreRefusedAtTheirLineAndKey) {
                  "bodies.beam1.cyclic.sectors", "must be <= 1000");
   expect_invalid(cyclic_case("      sectors: 2.5\n" + axis + "      low: L\n      high: H\n"), 13,
                  "bodies.beam1.cyclic.sectors", "expected an integer");
-  expect_invalid(cyclic_case("      sectors: 6\n" + axis + "      low: L\n"), 12,
-                 "bodies.beam1.cyclic.high", "required key missing");
+  // Both boundaries or neither (a body of a sector that crosses no boundary).
+  expect_invalid(cyclic_case("      sectors: 6\n" + axis + "      low: L\n"), 15,
+                 "bodies.beam1.cyclic.low", "both boundaries (low and high) or neither");
+  expect_invalid(cyclic_case("      sectors: 6\n" + axis + "      high: H\n"), 15,
+                 "bodies.beam1.cyclic.high", "both boundaries (low and high) or neither");
   expect_invalid(cyclic_case("      sectors: 6\n      low: L\n      high: H\n"), 12,
                  "bodies.beam1.cyclic.axis", "required key missing");
   expect_invalid(cyclic_case("      sectors: 6\n" + axis + "      low: L\n      high: H\n" +
