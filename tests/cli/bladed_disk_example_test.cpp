@@ -169,15 +169,6 @@ TEST(BladedDiskExample, TheSectorsModesPerNodalDiameterAreCalculixsCyclicModes) 
 
 // --- The damper case ---
 
-// `text` with every occurrence of `from` replaced (at least one).
-std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-  size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << "the example's file no longer holds: " << from;
-  for (; at != std::string::npos; at = text.find(from, at + to.size()))
-    text.replace(at, from.size(), to);
-  return text;
-}
-
 // The example's case.yaml in `dir` (with its mesh and pairs file beside it) at one speed, without
 // the study and the plots, over `window` (the case's `frequency` map), with `mu`; or, with mu
 // "stuck" or "free", the example's limit case of that name.
