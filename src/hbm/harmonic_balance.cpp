@@ -83,9 +83,23 @@ class StaticContactSystem final : public ParametrizedSystem {
     load_ = load;
     offset_ = offset;
   }
-  void forces(const Eigen::VectorXd& u, Eigen::VectorXd& f, Eigen::MatrixXd* J) const {
+  // Low rank (G0 given empty): G_0 = Ψ S Ψᵀ (S = H_0, nm x nm) never formed; Newton's steps by
+  // Woodbury, (I + Ψ S Ψᵀ J)⁻¹ = I − Ψ S (I + Ψᵀ J Ψ S)⁻¹ Ψᵀ J (J block-diagonal per pair).
+  void set_low_rank(const Eigen::MatrixXd* Psi, Eigen::MatrixXd S) {
+    Psi_ = Psi;
+    S_ = std::move(S);
+  }
+  bool has_structured_jacobian() const override { return Psi_ != nullptr; }
+  Eigen::VectorXd G0_times(const Eigen::VectorXd& v) const {
+    if (!Psi_) return G0_ * v;
+    return *Psi_ * (S_ * (Psi_->transpose() * v));
+  }
+  // f(u − o) and, if asked, its tangent: dense (J) or per pair (blocks, m x m each).
+  void forces(const Eigen::VectorXd& u, Eigen::VectorXd& f, Eigen::MatrixXd* J,
+              std::vector<Eigen::MatrixXd>* blocks = nullptr) const {
     f.resize(u.size());
     if (J) J->setZero(u.size(), u.size());
+    if (blocks) blocks->resize(pairs_.size());
     Eigen::VectorXd fp;
     Eigen::MatrixXd jp;
     for (size_t p = 0; p < pairs_.size(); ++p) {
@@ -93,10 +107,21 @@ class StaticContactSystem final : public ParametrizedSystem {
       const bool offset = !offset_.segment(r, m).isZero(0.0);
       aft_.evaluate(*pairs_[p].element, u.segment(r, m),
                     offset ? Eigen::VectorXd(-offset_.segment(r, m)) : Eigen::VectorXd(), fp,
-                    J ? &jp : nullptr);
+                    J || blocks ? &jp : nullptr);
       f.segment(r, m) = fp;
       if (J) J->block(r, r, m, m) = jp;
+      if (blocks) (*blocks)[p] = jp;
     }
+  }
+  // J v for the per-pair blocks.
+  Eigen::VectorXd blocks_times(const std::vector<Eigen::MatrixXd>& blocks,
+                               const Eigen::VectorXd& v) const {
+    Eigen::VectorXd out(v.size());
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      out.segment(r, m).noalias() = blocks[p] * v.segment(r, m);
+    }
+    return out;
   }
   void evaluate(const Eigen::VectorXd& u, double, Eigen::VectorXd& R, Eigen::MatrixXd* dR_dx,
                 Eigen::VectorXd* dR_dlambda) const override {
@@ -107,14 +132,43 @@ class StaticContactSystem final : public ParametrizedSystem {
       f -= shift_.cwiseProduct(u);
       if (dR_dx) J.diagonal() -= shift_;
     }
-    R = u - load_ * ulin0_ + G0_ * f;
-    if (dR_dx) *dR_dx = Eigen::MatrixXd::Identity(size(), size()) + G0_ * J;
+    R = u - load_ * ulin0_ + G0_times(f);
+    if (dR_dx) {
+      const Eigen::MatrixXd G0 = Psi_ ? Eigen::MatrixXd(*Psi_ * S_ * Psi_->transpose()) : G0_;
+      *dR_dx = Eigen::MatrixXd::Identity(size(), size()) + G0 * J;
+    }
     if (dR_dlambda) dR_dlambda->setZero(size());
+  }
+  bool solve_jacobian(const Eigen::VectorXd& u, double, const Eigen::VectorXd& rhs,
+                      Eigen::VectorXd& dx) const override {
+    STICKSLIP_VERIFY(Psi_ && shift_.size() == 0, "StaticContactSystem: not low rank");
+    Eigen::VectorXd f;
+    std::vector<Eigen::MatrixXd> blocks;
+    forces(u, f, nullptr, &blocks);
+    Eigen::MatrixXd JPsi(Psi_->rows(), Psi_->cols());
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      if (!blocks[p].allFinite()) return false;
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      JPsi.middleRows(r, m).noalias() = blocks[p] * Psi_->middleRows(r, m);
+    }
+    Eigen::MatrixXd C = (Psi_->transpose() * JPsi) * S_;
+    C.diagonal().array() += 1.0;
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(C);
+    const Eigen::VectorXd t = lu.solve(Psi_->transpose() * blocks_times(blocks, rhs));
+    dx = rhs - *Psi_ * (S_ * t);
+    // The LU of the capacitance has no failure flag: a (nearly) singular one shows as a step
+    // that does not solve the system (far beyond the round-off of a well-posed solve, which is
+    // what the dense path's LU accepts as well; Newton's own test decides convergence).
+    constexpr double kSingularStep = 1e-6;
+    const Eigen::VectorXd check = dx + G0_times(blocks_times(blocks, dx)) - rhs;
+    return dx.allFinite() && check.norm() <= kSingularStep * rhs.norm();
   }
 
  private:
   const std::vector<ContactPair>& pairs_;
   const std::vector<int>& pair_rows_;
+  const Eigen::MatrixXd* Psi_ = nullptr;
+  Eigen::MatrixXd S_;
   Eigen::MatrixXd G0_;
   Eigen::VectorXd ulin0_;
   Eigen::VectorXd shift_;
@@ -310,10 +364,11 @@ double estimated_memory_bytes(int contact_rows, const HarmonicBalanceOptions& op
   const double nu = contact_rows, n = nu * nc;
   const double aft = 8.0 * (1 + 4 + 9) * samples * nc    // ∂u/∂c for m = 1, 2, 3
                      + 8.0 * 9 * samples * nc;           // a thread's ∂f/∂c (m = 3)
-  const bool structured = options.linear_solver == HbmLinearSolver::kStructured ||
+  const bool low_rank = options.linear_solver == HbmLinearSolver::kLowRank;
+  const bool structured = options.linear_solver == HbmLinearSolver::kStructured || low_rank ||
                           (options.linear_solver == HbmLinearSolver::kAuto &&
                            n >= kStructuredSolverThreshold);
-  const double receptance = 16.0 * nu * nu * set.size() * (structured ? 2 : 1);
+  const double receptance = low_rank ? 0.0 : 16.0 * nu * nu * set.size() * (structured ? 2 : 1);
   const double newton = structured ? 8.0 * 200 * n : 3 * 8.0 * n * n;
   return aft + receptance + newton;
 }
@@ -432,6 +487,20 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
       if (wave_flexibility_ && k > 0) scale += wave_flexibility_->quasi_static_response(k).norm();
     }
   }
+  structured_ = options_.linear_solver == HbmLinearSolver::kStructured ||
+                options_.linear_solver == HbmLinearSolver::kLowRank ||
+                (options_.linear_solver == HbmLinearSolver::kAuto &&
+                 size() >= kStructuredSolverThreshold);
+  {
+    const bool applies = !wave_ && static_shift_.size() == 0;
+    require(applies || options_.linear_solver != HbmLinearSolver::kLowRank,
+            "HarmonicBalanceOptions.linear_solver", "low rank",
+            "the dense or structured solver with a travelling wave or with rigid-body modes held "
+            "by the elements");
+    low_rank_ = options_.linear_solver == HbmLinearSolver::kLowRank ||
+                (options_.linear_solver == HbmLinearSolver::kAuto && structured_ && applies &&
+                 nm < rows_);
+  }
   solve_static();
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int r = pair_rows_[p], m = pairs_[p].element->dimension();
@@ -444,9 +513,6 @@ HarmonicBalanceSystem::HarmonicBalanceSystem(LinearModel model, std::vector<Cont
   }
   const double floor = displacement_floor();
   scale += u0_.norm();
-  structured_ =
-      options_.linear_solver == HbmLinearSolver::kStructured ||
-      (options_.linear_solver == HbmLinearSolver::kAuto && size() >= kStructuredSolverThreshold);
   build_stuck_tangent();
   residual_scale_ = options_.residual_scale > 0 ? options_.residual_scale
                     : std::max(scale, floor) > 0 ? std::max(scale, floor)
@@ -469,7 +535,7 @@ double HarmonicBalanceSystem::displacement_floor() const {
                          Eigen::VectorXd(-static_anchor_.segment(r, m)), fp, &jp);
     if (jp.allFinite()) stiffness = std::max(stiffness, jp.norm());
   }
-  const double compliance = receptance(0, 0.0).real().norm();
+  const double compliance = static_receptance_norm();
   if (compliance > 0) stiffness += 1.0 / compliance;
   return stiffness > 0 && std::isfinite(force) ? force / stiffness : 0.0;
 }
@@ -633,12 +699,21 @@ Eigen::VectorXcd HarmonicBalanceSystem::linear_contact_response(int k, double om
 }
 
 void HarmonicBalanceSystem::solve_static() {
-  const Eigen::MatrixXd G0 = receptance(0, 0.0).real();
+  // Low rank: G_0 = Ψ H_0 Ψᵀ is never formed (StaticContactSystem::set_low_rank).
+  const Eigen::MatrixXd G0 = low_rank_ ? Eigen::MatrixXd() : receptance(0, 0.0).real();
   const Eigen::VectorXd ulin0 = linear_contact_response(0, 0.0).real();
   // Scale for the static Newton: the linear static response, else the stiffest element's
   // scale is unknown here: use ||G0||·1 N as a displacement per newton of contact force.
-  const double scale = ulin0.norm() > 0 ? ulin0.norm() : G0.norm();
+  const double scale = ulin0.norm() > 0 ? ulin0.norm()
+                       : low_rank_     ? static_receptance_norm()
+                                       : G0.norm();
   StaticContactSystem sys(pairs_, pair_rows_, G0, ulin0, scale > 0 ? scale : 1.0, static_shift_);
+  if (low_rank_) {
+    const Eigen::Index nm = Psi_.cols();
+    sys.set_low_rank(&Psi_, flexibility_->at(0, 0.0, false)
+                                ->times(Eigen::MatrixXcd::Identity(nm, nm))
+                                .real());
+  }
 
   std::vector<PathElement> elements;
   bool gaps = false;  // a friction element with an initial gap or interference
@@ -722,13 +797,18 @@ void HarmonicBalanceSystem::solve_static() {
     }
     if (closing.empty()) return 1.0;
     set_step(la, sa);
-    Eigen::VectorXd R, f;
-    Eigen::MatrixXd dR, J;
-    sys.evaluate(ua, 0.0, R, &dR, nullptr);
-    sys.forces(ua, f, &J);
+    Eigen::VectorXd R, f, du;
+    Eigen::MatrixXd dR;
+    std::vector<Eigen::MatrixXd> J;
+    sys.forces(ua, f, nullptr, &J);
     // R = u − λ u_lin,0 + G_0 (f(u − o(λ)) − K_s u):  ∂R/∂λ = −u_lin,0 − G_0 J ∂o/∂λ.
-    const Eigen::VectorXd dR_dl = -ulin0 - G0 * (J * ramp_rate);
-    const Eigen::VectorXd du = dR.partialPivLu().solve(-dR_dl);
+    const Eigen::VectorXd dR_dl = -ulin0 - sys.G0_times(sys.blocks_times(J, ramp_rate));
+    if (sys.has_structured_jacobian()) {
+      if (!sys.solve_jacobian(ua, 0.0, -dR_dl, du)) du.setZero(rows_);
+    } else {
+      sys.evaluate(ua, 0.0, R, &dR, nullptr);
+      du = dR.partialPivLu().solve(-dR_dl);
+    }
     double first = 1.0;
     for (size_t p : closing) {
       const PathElement& e = elements[p];
@@ -931,6 +1011,7 @@ void HarmonicBalanceSystem::evaluate(const Eigen::VectorXd& x, double omega, Eig
 Eigen::VectorXd HarmonicBalanceSystem::apply_G(const CondensedOperator& op,
                                                const Eigen::VectorXd& v) const {
   // Per harmonic with complex V_k = a − i b: (𝔾 v) = (Re, −Im) of G_k V_k (harmonic 0: real).
+  if (low_rank_) return apply_G_low_rank(op, v);
   const HarmonicSet& set = unknown_harmonics();
   Eigen::VectorXd out(v.size());
   Eigen::VectorXcd z(rows_);
@@ -971,7 +1052,12 @@ Eigen::MatrixXd HarmonicBalanceSystem::dense_G(const CondensedOperator& op) cons
   Eigen::MatrixXd big = Eigen::MatrixXd::Zero(n, n);
   for (int pos = 0; pos < set.size(); ++pos) {
     const int k = set.harmonics()[pos], o = set.offset(pos);
-    const Eigen::MatrixXcd& g = op.G[pos];
+    Eigen::MatrixXcd formed;  // low rank: G_k = Ψ H_k Ψᵀ formed for a dense Jacobian only
+    if (op.G[pos].size() == 0 && rows_ > 0) {
+      const Eigen::MatrixXcd Psi = Psi_.cast<Complex>();
+      formed = Psi * op.Hm[pos] * Psi.transpose();
+    }
+    const Eigen::MatrixXcd& g = op.G[pos].size() > 0 ? op.G[pos] : formed;
     for (int r = 0; r < rows_; ++r) {
       for (int s = 0; s < rows_; ++s) {
         const double re = g(s, r).real();
@@ -996,9 +1082,7 @@ void HarmonicBalanceSystem::build_stuck_tangent() {
   const bool frozen = !set.has_static();
   Eigen::VectorXd fp;
   Eigen::MatrixXd jp;
-  for (int pos = 0; pos < set.size(); ++pos) {
-    stuck_tangent_.push_back(Eigen::MatrixXd::Zero(rows_, rows_));
-  }
+  stuck_tangent_.assign(set.size(), std::vector<Eigen::MatrixXd>(pairs_.size()));
   for (size_t p = 0; p < pairs_.size(); ++p) {
     const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
     Eigen::VectorXd xp = Eigen::VectorXd::Zero(m * nc_);
@@ -1008,16 +1092,28 @@ void HarmonicBalanceSystem::build_stuck_tangent() {
     aft_.evaluate(*pairs_[p].element, xp, pair_offset_[p], fp, &jp);
     for (int pos = 0; pos < set.size(); ++pos) {
       const int o = set.offset(pos);
+      Eigen::MatrixXd& block = stuck_tangent_[pos][p];
+      block.resize(m, m);
       for (int i = 0; i < m; ++i) {
-        for (int j = 0; j < m; ++j)
-          stuck_tangent_[pos](r + i, r + j) = jp(i * nc_ + o, j * nc_ + o);
+        for (int j = 0; j < m; ++j) block(i, j) = jp(i * nc_ + o, j * nc_ + o);
       }
     }
+  }
+  stuck_gram_.clear();
+  if (!low_rank_) return;
+  Eigen::MatrixXd KPsi(rows_, Psi_.cols());  // K_0 Ψ, block by block
+  for (int pos = 0; pos < set.size(); ++pos) {
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      KPsi.middleRows(r, m).noalias() = stuck_tangent_[pos][p] * Psi_.middleRows(r, m);
+    }
+    stuck_gram_.push_back(Psi_.transpose() * KPsi);
   }
 }
 
 Eigen::VectorXd HarmonicBalanceSystem::apply_preconditioner(const CondensedOperator& op,
                                                             const Eigen::VectorXd& v) const {
+  if (low_rank_) return apply_preconditioner_low_rank(op, v);
   const HarmonicSet& set = unknown_harmonics();
   Eigen::VectorXd out(v.size());
   Eigen::VectorXcd z(rows_);
@@ -1102,24 +1198,33 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
       continue;
     }
     std::unique_ptr<const ModalFlexibility::Harmonic> H = flexibility_->at(k, omega, derivative);
-    H->receptance(gr, gi);
-    op->G.emplace_back(rows_, rows_);
-    op->G.back().real() = gr;
-    op->G.back().imag() = gi;
+    if (low_rank_) {  // G_k never formed: H_k and the Woodbury capacitance I + S_0 H_k
+      const Eigen::Index nm = Psi_.cols();
+      op->G.emplace_back();
+      op->Hm.push_back(H->times(Eigen::MatrixXcd::Identity(nm, nm)));
+      Eigen::MatrixXcd C = stuck_gram_[pos].cast<Complex>() * op->Hm.back();
+      C.diagonal().array() += 1.0;
+      op->capacitance.emplace_back(C);
+    } else {
+      H->receptance(gr, gi);
+      op->G.emplace_back(rows_, rows_);
+      op->G.back().real() = gr;
+      op->G.back().imag() = gi;
+    }
     if (modal_load_.count(k) > 0 || (wave_ && k > 0 && excitation_.harmonics.count(k) > 0)) {
       scatter_vector(op->ulin, H->load_response(), k, o);
       if (derivative && k > 0) scatter_vector(op->dulin, H->load_response_derivative(), k, o);
     }
     op->H.push_back(std::move(H));
   }
-  if (structured_) {
+  if (structured_ && !low_rank_) {
     for (int pos = 0; pos < set.size(); ++pos) {  // I + G_k K_0, K_0 block-diagonal per pair
       Eigen::MatrixXcd P = Eigen::MatrixXcd::Identity(rows_, rows_);
       if (set.harmonics()[pos] == 0 && static_shift_.size() > 0) P.real() -= static_shift_G_;
       for (size_t p = 0; p < pairs_.size(); ++p) {
         const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
         P.middleCols(r, m).noalias() +=
-            op->G[pos].middleCols(r, m) * stuck_tangent_[pos].block(r, r, m, m).cast<Complex>();
+            op->G[pos].middleCols(r, m) * stuck_tangent_[pos][p].cast<Complex>();
       }
       op->precondition.emplace_back();
       op->precondition.back().compute(P);
@@ -1129,6 +1234,89 @@ HarmonicBalanceSystem::condensed_operator(double omega, bool derivative) const {
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->last = op;
   return op;
+}
+
+Eigen::MatrixXd HarmonicBalanceSystem::harmonic_columns(const Eigen::VectorXd& v) const {
+  const HarmonicSet& set = unknown_harmonics();
+  Eigen::MatrixXd Z(rows_, 2 * set.size());
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    for (int r = 0; r < rows_; ++r) {
+      Z(r, 2 * pos) = v[r * nc_ + o];
+      Z(r, 2 * pos + 1) = k > 0 ? -v[r * nc_ + o + 1] : 0.0;
+    }
+  }
+  return Z;
+}
+
+void HarmonicBalanceSystem::scatter_columns(const Eigen::MatrixXd& columns,
+                                            Eigen::VectorXd& out) const {
+  const HarmonicSet& set = unknown_harmonics();
+  out.resize(size());
+  for (int pos = 0; pos < set.size(); ++pos) {
+    const int k = set.harmonics()[pos], o = set.offset(pos);
+    for (int r = 0; r < rows_; ++r) {
+      out[r * nc_ + o] = columns(r, 2 * pos);
+      if (k > 0) out[r * nc_ + o + 1] = -columns(r, 2 * pos + 1);
+    }
+  }
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::apply_G_low_rank(const CondensedOperator& op,
+                                                        const Eigen::VectorXd& v) const {
+  // G_k z = Ψ (H_k (Ψᵀ z)): every harmonic's real and imaginary parts in one product with Ψᵀ and
+  // one with Ψ (two passes over Ψ per product, whatever the harmonics).
+  const int np = unknown_harmonics().size();
+  const Eigen::MatrixXd Y = Psi_.transpose() * harmonic_columns(v);
+  Eigen::MatrixXd W(Y.rows(), Y.cols());
+  Eigen::MatrixXcd y(Y.rows(), 1);
+  for (int pos = 0; pos < np; ++pos) {
+    y.col(0).real() = Y.col(2 * pos);
+    y.col(0).imag() = Y.col(2 * pos + 1);
+    const Eigen::MatrixXcd w = op.H[pos]->times(y);
+    W.col(2 * pos) = w.col(0).real();
+    W.col(2 * pos + 1) = w.col(0).imag();
+  }
+  Eigen::VectorXd out;
+  scatter_columns(Psi_ * W, out);
+  return out;
+}
+
+Eigen::VectorXd HarmonicBalanceSystem::apply_preconditioner_low_rank(
+    const CondensedOperator& op, const Eigen::VectorXd& v) const {
+  // P_k⁻¹ z = z − Ψ H_k (I + S_0 H_k)⁻¹ Ψᵀ K_0 z (Woodbury; the header's HbmLinearSolver).
+  const int np = unknown_harmonics().size();
+  const Eigen::MatrixXd Z = harmonic_columns(v);
+  Eigen::MatrixXd KZ(Z.rows(), Z.cols());
+  for (int pos = 0; pos < np; ++pos) {
+    for (size_t p = 0; p < pairs_.size(); ++p) {
+      const int m = pairs_[p].element->dimension(), r = pair_rows_[p];
+      KZ.block(r, 2 * pos, m, 2).noalias() = stuck_tangent_[pos][p] * Z.block(r, 2 * pos, m, 2);
+    }
+  }
+  const Eigen::MatrixXd Y = Psi_.transpose() * KZ;
+  Eigen::MatrixXd W(Y.rows(), Y.cols());
+  Eigen::VectorXcd y(Y.rows());
+  for (int pos = 0; pos < np; ++pos) {
+    y.real() = Y.col(2 * pos);
+    y.imag() = Y.col(2 * pos + 1);
+    const Eigen::VectorXcd w = op.Hm[pos] * op.capacitance[pos].solve(y);
+    W.col(2 * pos) = w.real();
+    W.col(2 * pos + 1) = w.imag();
+  }
+  Eigen::VectorXd out;
+  scatter_columns(Z - Psi_ * W, out);
+  return out;
+}
+
+double HarmonicBalanceSystem::static_receptance_norm() const {
+  if (!low_rank_) return receptance(0, 0.0).real().norm();
+  // ||Ψ H_0 Ψᵀ||_F² = trace(H_0 Γ H_0 Γ), Γ = ΨᵀΨ (H_0 and Γ symmetric, nm x nm).
+  const Eigen::Index nm = Psi_.cols();
+  const Eigen::MatrixXd H0 =
+      flexibility_->at(0, 0.0, false)->times(Eigen::MatrixXcd::Identity(nm, nm)).real();
+  const Eigen::MatrixXd X = (Psi_.transpose() * Psi_) * H0;
+  return std::sqrt(std::max(0.0, (X.array() * X.transpose().array()).sum()));
 }
 
 Eigen::VectorXd HarmonicBalanceSystem::linear_guess(double omega, bool stuck) const {

@@ -148,8 +148,15 @@ enum class StaticCoupling { kUncoupled, kCoupled };
 // (I + 𝔾 J_f) (products per harmonic with the complex nu x nu G_k and per pair with J_f),
 // right-preconditioned by P = I + 𝔾 J_f,0, J_f,0 the element tangents at the zero-vibration state
 // (stuck friction, closed preloaded contacts), i.e. per harmonic the complex LU of I + G_k K_0,
-// factored once per Ω. Auto: structured when n >= kStructuredSolverThreshold.
-enum class HbmLinearSolver { kAuto, kDense, kStructured };
+// factored once per Ω. Low rank: the structured solve with G_k never formed (issue 16 item 1):
+// G_k z = Ψ (H_k (Ψᵀ z)) through the nm modes, and P⁻¹ by Woodbury over the modes,
+//   (I + Ψ H_k Ψᵀ K_0)⁻¹ = I − Ψ H_k (I + S_0 H_k)⁻¹ Ψᵀ K_0,  S_0 = Ψᵀ K_0 Ψ (nm x nm, once),
+// one complex LU of order nm per harmonic and Ω; the static problem's Newton steps by the same
+// identity with its element tangents (exact). Memory O(nu·nm) instead of O(nu²): for a truncated
+// modal model (nm < nu). Not with a travelling wave or rigid-body modes held by the elements
+// (InvalidInput when asked for). Auto: structured when n >= kStructuredSolverThreshold, low rank
+// among those when nm < nu and it applies.
+enum class HbmLinearSolver { kAuto, kDense, kStructured, kLowRank };
 inline constexpr int kStructuredSolverThreshold = 2000;
 // Automatic static load steps with initial gaps: the touchdown cuts make the path exact for
 // slip of fixed direction whatever the steps; the steps bound the error of backward Euler for slip
@@ -229,6 +236,8 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
                       Eigen::VectorXd& dx) const override;
   // GMRES products of the last structured solve (diagnostics).
   int last_gmres_iterations() const { return last_gmres_iterations_; }
+  // Whether the low-rank structured solve is in use (HbmLinearSolver::kLowRank).
+  bool low_rank() const { return low_rank_; }
 
   const HarmonicSet& unknown_harmonics() const { return aft_.basis().harmonics(); }
   // 0 followed by the dynamic harmonics: the harmonics every output carries.
@@ -316,6 +325,9 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
     // H_k(Ω) per position (null for harmonic 0 with held rigid-body modes: the shifted G̃_0).
     std::vector<std::unique_ptr<const ModalFlexibility::Harmonic>> H;
     std::vector<ComplexDenseLu> precondition;  // I + G_k K_0 (LAPACK's zgetrf)
+    // Low rank (G empty): H_k as nm x nm and the LU of the capacitance I + S_0 H_k per position.
+    std::vector<Eigen::MatrixXcd> Hm;
+    std::vector<Eigen::PartialPivLU<Eigen::MatrixXcd>> capacitance;
     Eigen::VectorXd ulin, dulin;
     Eigen::MatrixXd Gdense;  // 𝔾 (n x n, real split), dense solver path only
   };
@@ -324,6 +336,15 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   Eigen::VectorXd apply_dG(const CondensedOperator& op, const Eigen::VectorXd& v) const;
   Eigen::MatrixXd dense_G(const CondensedOperator& op) const;
   Eigen::VectorXd apply_preconditioner(const CondensedOperator& op, const Eigen::VectorXd& v) const;
+  // Low rank: the unknown layout as real columns (re, −im of each harmonic position; nu x 2·np)
+  // and back, and the two products above through the modes.
+  Eigen::MatrixXd harmonic_columns(const Eigen::VectorXd& v) const;
+  void scatter_columns(const Eigen::MatrixXd& columns, Eigen::VectorXd& out) const;
+  Eigen::VectorXd apply_G_low_rank(const CondensedOperator& op, const Eigen::VectorXd& v) const;
+  Eigen::VectorXd apply_preconditioner_low_rank(const CondensedOperator& op,
+                                                const Eigen::VectorXd& v) const;
+  // ||G_0||_F (Frobenius), without forming G_0 when low rank.
+  double static_receptance_norm() const;
   void build_stuck_tangent();
   struct OperatorCache {
     std::mutex mutex;
@@ -365,7 +386,10 @@ class HarmonicBalanceSystem final : public ParametrizedSystem {
   StaticPath static_path_;
   double residual_scale_ = 1.0;
   bool structured_ = false;
-  std::vector<Eigen::MatrixXd> stuck_tangent_;  // per harmonic position: K_0, nu x nu
+  bool low_rank_ = false;
+  // Per harmonic position, per pair: K_0's m x m block (K_0 is block-diagonal per pair).
+  std::vector<std::vector<Eigen::MatrixXd>> stuck_tangent_;
+  std::vector<Eigen::MatrixXd> stuck_gram_;  // low rank, per position: S_0 = Ψᵀ K_0 Ψ (nm x nm)
   mutable int last_gmres_iterations_ = 0;
   std::shared_ptr<OperatorCache> cache_ = std::make_shared<OperatorCache>();
   // Element forces and cycle statistics of the last evaluate(), for contact_forces at the same x.
