@@ -212,20 +212,7 @@ CraigBamptonResult craig_bampton_petsc(const SparseMatrix& K, const SparseMatrix
   // Round-off leaves K_bb + K_bi Φ_c and Φ_cᵀ M_ii Φ_c asymmetric in the last digits.
   body.K = 0.5 * (body.K + body.K.transpose()).eval();
   body.M = 0.5 * (body.M + body.M.transpose()).eval();
-  body.dofs.resize(static_cast<size_t>(nr));
-  for (int k = 0; k < nb; ++k) {
-    ReducedDof& d = body.dofs[k];
-    d.kind = ReducedDof::Kind::kPhysical;
-    d.full_dof = boundary_dofs[k];
-    d.node_index = boundary_dofs[k] / kDofsPerNode;
-    d.direction = boundary_dofs[k] % kDofsPerNode;
-  }
-  for (int j = 0; j < m; ++j) {
-    ReducedDof& d = body.dofs[nb + j];
-    d.kind = ReducedDof::Kind::kModal;
-    d.mode = j;
-    d.frequency_hz = rad_s_to_hz(std::sqrt(std::max(result.mode_eigenvalues(j), 0.0)));
-  }
+  body.dofs = craig_bampton_dofs(boundary_dofs, result.mode_eigenvalues);
   if (options.keep_basis) {
     result.T = Eigen::MatrixXd::Zero(n, nr);
     for (int k = 0; k < nb; ++k) result.T(boundary_dofs[k], k) = 1.0;

@@ -420,20 +420,7 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   body.K = 0.5 * (body.K + body.K.transpose()).eval();
   body.M = 0.5 * (body.M + body.M.transpose()).eval();
 
-  body.dofs.resize(static_cast<size_t>(nr));
-  for (int k = 0; k < nb; ++k) {
-    ReducedDof& d = body.dofs[k];
-    d.kind = ReducedDof::Kind::kPhysical;
-    d.full_dof = boundary[k];
-    d.node_index = boundary[k] / kDofsPerNode;
-    d.direction = boundary[k] % kDofsPerNode;
-  }
-  for (int j = 0; j < nm; ++j) {
-    ReducedDof& d = body.dofs[nb + j];
-    d.kind = ReducedDof::Kind::kModal;
-    d.mode = j;
-    d.frequency_hz = rad_s_to_hz(std::sqrt(std::max(result.mode_eigenvalues(j), 0.0)));
-  }
+  body.dofs = craig_bampton_dofs(boundary, result.mode_eigenvalues);
 
   if (options.keep_basis) {
     result.T = Eigen::MatrixXd::Zero(n, nr);
@@ -443,6 +430,27 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
   summary.seconds_projection = seconds_since(start);
   summary.cpu_seconds_projection = process_cpu_seconds() - cpu;
   return result;
+}
+
+std::vector<ReducedDof> craig_bampton_dofs(std::span<const int> boundary_dofs,
+                                           const Eigen::VectorXd& mode_eigenvalues) {
+  const int nb = static_cast<int>(boundary_dofs.size());
+  const int nm = static_cast<int>(mode_eigenvalues.size());
+  std::vector<ReducedDof> dofs(static_cast<size_t>(nb + nm));
+  for (int k = 0; k < nb; ++k) {
+    ReducedDof& d = dofs[k];
+    d.kind = ReducedDof::Kind::kPhysical;
+    d.full_dof = boundary_dofs[k];
+    d.node_index = boundary_dofs[k] / kDofsPerNode;
+    d.direction = boundary_dofs[k] % kDofsPerNode;
+  }
+  for (int j = 0; j < nm; ++j) {
+    ReducedDof& d = dofs[nb + j];
+    d.kind = ReducedDof::Kind::kModal;
+    d.mode = j;
+    d.frequency_hz = rad_s_to_hz(std::sqrt(std::max(mode_eigenvalues(j), 0.0)));
+  }
+  return dofs;
 }
 
 }  // namespace stickslip

@@ -128,4 +128,9 @@ CraigBamptonResult craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
                                  std::span<const int> boundary_dofs,
                                  const CraigBamptonOptions& options);
 
+// The reduced DOFs of a Craig–Bampton body: the boundary DOFs (physical, in the given order),
+// then one modal DOF per fixed-interface mode (eigenvalues Ω², their frequencies in Hz).
+std::vector<ReducedDof> craig_bampton_dofs(std::span<const int> boundary_dofs,
+                                           const Eigen::VectorXd& mode_eigenvalues);
+
 }  // namespace stickslip
